@@ -1,0 +1,131 @@
+"""The shared memory of a robot: the py_trees blackboard, with a documented key schema.
+
+Every key has one type, one unit and exactly one skill that writes it; every entry carries the
+robot time it was written (`Stamped`), so a reader can tell fresh from stale. Each robot opened
+in a process gets its own namespace, so two robots (or two tests) never share entries.
+"""
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+from typing import Any
+
+import py_trees
+
+from skills.exceptions import BlackboardError
+
+
+@dataclass(frozen=True)
+class Stamped:
+    value: Any
+    t: float          # robot time of the write, s
+
+    def age(self, now: float) -> float:
+        return now - self.t
+
+
+@dataclass(frozen=True)
+class KeySpec:
+    key: str
+    type: str
+    unit: str
+    writer: str       # the one skill that writes this key
+    doc: str
+
+
+def _key(key: str, type_: str, unit: str, writer: str, doc: str) -> KeySpec:
+    return KeySpec(key, type_, unit, writer, doc)
+
+
+SCHEMA: dict[str, KeySpec] = {spec.key: spec for spec in (
+    _key("robot/pose", "tuple[float, float, float]", "m, m, rad", "localization",
+         "odometry pose (x, y, heading) in the world frame"),
+    _key("robot/velocity", "tuple[float, float]", "m/s, rad/s", "localization",
+         "measured translational and rotational velocity"),
+    _key("robot/link", "bool", "-", "localization", "the base link is up and its state is fresh"),
+    _key("sensors/sonar", "tuple[float, ...]", "m", "obstacles",
+         "last range per sonar index; inf when no echo"),
+    _key("obstacles/front", "float", "m", "obstacles",
+         "free distance ahead of the body (sonar and laser), inf when clear"),
+    _key("people/tracks", "tuple[Track, ...]", "m, m/s (world frame)", "perception",
+         "confirmed people tracks"),
+    _key("people/user", "Track | None", "m, m/s (world frame)", "perception",
+         "the selected interaction partner"),
+    _key("people/user_distance", "float | None", "m", "perception",
+         "distance from the robot centre to the user"),
+    _key("people/user_approach", "float | None", "m/s", "perception",
+         "speed of the user towards the robot (negative: moving away)"),
+    _key("head/pan_tilt", "tuple[float, float]", "rad, rad", "head", "current pan and tilt"),
+    _key("speech/busy", "bool", "-", "speech", "an utterance is being spoken"),
+    _key("speech/last", "str", "-", "speech", "the last utterance started"),
+    _key("survey/progress", "SurveyProgress", "-", "questionnaire",
+         "answers given so far and whether every question has one"),
+    _key("motion/command", "tuple[float, float]", "m/s, rad/s", "motion",
+         "the command sent to the base after the safety arbiter"),
+    _key("motion/limit", "str", "-", "motion", "why the last command was capped ('' if not)"),
+)}
+
+SKILL_STATUS_PREFIX = "skills/"      # skills/<name>/status: SkillStatus, written by skill <name>
+
+_instances = itertools.count(1)
+
+
+class Blackboard:
+    """One robot's blackboard: writers are py_trees clients restricted to their own keys."""
+
+    def __init__(self, robot_name: str) -> None:
+        self.namespace = f"/interbot/{robot_name}{next(_instances)}"
+        self._reader = py_trees.blackboard.Client(name="reader", namespace=self.namespace)
+        self._writers: dict[str, py_trees.blackboard.Client] = {}
+
+    def _path(self, key: str) -> str:
+        return f"{self.namespace}/{key}"
+
+    def writer(self, skill: str) -> "KeyWriter":
+        """A writer for `skill`, allowed to write the schema keys it owns and its status."""
+        owned = [k for k, spec in SCHEMA.items() if spec.writer == skill]
+        owned.append(f"{SKILL_STATUS_PREFIX}{skill}/status")
+        client = py_trees.blackboard.Client(name=skill, namespace=self.namespace)
+        for key in owned:
+            client.register_key(key=key, access=py_trees.common.Access.WRITE)
+            self._reader.register_key(key=key, access=py_trees.common.Access.READ)
+        self._writers[skill] = client
+        return KeyWriter(skill, client, frozenset(owned))
+
+    def read(self, key: str) -> Stamped | None:
+        """The stamped entry, or None when it was never written."""
+        try:
+            return self._reader.get(key)
+        except KeyError:
+            return None
+
+    def value(self, key: str, default: Any = None, now: float | None = None,
+              max_age: float | None = None) -> Any:
+        """The value, or `default` when missing or older than `max_age` at `now`."""
+        entry = self.read(key)
+        if entry is None:
+            return default
+        if max_age is not None and now is not None and entry.age(now) > max_age:
+            return default
+        return entry.value
+
+    def clear(self) -> None:
+        """Forget this robot's entries (on close)."""
+        storage = py_trees.blackboard.Blackboard.storage
+        for path in [p for p in storage if p.startswith(self.namespace + "/")]:
+            del storage[path]
+
+
+class KeyWriter:
+    __slots__ = ("skill", "_client", "_owned")
+
+    def __init__(self, skill: str, client, owned: frozenset[str]) -> None:
+        self.skill = skill
+        self._client = client
+        self._owned = owned
+
+    def write(self, key: str, value: Any, t: float) -> None:
+        if key not in self._owned:
+            owner = SCHEMA[key].writer if key in SCHEMA else "nobody (not in the schema)"
+            raise BlackboardError(f"skill '{self.skill}' may not write '{key}'; its writer is {owner}")
+        self._client.set(key, Stamped(value, t))

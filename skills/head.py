@@ -1,0 +1,54 @@
+"""Head control: keep the pan-tilt camera head pointed at the user (robots that have one)."""
+from __future__ import annotations
+
+import math
+
+from robots.devices import PanTiltHead
+from robots.profile import HeadSpec
+from skills.localization import Localization
+from skills.perception import PeoplePerception
+from skills.skill import Skill
+from skills.status import IDLE, RUNNING, SUCCEEDED, failed
+
+ON_TARGET = math.radians(5)
+
+
+class HeadControl(Skill):
+    name = "head"
+
+    def __init__(self, blackboard, events, head: PanTiltHead, spec: HeadSpec,
+                 localization: Localization, perception: PeoplePerception) -> None:
+        super().__init__(blackboard, events)
+        self.head = head
+        self.spec = spec
+        self.localization = localization
+        self.perception = perception
+        self.tracking = False
+
+    def look_at_user(self, now: float) -> None:
+        self.tracking = True
+        self.set_status(RUNNING, now)
+
+    def center(self, now: float) -> None:
+        self.tracking = False
+        self.head.point(0.0, 0.0)
+        self.set_status(IDLE, now)
+
+    def sense(self, now: float) -> None:
+        pan, tilt = self.head.read()
+        self.write("head/pan_tilt", (pan, tilt), now)
+        if not self.tracking:
+            return
+        user, state = self.perception.user, self.localization.state
+        if user is None or state is None:
+            self.set_status(failed("no user to look at"), now)
+            return
+        bearing = math.atan2(user.y - state.y, user.x - state.x) - state.th
+        target = math.atan2(math.sin(bearing), math.cos(bearing))
+        if not self.spec.pan_min <= target <= self.spec.pan_max:
+            self.set_status(failed("user is outside the head's pan range"), now)
+        self.head.point(min(max(target, self.spec.pan_min), self.spec.pan_max), 0.0)
+        if abs(pan - target) < ON_TARGET:
+            self.set_status(SUCCEEDED, now)
+        elif not self.status.failed:
+            self.set_status(RUNNING, now)

@@ -1,0 +1,104 @@
+"""Motion: turn towards the user, approach or keep a distance, turn to a bearing — with speed caps.
+
+One goal at a time. Each tick `act` computes the wanted velocity for the goal, passes it
+through the safety arbiter, and sends it to the base — zero when there is no goal, so the
+driver always gets a fresh command and its watchdog never has to step in on a healthy loop.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from robots.base import Base
+from robots.profile import Limits
+from skills.perception import PeoplePerception
+from skills.localization import Localization
+from skills.safety import arbitrate
+from skills.skill import Skill
+from skills.status import IDLE, RUNNING, SUCCEEDED, failed
+
+TURN_GAIN = 1.5            # rad/s per rad of heading error
+DISTANCE_GAIN = 0.8        # m/s per m of distance error
+ALIGNED = math.radians(6)  # heading error counted as "facing"
+AT_DISTANCE = 0.1          # m
+
+
+@dataclass(frozen=True)
+class Goal:
+    kind: str                 # "face_user", "keep_distance", "turn_to"
+    distance: float = 1.0     # keep_distance: wanted distance to the user, m
+    bearing: float = 0.0      # turn_to: world heading, rad
+
+
+def wrap(angle: float) -> float:
+    """Angle in (-pi, pi]."""
+    return math.atan2(math.sin(angle), math.cos(angle))
+
+
+class Motion(Skill):
+    name = "motion"
+
+    def __init__(self, blackboard, events, base: Base, limits: Limits,
+                 localization: Localization, perception: PeoplePerception) -> None:
+        super().__init__(blackboard, events)
+        self.base = base
+        self.limits = limits
+        self.localization = localization
+        self.perception = perception
+        self.goal: Goal | None = None
+
+    def start(self, goal: Goal, now: float) -> None:
+        self.goal = goal
+        self.set_status(RUNNING, now)
+
+    def cancel(self, now: float) -> None:
+        self.goal = None
+        self.set_status(IDLE, now)
+
+    def act(self, now: float) -> None:
+        v, w = self._wanted(now)
+        link = self.blackboard.value("robot/link", False)
+        free = self.blackboard.value("obstacles/front", math.inf)
+        v, w, reason = arbitrate(v, w, link_fresh=link, free_ahead=free,
+                                 nearest_person=self._nearest_person(), limits=self.limits)
+        self.base.command(v, w)
+        self.write("motion/command", (v, w), now)
+        self.write("motion/limit", reason, now)
+
+    def stop_now(self, now: float) -> None:
+        """Drop the goal and send zero at once (faults, shutdown)."""
+        self.goal = None
+        self.base.stop()
+        self.write("motion/command", (0.0, 0.0), now)
+
+    def _wanted(self, now: float) -> tuple[float, float]:
+        goal, state = self.goal, self.localization.state
+        if goal is None or state is None:
+            return 0.0, 0.0
+        if goal.kind == "turn_to":
+            return 0.0, self._turn(goal.bearing - state.th, now, done_when_aligned=True)
+        user = self.perception.user
+        if user is None:
+            self.set_status(failed("no user to face"), now)
+            return 0.0, 0.0
+        dx, dy = user.x - state.x, user.y - state.y
+        w = self._turn(math.atan2(dy, dx) - state.th, now, done_when_aligned=goal.kind == "face_user")
+        if goal.kind == "keep_distance":
+            error = math.hypot(dx, dy) - goal.distance
+            v = DISTANCE_GAIN * error if abs(error) > AT_DISTANCE else 0.0
+            facing = abs(wrap(math.atan2(dy, dx) - state.th)) < 4 * ALIGNED
+            self.set_status(SUCCEEDED if abs(error) <= AT_DISTANCE and facing else RUNNING, now)
+            return (v if facing else 0.0), w
+        return 0.0, w
+
+    def _turn(self, error: float, now: float, done_when_aligned: bool) -> float:
+        error = wrap(error)
+        if done_when_aligned:
+            self.set_status(SUCCEEDED if abs(error) < ALIGNED else RUNNING, now)
+        return TURN_GAIN * error if abs(error) >= ALIGNED / 2 else 0.0
+
+    def _nearest_person(self) -> float:
+        state = self.localization.state
+        if state is None or not self.perception.tracks:
+            return math.inf
+        return min(math.hypot(t.x - state.x, t.y - state.y) for t in self.perception.tracks)

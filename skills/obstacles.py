@@ -1,0 +1,57 @@
+"""Obstacle sensing: sonar ranges (from the base) and the free distance straight ahead.
+
+The free distance counts every sonar and laser reading that falls inside the corridor the
+body sweeps when driving forward; the safety arbiter stops forward motion when it is short.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from robots.devices import Laser
+from robots.profile import RobotProfile
+from skills.localization import Localization
+from skills.skill import Skill
+
+
+class ObstacleSensing(Skill):
+    name = "obstacles"
+
+    def __init__(self, blackboard, events, profile: RobotProfile, localization: Localization,
+                 laser: Laser | None) -> None:
+        super().__init__(blackboard, events)
+        self.localization = localization
+        self.laser = laser
+        self.half_width = profile.width / 2
+        self.front = profile.length / 2 if profile.shape == "rectangle" else profile.radius
+        sonar = profile.sonar
+        self._sonar_poses = sonar.poses if sonar is not None else np.zeros((0, 3))
+
+    def sense(self, now: float) -> None:
+        state = self.localization.state
+        sonar = state.sonar if state is not None else ()
+        self.write("sensors/sonar", tuple(sonar), now)
+        free = self._free_ahead_sonar(sonar)
+        if self.laser is not None:
+            scan = self.laser.read()
+            if scan is not None:
+                free = min(free, self._free_ahead_points(
+                    scan.origin[0] + scan.ranges * np.cos(scan.angles + scan.origin[2]),
+                    scan.origin[1] + scan.ranges * np.sin(scan.angles + scan.origin[2])))
+        self.write("obstacles/front", free, now)
+
+    def _free_ahead_sonar(self, ranges) -> float:
+        if not len(ranges):
+            return math.inf
+        r = np.asarray(ranges, dtype=float)
+        poses = self._sonar_poses[: len(r)]
+        xs = poses[:, 0] + r * np.cos(poses[:, 2])
+        ys = poses[:, 1] + r * np.sin(poses[:, 2])
+        return self._free_ahead_points(xs, ys)
+
+    def _free_ahead_points(self, xs: np.ndarray, ys: np.ndarray) -> float:
+        ahead = np.isfinite(xs) & (xs > 0) & (np.abs(ys) <= self.half_width + 0.05)
+        if not ahead.any():
+            return math.inf
+        return float(max(0.0, xs[ahead].min() - self.front))

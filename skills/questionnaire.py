@@ -1,0 +1,102 @@
+"""The questionnaire: ask survey questions on the touch screen and collect the answers.
+
+Progress outlives any one behavior tree, so a user who is called back continues where they
+stopped; `reset` starts a fresh session for the next person.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from robots.devices import TouchScreen
+from skills.skill import Skill
+from skills.status import IDLE, RUNNING, SUCCEEDED
+
+
+@dataclass(frozen=True)
+class Question:
+    id: str
+    text: str
+    buttons: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class SurveyProgress:
+    answers: tuple[tuple[str, str], ...]   # (question id, answer) in the order given
+    total: int
+    asking: str | None = None
+
+    @property
+    def answered(self) -> int:
+        return len(self.answers)
+
+    @property
+    def done(self) -> bool:
+        return self.total > 0 and len(self.answers) >= self.total
+
+
+class Questionnaire(Skill):
+    name = "questionnaire"
+
+    def __init__(self, blackboard, events, screen: TouchScreen) -> None:
+        super().__init__(blackboard, events)
+        self.screen = screen
+        self.questions: tuple[Question, ...] = ()
+        self.answers: dict[str, str] = {}
+        self.asking: Question | None = None
+        self.session = 0
+
+    def load(self, questions: tuple[Question, ...], now: float) -> None:
+        """Use these questions; a different set starts a new session."""
+        if questions != self.questions:
+            self.questions = questions
+            self.reset(now)
+
+    def reset(self, now: float) -> None:
+        self.answers = {}
+        self.session += 1
+        self.cancel(now)
+
+    def next_question(self) -> Question | None:
+        return next((q for q in self.questions if q.id not in self.answers), None)
+
+    def ask_next(self, now: float) -> Question | None:
+        question = self.next_question()
+        if question is None:
+            self.set_status(SUCCEEDED, now)
+            return None
+        self.asking = question
+        self.screen.show(question.id, question.text, question.buttons)
+        self.events.emit(now, "ask", question=question.id, text=question.text,
+                         buttons=list(question.buttons))
+        self.set_status(RUNNING, now)
+        return question
+
+    def cancel(self, now: float) -> None:
+        self.asking = None
+        self.screen.clear()
+        self.set_status(IDLE, now)
+        self._publish(now)
+
+    def sense(self, now: float) -> None:
+        press = self.screen.take_press()
+        while press is not None:
+            self._record(press, now)
+            press = self.screen.take_press()
+        self._publish(now)
+
+    def _record(self, press: tuple[str, str], now: float) -> None:
+        prompt_id, button = press
+        if self.asking is None or prompt_id != self.asking.id or button not in self.asking.buttons:
+            return   # a stale press, or one for a prompt no longer shown: ignore it
+        self.answers[prompt_id] = button
+        self.events.emit(now, "answer", question=prompt_id, answer=button, session=self.session)
+        self.asking = None
+        self.screen.clear()
+        self.set_status(SUCCEEDED, now)
+
+    def progress(self) -> SurveyProgress:
+        return SurveyProgress(tuple(self.answers.items()), len(self.questions),
+                              self.asking.id if self.asking else None)
+
+    def _publish(self, now: float) -> None:
+        self.write("survey/progress", self.progress(), now)

@@ -1,0 +1,32 @@
+"""The safety arbiter: the last word on every motion command before it reaches the base.
+
+It refuses to move on stale or missing base data, stops forward motion before an obstacle,
+and caps speed near people. It only ever reduces a command, never adds motion.
+"""
+from __future__ import annotations
+
+import math
+
+from robots.profile import Limits
+
+STOP_DISTANCE = 0.30        # m of free space ahead below which forward motion stops
+
+
+def arbitrate(v: float, w: float, *, link_fresh: bool, free_ahead: float,
+              nearest_person: float, limits: Limits) -> tuple[float, float, str]:
+    """Return the safe (v, w) and the reason it was reduced ('' when unchanged)."""
+    if not (math.isfinite(v) and math.isfinite(w)):
+        return 0.0, 0.0, "command was not a finite number"
+    if not link_fresh:
+        return 0.0, 0.0, "base data is stale or the link is down"
+    reason = ""
+    if v > 0 and free_ahead < STOP_DISTANCE:
+        v, reason = 0.0, f"obstacle {free_ahead:.2f} m ahead"
+    if nearest_person < limits.near_people_distance and abs(v) > limits.max_speed_near_people:
+        v = math.copysign(limits.max_speed_near_people, v)
+        reason = reason or f"person within {limits.near_people_distance} m"
+    if abs(v) > limits.max_speed:
+        v, reason = math.copysign(limits.max_speed, v), reason or "speed limit"
+    if abs(w) > limits.max_turn_rate:
+        w, reason = math.copysign(limits.max_turn_rate, w), reason or "turn-rate limit"
+    return v, w, reason
