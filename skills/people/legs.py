@@ -1,0 +1,124 @@
+"""People in a laser scan: legs are short, isolated arcs; two of them close together are a person.
+
+The scan is cut where the range jumps (or a beam hits nothing); a cut piece as wide as a leg is a
+leg candidate, its centre pushed back by a leg radius along the ray because the laser sees the
+front of the leg. Legs closer than a stride are paired into one person at their midpoint; a piece
+as wide as two legs is a person whose legs overlap in the view; a leg without a partner (the
+other hidden behind it) still counts, less certainly.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from robots.devices import Detection, LaserScan
+
+
+@dataclass(frozen=True)
+class LegParams:
+    jump: float = 0.12          # m; a range step larger than this starts a new segment
+    min_width: float = 0.05     # m; leg-sized segments
+    max_width: float = 0.25
+    max_both_width: float = 0.5  # m; both legs seen as one segment (one behind the other)
+    pair_distance: float = 0.45  # m; two legs nearer than this are one person
+    leg_radius: float = 0.06    # m; the centre lies this far behind the seen surface
+    pair_sigma: float = 0.08    # m; position uncertainty of a person from a leg pair
+    single_sigma: float = 0.15  # m; from one leg only
+    single_legs: bool = True    # report unpaired legs as people too
+    max_range: float = 6.0      # m; farther legs are too sparse to be told from clutter
+
+
+def detect_legs(scan: LaserScan, params: LegParams | None = None) -> list[Detection]:
+    """Person detections (robot frame, source "laser") found in one scan."""
+    p = params or LegParams()
+    points = _scan_points(scan)
+    legs, both = [], []
+    for seg in _segments(scan.ranges, p):
+        found = _leg(points, scan, seg, p)
+        if found is not None:
+            (legs if found[1] <= p.max_width else both).append(found[0])
+    return _people(legs, scan.t, p) + [_detection(scan.t, xy, p.pair_sigma) for xy in both]
+
+
+def _scan_points(scan: LaserScan) -> np.ndarray:
+    ox, oy, _ = scan.origin
+    ranges = np.where(np.isfinite(scan.ranges), scan.ranges, np.nan)
+    return np.column_stack((ox + ranges * np.cos(scan.angles), oy + ranges * np.sin(scan.angles)))
+
+
+def _segments(ranges: np.ndarray, p: LegParams) -> list[tuple[int, int]]:
+    """Index ranges [start, end) of consecutive beams with hits and no range jump."""
+    valid = np.isfinite(ranges) & (ranges <= p.max_range)
+    cut = np.ones(len(ranges) + 1, dtype=bool)
+    if len(ranges) > 1:
+        step = np.abs(np.diff(np.where(valid, ranges, 0.0)))
+        cut[1:-1] = (step > p.jump) | ~valid[1:] | ~valid[:-1]
+    starts = np.flatnonzero(cut[:-1] & valid)
+    segments = []
+    for start in starts:
+        end = start + 1
+        while end < len(ranges) and not cut[end]:
+            end += 1
+        segments.append((int(start), int(end)))
+    return segments
+
+
+def _leg(points: np.ndarray, scan: LaserScan, seg: tuple[int, int],
+         p: LegParams) -> tuple[tuple[float, float], float] | None:
+    """The centre and width of a segment as wide as one leg or two legs side by side, or None."""
+    start, end = seg
+    if not _in_front_of_neighbours(scan.ranges, start, end, p.jump):
+        return None
+    first, last = points[start], points[end - 1]
+    beam_step = _beam_step(scan.angles, start, end)
+    mean_range = float(np.mean(scan.ranges[start:end]))
+    width = float(np.hypot(*(last - first))) + mean_range * beam_step
+    if not p.min_width <= width <= p.max_both_width:
+        return None
+    centre = points[start:end].mean(axis=0)
+    ox, oy, _ = scan.origin
+    ray = centre - (ox, oy)
+    norm = float(np.hypot(*ray))
+    if norm > 1e-9:
+        centre = centre + ray / norm * p.leg_radius
+    return (float(centre[0]), float(centre[1])), width
+
+
+def _in_front_of_neighbours(ranges: np.ndarray, start: int, end: int, jump: float) -> bool:
+    """A leg stands in front of what the beams beside it see; a gap between two legs, where
+    the beams reach the wall behind, does not."""
+    nearest = float(np.min(ranges[start:end]))
+    left = ranges[start - 1] if start > 0 else math.inf
+    right = ranges[end] if end < len(ranges) else math.inf
+    return all(not np.isfinite(side) or side > nearest + jump for side in (left, right))
+
+
+def _beam_step(angles: np.ndarray, start: int, end: int) -> float:
+    if len(angles) < 2:
+        return 0.0
+    i = min(max(start, 1), len(angles) - 1)
+    return abs(float(angles[i] - angles[i - 1]))
+
+
+def _people(legs: list[tuple[float, float]], t: float, p: LegParams) -> list[Detection]:
+    """Pair legs greedily, closest pairs first; midpoints of pairs, and lone legs if allowed."""
+    pairs = sorted((math.dist(a, b), i, j) for i, a in enumerate(legs)
+                   for j, b in enumerate(legs) if i < j)
+    used: set[int] = set()
+    people = []
+    for gap, i, j in pairs:
+        if gap >= p.pair_distance or i in used or j in used:
+            continue
+        used.update((i, j))
+        mid = ((legs[i][0] + legs[j][0]) / 2, (legs[i][1] + legs[j][1]) / 2)
+        people.append(_detection(t, mid, p.pair_sigma))
+    if p.single_legs:
+        people += [_detection(t, leg, p.single_sigma) for k, leg in enumerate(legs) if k not in used]
+    return people
+
+
+def _detection(t: float, xy: tuple[float, float], sigma: float) -> Detection:
+    var = sigma * sigma
+    return Detection(t=t, x=xy[0], y=xy[1], cov=((var, 0.0), (0.0, var)), source="laser")

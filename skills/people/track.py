@@ -1,0 +1,38 @@
+"""What the tracker tells the rest of the robot about one person: a snapshot per tick."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+TENTATIVE = "tentative"   # seen a few times; may still be a false positive
+CONFIRMED = "confirmed"   # seen often enough to be believed, and seen recently
+LOST = "lost"             # believed, but not seen for a while (occluded, out of view); coasting
+
+
+@dataclass
+class Track:
+    """One tracked person in the world frame (metres, seconds).
+
+    `cov` is the 2x2 position covariance, so consumers can judge how sure the position is
+    (it grows while a track coasts). `id` never changes for the life of the track.
+    """
+    id: int
+    x: float
+    y: float
+    vx: float
+    vy: float
+    cov: np.ndarray
+    status: str
+    born: float               # time of the first detection
+    confirmed_at: float | None
+    last_seen: float          # time of the newest detection assigned to it
+
+    @property
+    def speed(self) -> float:
+        return float(np.hypot(self.vx, self.vy))
+
+    @property
+    def believed(self) -> bool:
+        """Confirmed or lost: a real person, whether or not seen in this very frame."""
+        return self.status != TENTATIVE

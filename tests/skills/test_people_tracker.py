@@ -1,0 +1,123 @@
+"""The tracker: filter arithmetic, association, life cycle, occlusion, duplicates, ego frame."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from skills.people import CONFIRMED, LOST, TENTATIVE, PeopleTracker, TrackerParams
+
+R = np.eye(2) * 0.05 ** 2   # the camera-like detector's noise
+
+
+def run(tracker, frames):
+    """Feed (t, [(x, y), ...]) frames; return the tracks after the last one."""
+    out = []
+    for t, points in frames:
+        out = tracker.update(t, [(x, y, R) for x, y in points])
+    return out
+
+
+def test_first_prediction_and_update_match_hand_computed_values():
+    tracker = PeopleTracker(TrackerParams(accel_noise=1.0, initial_speed_sigma=1.0))
+    r = np.eye(2) * 0.01
+    born = tracker.update(0.0, [(0.0, 0.0, r)])
+    assert born[0].x == 0.0 and born[0].vx == 0.0 and born[0].cov[0, 0] == pytest.approx(0.01)
+    (track,) = tracker.update(0.1, [(0.1, 0.0, r)])
+    # Predicted with dt = 0.1, q = 1: Pxx = 0.01 + 0.1^2 * 1 + 0.1^3 / 3 = 0.0203333,
+    # Pxv = 0.1 * 1 + 0.1^2 / 2 = 0.105, Pvv = 1 + 0.1 = 1.1. S = Pxx + 0.01 = 0.0303333.
+    # Gains: Kx = 0.0203333 / 0.0303333 = 0.670330, Kv = 0.105 / 0.0303333 = 3.461538.
+    assert track.x == pytest.approx(0.0670330, abs=1e-6)
+    assert track.vx == pytest.approx(0.3461538, abs=1e-6)
+    assert track.y == pytest.approx(0.0) and track.vy == pytest.approx(0.0)
+    # Posterior Pxx = Pxx * R / S = 0.0203333 * 0.01 / 0.0303333 = 0.0067033.
+    assert track.cov[0, 0] == pytest.approx(0.0067033, abs=1e-6)
+    assert track.cov[0, 1] == pytest.approx(0.0)
+
+
+def test_pure_prediction_moves_a_track_by_its_velocity():
+    tracker = PeopleTracker()
+    frames = [(k * 0.1, [(0.5 * k * 0.1, 1.0)]) for k in range(30)]
+    before = run(tracker, frames)[0]
+    (after,) = tracker.update(3.0, [])
+    assert after.vx == pytest.approx(0.5, abs=0.02)
+    assert after.x == pytest.approx(before.x + before.vx * 0.1, abs=1e-9)
+    assert after.cov[0, 0] > before.cov[0, 0]
+
+
+def test_birth_confirmation_loss_and_deletion():
+    p = TrackerParams()
+    tracker = PeopleTracker(p)
+    statuses = []
+    for k in range(5):
+        statuses.append(tracker.update(k * 0.1, [(2.0, 1.0, R)])[0].status)
+    assert statuses[:2] == [TENTATIVE, TENTATIVE] and statuses[2:] == [CONFIRMED] * 3
+    (track,) = tracker.tracks()
+    assert track.confirmed_at == pytest.approx(0.2) and track.born == 0.0
+    seen = {}
+    t = 0.4
+    while tracker.tracks():
+        t = round(t + 0.1, 10)
+        tracks = tracker.update(t, [])
+        seen[t] = tracks[0].status if tracks else None
+    assert seen[0.5] == CONFIRMED                        # one missed frame is normal
+    assert seen[0.8] == LOST
+    assert seen[1.9] == LOST and seen[2.0] is None       # deleted after 1.5 s unseen
+
+
+def test_a_single_false_positive_never_becomes_a_track():
+    tracker = PeopleTracker()
+    tracker.update(0.0, [(3.0, 3.0, R)])
+    for k in range(1, 5):
+        tracks = tracker.update(k * 0.1, [])
+    assert tracks == []
+
+
+def test_crossing_paths_keep_their_ids():
+    """Two people walk at 1.4 m/s on crossing diagonals, passing 0.6 m from each other."""
+    rng = np.random.default_rng(1)
+    tracker = PeopleTracker()
+    ids_a, ids_b = set(), set()
+    for k in range(61):
+        t = k * 0.1
+        a = (-3.0 + t, -3.0 + t)
+        b = (-2.4 + t, 3.0 - t)
+        noisy = [(x + rng.normal(0, 0.05), y + rng.normal(0, 0.05)) for x, y in (a, b)]
+        tracks = tracker.update(t, [(x, y, R) for x, y in noisy])
+        if k >= 3:
+            for track in tracks:
+                nearest_a = math.dist((track.x, track.y), a) < math.dist((track.x, track.y), b)
+                (ids_a if nearest_a else ids_b).add(track.id)
+    assert len(ids_a) == 1 and len(ids_b) == 1 and ids_a != ids_b
+
+
+def test_a_person_hidden_for_one_second_keeps_the_id():
+    tracker = PeopleTracker()
+    ids = []
+    for k in range(60):
+        t = k * 0.1
+        hidden = 20 <= k < 30                                  # one second without detections
+        points = [] if hidden else [(-2.0 + 0.8 * t, 1.0)]
+        tracks = tracker.update(t, [(x, y, R) for x, y in points])
+        if k >= 3:
+            ids.append(tracks[0].id)
+            if hidden and k >= 24:
+                assert tracks[0].status == LOST
+    assert set(ids) == {ids[0]} and tracker.tracks()[0].status == CONFIRMED
+
+
+def test_camera_and_laser_seeing_the_same_person_make_one_track():
+    tracker = PeopleTracker()
+    laser = np.eye(2) * 0.08 ** 2
+    for k in range(10):
+        t = k * 0.1
+        tracks = tracker.update(t, [(1.0, 0.0, R), (1.06, 0.04, laser), (3.0, 0.0, R)])
+    assert len(tracks) == 2
+
+
+def test_frames_must_not_go_back_in_time():
+    tracker = PeopleTracker()
+    tracker.update(1.0, [])
+    with pytest.raises(ValueError, match="older"):
+        tracker.update(0.5, [])
