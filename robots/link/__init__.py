@@ -1,0 +1,17 @@
+"""What every serial base driver shares, whatever its protocol.
+
+- `parser`: a byte-fed framed-packet parser base (never blocks, bounded buffer, resync, counters).
+- `watchdog`: a command watchdog that sends zero on its own when commands stop coming.
+- `backoff`: the reconnect-with-back-off policy.
+- `pty`: a raw-mode pseudo-terminal pair, so firmware emulators speak over a real tty.
+- `lockstep`: byte counters that make a driver and an in-process emulator deterministic on a
+  simulated clock.
+"""
+from robots.link.backoff import Backoff
+from robots.link.lockstep import ByteCounter, LockStep
+from robots.link.parser import FramedParser, ParserStats, Reject
+from robots.link.pty import PtyPair
+from robots.link.watchdog import CommandWatchdog
+
+__all__ = ["Backoff", "ByteCounter", "CommandWatchdog", "FramedParser", "LockStep",
+           "ParserStats", "PtyPair", "Reject"]

@@ -1,0 +1,65 @@
+"""Byte counters that let a driver and an in-process emulator run in lock-step on a simulated clock.
+
+Why: over a pty, bytes written by one side are not instantly readable by the other, and both
+sides run threads. On a simulated clock (`--fast`) a run must nevertheless be deterministic: a
+command written before the world steps must be applied in that step, and the status packet the
+step produced must be decoded before the tick loop reads the state. Each side counts what it
+wrote and what it read; the reader can then wait (with a real-time timeout) until it has read
+everything the other side had written.
+"""
+from __future__ import annotations
+
+import threading
+import time
+
+
+class ByteCounter:
+    """One direction of a link: bytes written into it and bytes read out of it."""
+
+    def __init__(self) -> None:
+        self._cond = threading.Condition()
+        self.written = 0
+        self.read = 0
+
+    def wrote(self, n: int) -> None:
+        with self._cond:
+            self.written += n
+
+    def got(self, n: int) -> None:
+        with self._cond:
+            self.read += n
+            self._cond.notify_all()
+
+    def backlog(self) -> int:
+        with self._cond:
+            return self.written - self.read
+
+    def wait_drained(self, timeout: float) -> bool:
+        """Wait until everything written so far has been read (or `timeout` s passed)."""
+        deadline = time.monotonic() + timeout
+        with self._cond:
+            target = self.written
+            while self.read < target:
+                remaining = deadline - time.monotonic()
+                if remaining <= 0:
+                    return False
+                self._cond.wait(remaining)
+            return True
+
+    def reset(self) -> None:
+        """A new connection: nothing is in flight any more."""
+        with self._cond:
+            self.written = self.read = 0
+            self._cond.notify_all()
+
+
+class LockStep:
+    """Both directions of a driver-emulator link."""
+
+    def __init__(self) -> None:
+        self.to_device = ByteCounter()    # driver writes, emulator reads
+        self.to_host = ByteCounter()      # emulator writes, driver reads
+
+    def reset(self) -> None:
+        self.to_device.reset()
+        self.to_host.reset()

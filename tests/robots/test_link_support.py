@@ -1,0 +1,101 @@
+"""The shared link helpers: watchdog, back-off, raw pty pair, lock-step counters."""
+from __future__ import annotations
+
+import os
+import termios
+import threading
+import time
+
+import pytest
+import serial
+
+from robots.link import Backoff, ByteCounter, CommandWatchdog, PtyPair
+
+
+def test_watchdog_check_fires_once_per_silence():
+    fired = []
+    dog = CommandWatchdog(0.2, lambda: fired.append(1))
+    assert not dog.check(10.0)              # never fed: nothing to guard
+    dog.feed(now=1.0)
+    assert not dog.check(1.1)
+    assert dog.check(1.2)
+    assert not dog.check(5.0)               # fires once; only a feed re-arms it
+    dog.feed(now=5.0)
+    assert dog.check(5.3)
+    assert fired == [1, 1]
+
+
+def test_watchdog_thread_fires_without_anyone_calling_it():
+    fired = threading.Event()
+    dog = CommandWatchdog(0.05, fired.set)
+    dog.start()
+    try:
+        dog.feed()
+        assert fired.wait(2.0)
+        assert dog.expirations == 1 and not dog.armed
+        fired.clear()
+        dog.disarm()
+        assert not fired.wait(0.15)
+    finally:
+        dog.stop()
+
+
+def test_backoff_grows_to_its_ceiling_and_resets():
+    policy = Backoff(initial=0.1, factor=2, maximum=0.5)
+    assert [policy.next_delay() for _ in range(5)] == pytest.approx([0.1, 0.2, 0.4, 0.5, 0.5])
+    policy.reset()
+    assert policy.next_delay() == pytest.approx(0.1)
+
+
+def test_backoff_jitter_is_seeded_and_bounded():
+    a = [Backoff(jitter=0.5, seed=3).next_delay() for _ in range(3)]
+    b = [Backoff(jitter=0.5, seed=3).next_delay() for _ in range(3)]
+    assert a == b and all(0.1 <= d <= 0.15 for d in a)
+
+
+def test_pty_is_raw_both_ways():
+    with PtyPair() as pty:
+        port = serial.Serial(pty.path, 9600, timeout=1)
+        everything = bytes(range(256))
+        port.write(everything)
+        got = b""
+        while len(got) < 256:
+            chunk = pty.read(timeout=1)
+            assert chunk
+            got += chunk
+        assert got == everything
+        pty.write(everything)
+        assert port.read(256) == everything
+        port.close()
+
+
+def test_pty_tells_the_baud_the_driver_set():
+    with PtyPair() as pty:
+        port = serial.Serial(pty.path, 38400)
+        assert pty.line_speed() == termios.B38400
+        port.close()
+
+
+def test_pty_link_survives_a_replug(tmp_path):
+    link = tmp_path / "ttyROBOT"
+    first = PtyPair(link=link)
+    old = os.path.realpath(link)
+    first.close()
+    second = PtyPair(link=link)
+    try:
+        assert os.path.realpath(link) != old or second.slave_name == old
+        port = serial.Serial(str(link), 9600, timeout=1)
+        second.write(b"\x0A\x03")
+        assert port.read(2) == b"\x0A\x03"
+        port.close()
+    finally:
+        second.close()
+
+
+def test_byte_counter_waits_until_drained():
+    counter = ByteCounter()
+    counter.wrote(10)
+    assert not counter.wait_drained(0.01)
+    threading.Timer(0.02, counter.got, args=(10,)).start()
+    assert counter.wait_drained(2.0)
+    assert counter.backlog() == 0
