@@ -31,3 +31,7 @@ class ProtocolError(RobotError):
 
 class CommandError(RobotError):
     """A command whose field is outside its allowed range (the message names both)."""
+
+
+class FloorError(RobotError):
+    """A floor plan is missing or malformed (the message carries file and field)."""

@@ -1,0 +1,8 @@
+"""The simulated world of L0: an office floor, a unicycle body, ray-cast sonar and laser, and
+simulated people who follow a scenario file. Everything is numpy and deterministic for a seed.
+
+Modules: `raycast` (pure geometry), `floor` (walls and places from TOML), `body` (the robot's
+motion), `scenario` (the people's script, from TOML), `people` (people following that script),
+`world` (all of it stepped together), `devices` and `base` (the L0 interfaces over a world),
+`simulation` (wiring a world to a clock).
+"""

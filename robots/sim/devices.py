@@ -1,0 +1,96 @@
+"""The device interfaces of `robots.devices` implemented over a simulated World."""
+from __future__ import annotations
+
+from robots.devices import (Detection, Laser, LaserScan, PanTiltHead, PersonDetector, Speaker,
+                            TouchScreen)
+from robots.profile import HeadSpec, RobotProfile
+from robots.sim.world import World
+
+
+class SimLaser(Laser):
+    """Casts a fresh scan of the world on each read."""
+
+    def __init__(self, world: World, profile: RobotProfile) -> None:
+        if profile.laser is None:
+            raise ValueError(f"robot '{profile.name}' has no laser")
+        self.world = world
+        self.spec = profile.laser
+
+    def read(self) -> LaserScan:
+        angles, ranges = self.world.laser_scan()
+        return LaserScan(t=self.world.t, angles=angles, ranges=ranges,
+                         origin=(self.spec.x, self.spec.y, self.spec.heading))
+
+
+class SimPersonDetector(PersonDetector):
+    """The camera stand-in: detections in the robot frame with the spec's noise as covariance."""
+
+    def __init__(self, world: World, profile: RobotProfile) -> None:
+        if profile.people_detector is None:
+            raise ValueError(f"robot '{profile.name}' has no people detector")
+        self.world = world
+        variance = profile.people_detector.noise ** 2
+        self.cov = ((variance, 0.0), (0.0, variance))
+
+    def detect(self) -> list[Detection]:
+        t = self.world.t
+        return [Detection(t, x, y, self.cov, "camera") for x, y in self.world.detect_people()]
+
+
+class SimPanTilt(PanTiltHead):
+    """Moves `world.head_pan`/`head_tilt` towards the target at the head's rate as the world steps."""
+
+    def __init__(self, world: World, spec: HeadSpec) -> None:
+        self.world = world
+        self.spec = spec
+        self.target = (world.head_pan, world.head_tilt)
+        world.hooks.append(self._move)
+
+    def point(self, pan: float, tilt: float) -> None:
+        spec = self.spec
+        pan = min(spec.pan_max, max(spec.pan_min, float(pan))) if pan == pan else self.target[0]
+        tilt = min(spec.tilt_max, max(spec.tilt_min, float(tilt))) if tilt == tilt else self.target[1]
+        self.target = (pan, tilt)
+
+    def read(self) -> tuple[float, float]:
+        return self.world.head_pan, self.world.head_tilt
+
+    def _move(self, world: World, dt: float) -> None:
+        step = self.spec.max_pan_rate * dt
+        world.head_pan = _towards(world.head_pan, self.target[0], step)
+        world.head_tilt = _towards(world.head_tilt, self.target[1], step)
+
+
+def _towards(current: float, target: float, step: float) -> float:
+    if target > current:
+        return min(target, current + step)
+    return max(target, current - step)
+
+
+class SimTouchScreen(TouchScreen):
+    """Shows prompts on `world.screen`, where simulated people press the buttons."""
+
+    def __init__(self, world: World) -> None:
+        self.world = world
+
+    def show(self, prompt_id: str, text: str, buttons: tuple[str, ...]) -> None:
+        self.world.screen.show(prompt_id, text, tuple(buttons), self.world.t)
+
+    def clear(self) -> None:
+        self.world.screen.clear()
+
+    def take_press(self) -> tuple[str, str] | None:
+        return self.world.screen.take_press()
+
+
+class SimSpeaker(Speaker):
+    """Records utterances in `world.utterances`; busy ~0.06 s of sim time per character."""
+
+    def __init__(self, world: World) -> None:
+        self.world = world
+
+    def say(self, text: str) -> None:
+        self.world.say(text)
+
+    def busy(self) -> bool:
+        return self.world.t < self.world.speaking_until

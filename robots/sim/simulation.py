@@ -1,0 +1,50 @@
+"""A simulation: the World built from a profile, a floor and a scenario, kept in step with a
+clock. The tick loop calls `advance(clock.now())`; in --fast runs the clock is simulated.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Callable
+
+from robots.profile import RobotProfile
+from robots.sim.devices import SimLaser, SimPanTilt, SimPersonDetector, SimSpeaker, SimTouchScreen
+from robots.sim.floor import Floor, load_floor
+from robots.sim.scenario import load_scenario
+from robots.sim.world import World
+
+
+class Simulation:
+    """Owns the World; steps it up to the clock's time and hands out its devices."""
+
+    def __init__(self, profile: RobotProfile, scenario_path: str | Path | None = None,
+                 seed: int = 0, clock=None, floor: str | Path | Floor = "office") -> None:
+        self.profile = profile
+        self.clock = clock
+        self.scenario = load_scenario(scenario_path) if scenario_path is not None else None
+        plan = floor if isinstance(floor, Floor) else load_floor(floor)
+        self.world = World(plan, profile, self.scenario, seed)
+        self._devices: dict | None = None
+
+    def advance(self, now: float) -> None:
+        """Step the world up to time `now`; nothing happens when `now` is not later."""
+        dt = now - self.world.t
+        if dt > 1e-12:
+            self.world.step(dt)
+
+    def on_step(self, callback: Callable[[World, float], None]) -> None:
+        """Run `callback(world, dt)` after every world substep (e.g. lock-step emulators)."""
+        self.world.hooks.append(callback)
+
+    def devices(self) -> dict:
+        """The simulated devices, made once: laser, people_detector, head, screen, speaker."""
+        if self._devices is None:
+            profile, world = self.profile, self.world
+            self._devices = {
+                "laser": SimLaser(world, profile) if profile.laser is not None else None,
+                "people_detector": (SimPersonDetector(world, profile)
+                                    if profile.people_detector is not None else None),
+                "head": SimPanTilt(world, profile.head) if profile.head is not None else None,
+                "screen": SimTouchScreen(world) if profile.touch_screen else None,
+                "speaker": SimSpeaker(world),
+            }
+        return self._devices

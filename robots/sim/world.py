@@ -1,0 +1,247 @@
+"""The simulated world: a floor, the robot's body, scripted people, and what the robot's
+sensors and devices make of them. One `numpy.random.Generator` drives every random draw, so a
+run is the same for the same seed and the same sequence of calls.
+"""
+from __future__ import annotations
+
+import math
+from collections import deque
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from robots.exceptions import FloorError, ScenarioError
+from robots.profile import RobotProfile
+from robots.sim.body import Obstacles, UnicycleBody
+from robots.sim.floor import Floor
+from robots.sim.people import BODY_RADIUS, LEG_RADIUS, SimPerson
+from robots.sim.raycast import cast_rays
+from robots.sim.scenario import Leave, Scenario, Walk
+
+MAX_SUBSTEP = 0.05          # s
+SONAR_RAY_SPREAD = (-1 / 3, 0.0, 1 / 3)   # rays across each cone, as fractions of the cone
+SECONDS_PER_CHARACTER = 0.06
+_NO_CIRCLES = np.zeros((0, 3))
+
+
+@dataclass
+class ScreenState:
+    """What the touch screen shows and the presses not yet taken by the robot."""
+    prompt: tuple[str, str, tuple[str, ...]] | None = None   # (prompt_id, text, buttons)
+    shown_at: float = 0.0
+    presses: deque = field(default_factory=deque)           # of (prompt_id, button)
+
+    def show(self, prompt_id: str, text: str, buttons: tuple[str, ...], t: float) -> None:
+        """Show a prompt; showing the same prompt again keeps its original time."""
+        prompt = (str(prompt_id), str(text), tuple(str(b) for b in buttons))
+        if prompt != self.prompt:
+            self.prompt = prompt
+            self.shown_at = t
+
+    def clear(self) -> None:
+        self.prompt = None
+
+    def press(self, prompt_id: str, button: str) -> None:
+        self.presses.append((prompt_id, button))
+
+    def take_press(self) -> tuple[str, str] | None:
+        return self.presses.popleft() if self.presses else None
+
+
+class World:
+    """Floor, body, people and sensors, stepped together in sim time `t`."""
+
+    def __init__(self, floor: Floor, profile: RobotProfile, scenario: Scenario | None = None,
+                 seed: int = 0) -> None:
+        self.floor = floor
+        self.profile = profile
+        self.scenario = scenario
+        self.rng = np.random.default_rng(seed)
+        self.t = 0.0
+        x, y, th = self._start_pose()
+        self.body = UnicycleBody(x, y, th, profile.limits, profile.radius)
+        self.people: list[SimPerson] = []
+        if scenario is not None:
+            _check_places(scenario, floor)
+            self.people = [SimPerson(plan, self.resolve) for plan in scenario.people]
+        self.screen = ScreenState()
+        self.utterances: list[tuple[float, str]] = []
+        self.speaking_until = 0.0
+        self.head_pan = 0.0
+        self.head_tilt = 0.0
+        self.hooks: list[Callable[["World", float], None]] = []
+        self._walls = floor.segments
+        self._sonar_rays = self._sonar_ray_table()
+        self._laser_offsets = self._laser_angles()
+
+    # -- places ----------------------------------------------------------------------------
+
+    def resolve(self, where) -> tuple[float, float]:
+        """(x, y) of a place name or a point."""
+        if isinstance(where, str):
+            x, y, _ = self.floor.place(where)
+            return x, y
+        return float(where[0]), float(where[1])
+
+    def _start_pose(self) -> tuple[float, float, float]:
+        robot = self.scenario.robot if self.scenario is not None else "robot_home"
+        if isinstance(robot, str):
+            if robot not in self.floor.places and robot == "robot_home" and self.scenario is None:
+                return 0.0, 0.0, 0.0
+            try:
+                return self.floor.place(robot)
+            except FloorError as exc:
+                raise ScenarioError(f"{self.scenario.where()}: scenario.robot: {exc}") from None
+        return robot
+
+    # -- stepping --------------------------------------------------------------------------
+
+    def step(self, dt: float) -> None:
+        """Advance people and body by dt seconds in substeps of at most 0.05 s."""
+        if dt <= 0:
+            return
+        count = max(1, math.ceil(dt / MAX_SUBSTEP - 1e-9))
+        h = dt / count
+        start = self.t
+        for i in range(1, count + 1):
+            self.t = start + h * i
+            for person in self.people:
+                person.step(h, self)
+            self.body.step(h, Obstacles(self._walls, self.body_circles()))
+            for hook in self.hooks:
+                hook(self, h)
+
+    @property
+    def bumpers(self) -> int:
+        return self.body.bumpers
+
+    @property
+    def stalled(self) -> bool:
+        return self.body.stalled
+
+    def say(self, text: str) -> None:
+        """Record an utterance; the speaker is busy ~0.06 s per character."""
+        self.utterances.append((self.t, str(text)))
+        self.speaking_until = self.t + SECONDS_PER_CHARACTER * len(str(text))
+
+    # -- what the sensors see --------------------------------------------------------------
+
+    def present_people(self) -> list[SimPerson]:
+        return [p for p in self.people if p.in_world]
+
+    def body_circles(self) -> np.ndarray:
+        """People as sonar and bumpers see them: one circle each (k, 3)."""
+        present = [(p.x, p.y, BODY_RADIUS) for p in self.people if p.in_world]
+        return np.array(present) if present else _NO_CIRCLES
+
+    def leg_circles(self) -> np.ndarray:
+        """People as the laser sees them: two leg circles each (2k, 3)."""
+        legs = []
+        for person in self.people:
+            if person.in_world:
+                left, right = person.leg_positions()
+                legs.append((left[0], left[1], LEG_RADIUS))
+                legs.append((right[0], right[1], LEG_RADIUS))
+        return np.array(legs) if legs else _NO_CIRCLES
+
+    def _sonar_ray_table(self) -> np.ndarray | None:
+        """Per ray (3 per sonar): x, y, heading in the robot frame."""
+        sonar = self.profile.sonar
+        if sonar is None:
+            return None
+        rays = [(x, y, h + f * sonar.cone) for x, y, h in sonar.poses for f in SONAR_RAY_SPREAD]
+        return np.array(rays, dtype=float)
+
+    def _laser_angles(self) -> np.ndarray | None:
+        laser = self.profile.laser
+        if laser is None:
+            return None
+        return laser.heading + np.linspace(-laser.fov / 2, laser.fov / 2, laser.beams)
+
+    def _to_world(self, local: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Robot-frame (x, y, heading) rows to world-frame origins (n, 2) and angles (n,)."""
+        body = self.body
+        c, s = math.cos(body.th), math.sin(body.th)
+        origins = np.empty((local.shape[0], 2))
+        origins[:, 0] = body.x + c * local[:, 0] - s * local[:, 1]
+        origins[:, 1] = body.y + s * local[:, 0] + c * local[:, 1]
+        return origins, local[:, 2] + body.th
+
+    def sonar_ranges(self) -> np.ndarray:
+        """One range per sonar (m from the transducer), inf when no echo within max_range."""
+        sonar = self.profile.sonar
+        if sonar is None:
+            return np.zeros(0)
+        origins, angles = self._to_world(self._sonar_rays)
+        ranges = cast_rays(origins, angles, self._walls, self.body_circles(), sonar.max_range)
+        return ranges.reshape(-1, len(SONAR_RAY_SPREAD)).min(axis=1)
+
+    def laser_scan(self) -> tuple[np.ndarray, np.ndarray]:
+        """(angles in the robot frame, ranges in m from the laser) with Gaussian range noise."""
+        laser = self.profile.laser
+        if laser is None:
+            return np.zeros(0), np.zeros(0)
+        body = self.body
+        c, s = math.cos(body.th), math.sin(body.th)
+        origin = np.array([[body.x + c * laser.x - s * laser.y, body.y + s * laser.x + c * laser.y]])
+        origins = np.broadcast_to(origin, (laser.beams, 2))
+        ranges = cast_rays(origins, self._laser_offsets + body.th, self._walls,
+                           self.leg_circles(), laser.max_range)
+        if laser.noise > 0:
+            ranges = np.maximum(ranges + self.rng.normal(0.0, laser.noise, ranges.shape), 0.0)
+        return self._laser_offsets.copy(), ranges
+
+    def detect_people(self) -> list[tuple[float, float]]:
+        """Noisy person positions in the robot frame: in range and field of view, not behind
+        a wall, each missed with `miss_rate`; plus Poisson false positives in the area."""
+        spec = self.profile.people_detector
+        if spec is None:
+            return []
+        body = self.body
+        c, s = math.cos(body.th), math.sin(body.th)
+        candidates = []
+        for person in self.people:
+            if not person.in_world:
+                continue
+            dx, dy = person.x - body.x, person.y - body.y
+            local_x, local_y = c * dx + s * dy, -s * dx + c * dy
+            distance = math.hypot(local_x, local_y)
+            if distance <= spec.range and abs(math.atan2(local_y, local_x)) <= spec.fov / 2:
+                candidates.append((local_x, local_y, distance, math.atan2(dy, dx)))
+        found = []
+        if candidates:
+            table = np.array(candidates)
+            origins = np.broadcast_to(np.array([[body.x, body.y]]), (len(table), 2))
+            walls = cast_rays(origins, table[:, 3], self._walls, None, spec.range)
+            seen = (walls >= table[:, 2]) & (self.rng.random(len(table)) >= spec.miss_rate)
+            noise = self.rng.normal(0.0, spec.noise, (len(table), 2))
+            found = [(float(x), float(y)) for x, y in table[seen, :2] + noise[seen]]
+        for _ in range(self.rng.poisson(spec.false_rate)):
+            radius = spec.range * math.sqrt(self.rng.random())
+            bearing = (self.rng.random() - 0.5) * spec.fov
+            found.append((radius * math.cos(bearing), radius * math.sin(bearing)))
+        return found
+
+    def ground_truth(self) -> list[tuple[str, float, float]]:
+        """(id, x, y) in the world frame of the people in the world now."""
+        return [(p.id, p.x, p.y) for p in self.people if p.in_world]
+
+
+def _check_places(scenario: Scenario, floor: Floor) -> None:
+    """Fail early, naming file, line and field, when a scenario uses a place the floor lacks."""
+    for index, plan in enumerate(scenario.people):
+        fields = [("at", plan.at), ("exit", plan.exit)]
+        for number, step in enumerate(plan.steps):
+            if isinstance(step, Walk):
+                fields += [(f"steps[{number}].walk", p) for p in step.waypoints]
+            elif isinstance(step, Leave) and step.to is not None:
+                fields.append((f"steps[{number}].leave", step.to))
+        for name, where in fields:
+            if isinstance(where, str) and where not in floor.places:
+                raise ScenarioError(
+                    f"{scenario.where(index)}: person '{plan.id}'.{name}: floor '{floor.name}' "
+                    f"has no place '{where}'; places: {', '.join(sorted(floor.places))}")
+
+
+__all__ = ["World", "ScreenState"]
