@@ -1,26 +1,28 @@
 """People perception: detections from the person detector and the laser, tracked in the world frame.
 
 Detections arrive in the robot frame; they are moved to the world frame with the odometry pose
-before tracking, which is how the robot's own motion is compensated. A camera detection and a
-laser leg-pair detection of the same person in one frame are fused first (inverse-covariance
-weighting), so the tracker sees at most one measurement per person and frame. The user (the
-interaction partner) is chosen among confirmed tracks by `skills.people.user.UserSelector`.
+before tracking (`skills.people.frames`), which is how the robot's own motion is compensated;
+the tracker fuses a camera and a laser detection of the same person in one frame.
+
+Laser leg pairs only *refine* people the camera also sees: a laser-only candidate is dropped,
+because door jambs and wall ends look like legs to a scan and, without a map, would become
+permanent phantom people. On a robot without a person detector every leg pair is used.
+The user (the interaction partner) is chosen by `skills.people.user.UserSelector`.
 """
 from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from robots.devices import Detection, Laser, PersonDetector
 from skills.localization import Localization
+from skills.people.frames import robot_to_world
 from skills.people.legs import detect_legs
 from skills.people.tracker import PeopleTracker
 from skills.people.user import UserSelector, approach_speed, distance
 from skills.skill import Skill
 from skills.status import RUNNING, failed
 
-FUSION_DISTANCE = 0.4   # m: camera and laser detections closer than this are one person
+CORROBORATION = 0.5     # m: a laser candidate this close to a camera detection is kept
 
 
 class PeoplePerception(Skill):
@@ -46,7 +48,8 @@ class PeoplePerception(Skill):
             self.set_status(failed("no person detector and no laser on this robot"), now)
             return
         detections = self._detections()
-        world = [_to_world(d, state.x, state.y, state.th) for d in detections]
+        pose = (state.x, state.y, state.th)
+        world = [robot_to_world(d.x, d.y, d.cov, pose) for d in detections]
         tracks = self.tracker.update(now, world)
         self.tracks = tuple(t for t in tracks if t.status == "confirmed")
         robot_xy = (state.x, state.y)
@@ -66,33 +69,10 @@ class PeoplePerception(Skill):
             scan = self.laser.read()
             if scan is not None:
                 laser = detect_legs(scan)
-        return fuse_detections(camera, laser)
+        if self.detector is None:
+            return laser
+        return camera + [leg for leg in laser if _near_any(leg, camera)]
 
 
-def fuse_detections(camera: list[Detection], laser: list[Detection]) -> list[Detection]:
-    """Merge each laser detection into the nearest camera detection within FUSION_DISTANCE."""
-    fused: list[Detection] = []
-    unused = list(laser)
-    for cam in camera:
-        best = min(unused, key=lambda d: math.hypot(d.x - cam.x, d.y - cam.y), default=None)
-        if best is not None and math.hypot(best.x - cam.x, best.y - cam.y) < FUSION_DISTANCE:
-            unused.remove(best)
-            fused.append(_weighted(cam, best))
-        else:
-            fused.append(cam)
-    return fused + unused
-
-
-def _weighted(a: Detection, b: Detection) -> Detection:
-    info_a, info_b = np.linalg.inv(np.asarray(a.cov)), np.linalg.inv(np.asarray(b.cov))
-    cov = np.linalg.inv(info_a + info_b)
-    mean = cov @ (info_a @ np.array([a.x, a.y]) + info_b @ np.array([b.x, b.y]))
-    return Detection(a.t, float(mean[0]), float(mean[1]),
-                     ((cov[0, 0], cov[0, 1]), (cov[1, 0], cov[1, 1])), "fused")
-
-
-def _to_world(d: Detection, x: float, y: float, th: float) -> tuple[float, float, np.ndarray]:
-    c, s = math.cos(th), math.sin(th)
-    rotation = np.array([[c, -s], [s, c]])
-    cov = rotation @ np.asarray(d.cov, dtype=float) @ rotation.T
-    return (x + c * d.x - s * d.y, y + s * d.x + c * d.y, cov)
+def _near_any(candidate: Detection, others: list[Detection]) -> bool:
+    return any(math.hypot(candidate.x - o.x, candidate.y - o.y) < CORROBORATION for o in others)

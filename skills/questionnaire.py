@@ -24,6 +24,7 @@ class SurveyProgress:
     answers: tuple[tuple[str, str], ...]   # (question id, answer) in the order given
     total: int
     asking: str | None = None
+    closed: bool = False                   # the session was closed (thanks said) after the last answer
 
     @property
     def answered(self) -> int:
@@ -43,6 +44,7 @@ class Questionnaire(Skill):
         self.questions: tuple[Question, ...] = ()
         self.answers: dict[str, str] = {}
         self.asking: Question | None = None
+        self.closed = False
         self.session = 0
 
     def load(self, questions: tuple[Question, ...], now: float) -> None:
@@ -53,8 +55,14 @@ class Questionnaire(Skill):
 
     def reset(self, now: float) -> None:
         self.answers = {}
+        self.closed = False
         self.session += 1
         self.cancel(now)
+
+    def close(self, now: float) -> None:
+        """The survey with this person is over (every answer given and the thanks said)."""
+        self.closed = self.progress().done
+        self._publish(now)
 
     def next_question(self) -> Question | None:
         return next((q for q in self.questions if q.id not in self.answers), None)
@@ -96,7 +104,7 @@ class Questionnaire(Skill):
 
     def progress(self) -> SurveyProgress:
         return SurveyProgress(tuple(self.answers.items()), len(self.questions),
-                              self.asking.id if self.asking else None)
+                              self.asking.id if self.asking else None, self.closed)
 
     def _publish(self, now: float) -> None:
         self.write("survey/progress", self.progress(), now)

@@ -30,7 +30,10 @@ def available_robots() -> list[str]:
 
 
 def robot_capabilities(robot: str) -> frozenset[str]:
-    return load_profile(robot).capabilities
+    try:
+        return load_profile(robot).capabilities
+    except RobotError as exc:
+        raise SkillError(str(exc)) from exc
 
 
 class SkillSet:

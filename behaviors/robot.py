@@ -1,0 +1,115 @@
+"""The robot as L3 sees it: percepts in, one active macro-behavior out, events for the trace.
+
+L3 opens a robot here (`open_robot`), which opens the skills, which open the hardware. Per
+tick L3 calls `sense()` (steps 1–2, returns the percept view), maybe `activate()` (step 3's
+outcome), then `act()` (steps 4–6). If a behavior raises, the robot stops at once, records a
+fault, and stays stopped: nothing resumes motion until L3 opens it again.
+"""
+from __future__ import annotations
+
+import logging
+from pathlib import Path
+from typing import Any
+
+from behaviors.active import ActiveBehavior
+from behaviors.exceptions import BehaviorFault, RobotOpenError
+from behaviors.percept_view import PerceptTracker
+from behaviors.percepts import PerceptView
+from behaviors.registry import BehaviorContext
+from skills.exceptions import SkillError
+from skills.skillset import SkillSet, open_skills
+
+log = logging.getLogger("interbot.behaviors")
+
+
+class Robot:
+    def __init__(self, skills: SkillSet) -> None:
+        self.skills = skills
+        self.active = ActiveBehavior(skills.capabilities)
+        self.percepts = PerceptTracker()
+        self.fault: str | None = None
+        self._events: list[dict[str, Any]] = []
+
+    @property
+    def name(self) -> str:
+        return self.skills.name
+
+    @property
+    def capabilities(self) -> frozenset[str]:
+        return self.skills.capabilities
+
+    @property
+    def behavior(self) -> str | None:
+        return self.active.name
+
+    @property
+    def simulated_time(self) -> bool:
+        return self.skills.simulated_time
+
+    def now(self) -> float:
+        return self.skills.now()
+
+    def wait_until(self, t: float) -> None:
+        self.skills.wait_until(t)
+
+    def sense(self) -> PerceptView:
+        now = self.skills.sense()
+        return self.percepts.view(self.skills, now)
+
+    def activate(self, behavior: str, params: dict[str, Any] | None = None) -> str:
+        """Make `behavior` the active one (halting the old tree first); returns the realization."""
+        if self.fault:
+            raise BehaviorFault(f"robot '{self.name}' is stopped after a fault: {self.fault}")
+        now = self.now()
+        realization = self.active.switch(behavior, BehaviorContext(self.skills, dict(params or {})))
+        self.percepts.restart(now)
+        self._events.append({"t": round(now, 3), "kind": "behavior", "name": behavior,
+                             "realization": realization})
+        return realization
+
+    def act(self) -> None:
+        """Tick the active tree, then let the skills drive; a raising behavior stops the robot."""
+        if self.fault:
+            self.skills.emergency_stop()
+            return
+        try:
+            self.active.tick()
+        except Exception as exc:  # any fault in a behavior: stop, record, stay stopped
+            self._fail(f"behavior '{self.active.name}' raised {type(exc).__name__}: {exc}")
+            return
+        self.skills.act()
+
+    def _fail(self, reason: str) -> None:
+        log.error("fault: %s", reason)
+        self.fault = reason
+        self.skills.emergency_stop()
+        try:
+            self.active.halt()
+        except Exception as exc:   # a tree that cannot even halt: we are stopped anyway
+            log.error("halting the faulty tree raised too: %s", exc)
+            self.active.root = None
+        self._events.append({"t": round(self.now(), 3), "kind": "fault", "reason": reason})
+
+    def events(self) -> list[dict[str, Any]]:
+        """Everything that happened since the last call, oldest first, as trace dicts."""
+        events = self._events + [e.as_dict() for e in self.skills.events.drain()]
+        self._events = []
+        events.sort(key=lambda e: e["t"])
+        return events
+
+    def ground_truth(self) -> list[tuple[str, float, float]]:
+        return self.skills.ground_truth()
+
+    def close(self) -> None:
+        try:
+            self.active.halt()
+        finally:
+            self.skills.close()
+
+
+def open_robot(robot: str | Path, *, port: str | None = None, scenario: str | Path | None = None,
+               fast: bool = False, seed: int = 0) -> Robot:
+    try:
+        return Robot(open_skills(robot, port=port, scenario=scenario, fast=fast, seed=seed))
+    except SkillError as exc:
+        raise RobotOpenError(str(exc)) from exc
