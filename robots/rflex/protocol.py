@@ -19,6 +19,7 @@ import struct
 from dataclasses import dataclass
 
 from robots.exceptions import CommandError, ProtocolError
+from robots.link.parser import FramedParser, Reject
 
 ESC, STX, ETX = 0x1B, 0x02, 0x03
 ESC_DATA, ESC_SKIP = 0x00, 0x01
@@ -486,96 +487,53 @@ def sonar_raw(metres: float) -> int:
 
 # --------------------------------------------------------------------------- byte-fed parser
 
-class FrameParser:
-    """Turns a byte stream into frames; never blocks, keeps at most one frame's worth of bytes.
+MAX_ESCAPED_FRAME = 2 + 2 * MAX_BODY + 2   # every body byte stuffed
 
-    Outside a frame it hunts for `1B 02`. Inside, `1B 00` is a data 0x1B, `1B 01` is dropped,
-    `1B 03` closes, `1B 02` abandons the frame and opens a new one, and any other byte after
-    0x1B abandons it and hunts again from that byte. A closed frame is checked for length
-    (dlen) and checksum. Everything discarded is counted in `dropped` (by reason) and
-    `skipped_bytes` (noise between frames).
+
+def unescape(raw_body: bytes) -> bytes:
+    """Undo the receive-side escapes: `1B 01` vanishes, `1B 00` is one 0x1B. Only valid on a
+    body where every 0x1B starts a pair (FrameParser.frame_length checks that first)."""
+    return raw_body.replace(b"\x1b\x01", b"").replace(b"\x1b\x00", b"\x1b")
+
+
+class FrameParser(FramedParser):
+    """Turns a byte stream into frames on the shared parser base (bounded, resyncing, counted).
+
+    A frame runs from `1B 02` to the first `1B 03`; on the way `1B 00` and `1B 01` are escapes,
+    and any other byte after 0x1B (including a new `1B 02`) rejects the frame, after which the
+    base hunts for the next start. The closed frame is unescaped and checked for dlen and crc.
     """
 
-    def __init__(self) -> None:
-        self._body: bytearray | None = None   # None while hunting
-        self._pending_esc = False              # the last byte fed was an unpaired 0x1B
-        self.frames = 0
-        self.skipped_bytes = 0
-        self.dropped: dict[str, int] = {}
+    header = START
+    max_frame = MAX_ESCAPED_FRAME
 
-    @property
-    def dropped_total(self) -> int:
-        return sum(self.dropped.values())
+    def frame_length(self, buf: bytearray, start: int) -> int | None:
+        pos = start + 2
+        limit = start + self.max_frame
+        while True:
+            esc = buf.find(ESC, pos, limit)
+            if esc < 0:
+                if len(buf) >= limit:
+                    raise Reject("length", f"no end of frame within {self.max_frame} bytes")
+                return None
+            if esc + 1 >= len(buf):
+                return None
+            code = buf[esc + 1]
+            if code == ETX:
+                return esc + 2 - start
+            if code not in (ESC_DATA, ESC_SKIP):
+                what = "a new start" if code == STX else f"bad escape 1B {code:02X}"
+                raise Reject("escape", f"{what} {esc - start} bytes into the frame")
+            pos = esc + 2
 
-    def _drop(self, reason: str) -> None:
-        self.dropped[reason] = self.dropped.get(reason, 0) + 1
-
-    def feed(self, data: bytes) -> list[Frame]:
-        """Consume `data`; return the complete, valid frames it finished."""
-        out: list[Frame] = []
-        if self._pending_esc:
-            data = b"\x1b" + bytes(data)
-            self._pending_esc = False
-        pos, end = 0, len(data)
-        while pos < end:
-            if self._body is None:
-                pos = self._hunt(data, pos)
-            else:
-                pos = self._inside(data, pos, out)
-        return out
-
-    def _hunt(self, data: bytes, pos: int) -> int:
-        found = data.find(START, pos)
-        if found < 0:
-            tail_esc = data[-1] == ESC
-            self.skipped_bytes += len(data) - pos - (1 if tail_esc else 0)
-            self._pending_esc = tail_esc
-            return len(data)
-        self.skipped_bytes += found - pos
-        self._body = bytearray()
-        return found + 2
-
-    def _inside(self, data: bytes, pos: int, out: list[Frame]) -> int:
-        body = self._body
-        esc = data.find(b"\x1b", pos)
-        stop = len(data) if esc < 0 else esc
-        body += data[pos:stop]
-        if len(body) > MAX_BODY:
-            self._drop("too long")
-            self._body = None
-            return stop
-        if esc < 0:
-            return stop
-        if esc + 1 == len(data):
-            self._pending_esc = True
-            return len(data)
-        code = data[esc + 1]
-        if code == ESC_DATA:
-            body.append(ESC)
-        elif code == ESC_SKIP:
-            pass
-        elif code == ETX:
-            self._close(out)
-        elif code == STX:
-            self._drop("restarted")
-            self._body = bytearray()
-        else:
-            self._drop("bad escape")
-            self._body = None
-            return esc + 1
-        return esc + 2
-
-    def _close(self, out: list[Frame]) -> None:
-        body = self._body
-        self._body = None
+    def decode(self, frame: bytes) -> Frame:
+        body = unescape(frame[2:-2])
         if len(body) < 5 or body[3] != len(body) - 5:
-            self._drop("bad length")
-            return
+            raise Reject("length", f"{len(body)}-byte body does not match dlen "
+                         f"{body[3] if len(body) > 3 else '?'}")
         crc = 0
         for byte in body[:-1]:
             crc ^= byte
         if crc != body[-1]:
-            self._drop("bad checksum")
-            return
-        self.frames += 1
-        out.append(Frame(body[0], body[2], bytes(body[4:-1]), body[1]))
+            raise Reject("checksum", f"crc {body[-1]:02X}, computed {crc:02X}")
+        return Frame(body[0], body[2], bytes(body[4:-1]), body[1])

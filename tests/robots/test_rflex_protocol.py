@@ -38,7 +38,7 @@ def test_golden_command_frames(frame, expected):
 def test_golden_frames_parse_back(frame, expected):
     parser = p.FrameParser()
     assert parser.feed(hexbytes(expected)) == [frame]
-    assert parser.dropped_total == 0
+    assert parser.stats.rejected == 0
 
 
 def test_golden_frames_decode_as_commands():
@@ -272,14 +272,19 @@ def test_noise_is_skipped_and_counted():
     parser = p.FrameParser()
     frames = parser.feed(b"\x00\x03garbage\x1b\x03" + p.encode_escaped(p.motor_report(1, MOTOR)))
     assert [p.decode_report(f) for f in frames] == [MOTOR]
-    assert parser.skipped_bytes == 11
+    assert parser.stats.dropped_bytes == 11
 
 
 def test_buffer_is_bounded_and_runaway_frame_dropped():
     parser = p.FrameParser()
     assert parser.feed(p.START + bytes(10_000)) == []
-    assert parser.dropped == {"too long": 1}
-    assert parser._body is None or len(parser._body) <= p.MAX_BODY
+    assert parser.stats.bad_length == 1
+    for _ in range(40):                            # an endless frame, in chunks
+        assert parser.feed(bytes(300)) == []
+        assert parser.pending <= p.MAX_ESCAPED_FRAME
+    for _ in range(20):                            # frames abandoned at the next start
+        assert parser.feed(p.START + bytes(500)) == []
+        assert parser.pending <= p.MAX_ESCAPED_FRAME
     frames = parser.feed(p.encode_escaped(p.motor_report(1, MOTOR)))
     assert len(frames) == 1
 
@@ -290,9 +295,10 @@ def test_drop_reasons_are_counted():
     parser.feed(good[:-3] + b"\x00" + good[-2:])   # checksum changed
     parser.feed(p.START + b"\x02\x00\x21\x05\x00\x26" + p.END)  # dlen 5, one data byte
     parser.feed(p.START + b"\x01\x1b\x7f")         # bad escape
-    parser.feed(p.START + b"\x01" + good)          # restarted by the next start
-    assert parser.dropped == {"bad checksum": 1, "bad length": 1, "bad escape": 1, "restarted": 1}
-    assert parser.frames == 1
+    parser.feed(p.START + b"\x01" + good)          # abandoned at the next start
+    assert (parser.stats.bad_checksum, parser.stats.bad_length, parser.stats.bad_other) == (1, 1, 2)
+    assert parser.stats.packets == 1
+    assert "bad escape 1B 7F" in parser.stats.last_error or "new start" in parser.stats.last_error
 
 
 def test_escape_skip_is_dropped():
@@ -324,7 +330,7 @@ def test_any_chunking_gives_the_same_frames(frames, data):
     for start, stop in zip([0] + cuts, cuts + [len(wire)]):
         got += parser.feed(wire[start:stop])
     assert got == frames
-    assert parser.dropped_total == 0 and parser.skipped_bytes == 0
+    assert parser.stats.rejected == 0 and parser.stats.dropped_bytes == 0
 
 
 def test_byte_at_a_time():
