@@ -21,6 +21,7 @@ LEG_SPREAD = 0.125       # m, half the distance between the legs, across the hea
 LEG_SWING = 0.1          # m, amplitude along the heading while walking
 STRIDE = 1.2             # m walked per full leg cycle
 ARRIVED = 0.02           # m, close enough to a waypoint
+CALL_DISTANCE = 1.5      # m; what the robot says while the person is farther away is a call
 
 
 class SimPerson:
@@ -42,6 +43,8 @@ class SimPerson:
         self.step_state: dict = {}
         self.answered: set[str] = set()
         self.pressed: list[tuple[float, str, str]] = []   # (t, prompt_id, button), for tests
+        self.calls_heard = 0          # utterances while away, since last near the robot
+        self._utterances_seen = 0
 
     @property
     def current_step(self):
@@ -60,6 +63,7 @@ class SimPerson:
                 return
             self.in_world = True
             self._begin(0, world)
+        self._listen(world)
         step = self.current_step
         if step is None:
             self._face_robot(world)
@@ -77,6 +81,15 @@ class SimPerson:
         return left, right
 
     # -- helpers ---------------------------------------------------------------------------
+
+    def _listen(self, world: "World") -> None:
+        """Count what the robot said while the person was away (a call); near it, forget."""
+        said = len(world.utterances) - self._utterances_seen
+        self._utterances_seen = len(world.utterances)
+        if self._distance_to_robot(world) <= CALL_DISTANCE:
+            self.calls_heard = 0
+        else:
+            self.calls_heard += said
 
     def _begin(self, index: int, world: "World") -> None:
         self.index = index
@@ -160,9 +173,10 @@ def _answer(person: SimPerson, step: Answer, dt: float, world: "World") -> bool:
 
 
 def _wait_for_call(person: SimPerson, step: WaitForCall, dt: float, world: "World") -> bool:
-    """Stand still until the robot speaks (go on) or the timeout passes (leave)."""
+    """Stand still until the robot calls (go on) or the timeout passes (leave). A call is an
+    utterance after the step began, or one heard while walking away before it."""
     person._face_robot(world)
-    if len(world.utterances) > person.step_state["utterances"]:
+    if len(world.utterances) > person.step_state["utterances"] or person.calls_heard:
         return True
     if world.t - person.step_started >= step.timeout - 1e-9:
         person._leave_now(world)

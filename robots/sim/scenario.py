@@ -169,7 +169,7 @@ class _Reader:
             appear=self.number(entry, "appear", f"{label}.appear", 0.0, 86400.0, 0.0),
             at=at,
             speed=self.number(entry, "speed", f"{label}.speed", 0.05, 3.0, 1.0),
-            exit=self.point(entry.get("exit", at), f"{label}.exit"),
+            exit=self.point(entry["exit"], f"{label}.exit") if "exit" in entry else at,
             steps=steps, line=line)
 
     def step(self, entry, label: str) -> Step:
@@ -203,7 +203,7 @@ class _Reader:
                           delay=self.number(entry, "delay", f"{label}.delay", 0.0, 600.0, 2.0),
                           reach=self.number(entry, "reach", f"{label}.reach", 0.3, 5.0, 1.0),
                           timeout=self.number(entry, "timeout", f"{label}.timeout", 0.0,
-                                              86400.0, math.inf))
+                                              86400.0) if "timeout" in entry else math.inf)
         if kind == "wait_for_call":
             return WaitForCall(self.number(entry, kind, label, 0.0, 86400.0))
         return Leave(self.point(value, label) if value not in (True, "exit") else None)
