@@ -1,0 +1,66 @@
+"""`compile_condition`: text in, a checked and compiled condition out (or a ConditionError)."""
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+from ..exceptions import ConditionError
+from . import typecheck
+from .compiler import compile_tree
+from .nodes import Node
+from .parser import parse
+from .typed import TIME_IN_STATE, Typed, variables
+
+
+class CompiledCondition:
+    """A condition ready to evaluate each tick. Equal when the text is equal."""
+
+    __slots__ = ("text", "syntax", "tree", "names", "uses_time", "location", "_evaluate")
+
+    def __init__(self, text: str, syntax: Node, tree: Typed, location: Any | None) -> None:
+        self.text = text
+        self.syntax = syntax
+        self.tree = tree
+        read = variables(tree)
+        self.names: frozenset[str] = frozenset(n for n in read if n != TIME_IN_STATE)
+        self.uses_time: bool = TIME_IN_STATE in read
+        self.location = location
+        self._evaluate = compile_tree(tree)
+
+    def evaluate(self, values: Mapping[str, Any], time_in_state: float) -> bool:
+        """True when the condition holds; `values` maps percept names to values, None = absent."""
+        return self._evaluate(values, time_in_state)
+
+    __call__ = evaluate
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, CompiledCondition) and other.text == self.text
+
+    def __hash__(self) -> int:
+        return hash(self.text)
+
+    def __repr__(self) -> str:
+        return f"CompiledCondition({self.text!r})"
+
+
+def default_declarations() -> dict[str, Any]:
+    """The percepts L2 declares, plus time_in_state."""
+    from behaviors.percepts import PERCEPTS, TIME_IN_STATE as TIME_SPEC
+    return {**PERCEPTS, TIME_IN_STATE: TIME_SPEC}
+
+
+def compile_condition(text: str, location: Any | None = None,
+                      declarations: Mapping[str, Any] | None = None) -> CompiledCondition:
+    """Parse, type-check and compile `text`. ConditionError (with the column) when it is wrong.
+
+    `location` is where the condition text starts in its file, used in the error message.
+    """
+    declarations = default_declarations() if declarations is None else declarations
+    try:
+        syntax = parse(text)
+        tree = typecheck.check(syntax, text, declarations)
+    except ConditionError as problem:
+        if location is None:
+            raise
+        raise ConditionError(problem.reason, problem.offset, text, location) from None
+    return CompiledCondition(text, syntax, tree, location)

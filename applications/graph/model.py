@@ -1,0 +1,69 @@
+"""The data model a graph.xml becomes: plain frozen data, separate from the interpreter that runs
+it. Transitions of a state are tried by priority (lower number first), unprioritised ones after
+them in document order; the checker guarantees that which one fires never depends on that order
+unless priorities say so."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..conditions import CompiledCondition
+from .location import Location
+
+__all__ = ["Location", "Transition", "State", "Application", "Foreign"]
+
+
+@dataclass(frozen=True)
+class Foreign:
+    """Markup in other XML namespaces (e.g. an SCXML editor's layout data), kept verbatim so a
+    round trip through our files does not lose it. Not part of the model's identity."""
+
+    attributes: tuple[tuple[str, str], ...] = ()    # (Clark name "{ns}local", value)
+    elements: tuple[str, ...] = ()                  # serialized XML of each foreign child
+
+    def __bool__(self) -> bool:
+        return bool(self.attributes or self.elements)
+
+
+@dataclass(frozen=True)
+class Transition:
+    target: str
+    when: str
+    condition: CompiledCondition
+    priority: int | None
+    location: Location
+    foreign: Foreign = field(default=Foreign(), compare=False, repr=False)
+
+
+@dataclass(frozen=True)
+class State:
+    name: str
+    behavior: str
+    transitions: tuple[Transition, ...]
+    final: bool
+    location: Location
+    foreign: Foreign = field(default=Foreign(), compare=False, repr=False)
+
+    def ordered_transitions(self) -> tuple[Transition, ...]:
+        """Prioritised transitions first (lowest number first), then the others in file order."""
+        ranked = sorted((t for t in self.transitions if t.priority is not None),
+                        key=lambda t: t.priority)
+        return tuple(ranked) + tuple(t for t in self.transitions if t.priority is None)
+
+
+@dataclass(frozen=True)
+class Application:
+    name: str
+    initial: str
+    robot: str | None
+    states: dict[str, State]
+    folder: Path
+    graph_file: Path
+    foreign: Foreign = field(default=Foreign(), compare=False, repr=False)
+
+    def __hash__(self) -> int:
+        return hash((self.name, self.graph_file))
+
+    @property
+    def initial_state(self) -> State:
+        return self.states[self.initial]

@@ -1,0 +1,245 @@
+"""graph.xml → a draft of the model, with every structural problem reported in one pass.
+
+The draft keeps where each name was written, so the semantic checks (checks.py) can point at the
+exact attribute. A transition whose condition does not compile keeps `condition=None`.
+"""
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from lxml import etree
+
+from ..conditions import CompiledCondition, compile_condition
+from ..exceptions import ConditionError
+from .diagnostics import Diagnostic, did_you_mean, error
+from .location import Location
+from .model import Foreign
+from .schema import schema_problems
+from .source import SourceMap
+
+ROOT = "application"
+ELEMENTS = {"application": ("state",), "state": ("transition",), "transition": ()}
+ATTRIBUTES = {"application": ("name", "initial", "robot"),
+              "state": ("name", "behavior", "final"),
+              "transition": ("to", "when", "priority")}
+REQUIRED = {"application": ("name", "initial"), "state": ("name", "behavior"),
+            "transition": ("to",)}
+ALWAYS = "true"     # the condition of a transition written without `when`
+
+
+@dataclass
+class DraftTransition:
+    target: str
+    when: str
+    condition: CompiledCondition | None
+    priority: int | None
+    location: Location
+    target_location: Location
+    when_location: Location
+    foreign: Foreign = Foreign()
+
+
+@dataclass
+class DraftState:
+    name: str
+    behavior: str
+    final: bool
+    location: Location
+    behavior_location: Location
+    transitions: list[DraftTransition] = field(default_factory=list)
+    foreign: Foreign = Foreign()
+
+
+@dataclass
+class Draft:
+    name: str
+    initial: str | None
+    robot: str | None
+    location: Location
+    initial_location: Location
+    robot_location: Location
+    states: dict[str, DraftState] = field(default_factory=dict)
+    foreign: Foreign = Foreign()
+
+
+def read_graph(tree: etree._ElementTree, text: str, filename: str,
+               declarations: Mapping[str, Any] | None = None) -> tuple[Draft | None, list[Diagnostic]]:
+    """The draft and the structural diagnostics of a parsed graph.xml (`text` is its source)."""
+    source = SourceMap(text, filename)
+    root = tree.getroot()
+    source.bind(root)
+    reader = _Reader(source, declarations)
+    draft = reader.application(root)
+    diagnostics = reader.diagnostics
+    if not any(d.is_error for d in diagnostics):
+        diagnostics += [error(f"does not match the graph.xml schema: {message}",
+                              Location(filename, line, 1), "schema")
+                        for line, message in schema_problems(tree)]
+    return draft, diagnostics
+
+
+class _Reader:
+    def __init__(self, source: SourceMap, declarations: Mapping[str, Any] | None) -> None:
+        self.source = source
+        self.declarations = declarations
+        self.diagnostics: list[Diagnostic] = []
+
+    def report(self, message: str, location: Location, code: str) -> None:
+        self.diagnostics.append(error(message, location, code))
+
+    def application(self, root: etree._Element) -> Draft | None:
+        if root.tag != ROOT:
+            self.report(f"the root element must be <{ROOT}>, not <{_written(root)}>",
+                        self.source.element(root), "unknown-element")
+            return None
+        self.check_attributes(root)
+        draft = Draft(name=root.get("name", ""), initial=root.get("initial"),
+                      robot=root.get("robot"), location=self.source.element(root),
+                      initial_location=self.source.value(root, "initial"),
+                      robot_location=self.source.value(root, "robot"),
+                      foreign=self.foreign(root))
+        for child in self.children(root):
+            state = self.state(child)
+            if state is None:
+                continue
+            if state.name in draft.states:
+                first = draft.states[state.name].location
+                self.report(f"duplicate state '{state.name}' (first defined at line {first.line}): "
+                            "rename one of them", state.location, "duplicate-state")
+                continue
+            draft.states[state.name] = state
+        if not len([c for c in root if c.tag == "state"]):
+            self.report("the application has no <state>: add at least one",
+                        draft.location, "no-states")
+        return draft
+
+    def children(self, parent: etree._Element) -> list[etree._Element]:
+        """Our child elements; unknown ones in no namespace are reported, foreign ones skipped."""
+        allowed = ELEMENTS[parent.tag]
+        kept = []
+        for child in parent:
+            if not isinstance(child.tag, str) or _is_foreign(child.tag):
+                continue
+            if child.tag in allowed:
+                kept.append(child)
+                continue
+            self.report(self.unknown_element_message(child, parent, allowed),
+                        self.source.element(child), "unknown-element")
+        return kept
+
+    @staticmethod
+    def unknown_element_message(child: etree._Element, parent: etree._Element,
+                                allowed: tuple[str, ...]) -> str:
+        inside = (f"; <{parent.tag}> may contain only <{allowed[0]}>" if allowed
+                  else f"; <{parent.tag}> has no child elements")
+        return (f"unknown element <{child.tag}> inside <{parent.tag}>"
+                f"{did_you_mean(child.tag, allowed)}{inside}")
+
+    def check_attributes(self, element: etree._Element) -> bool:
+        known = ATTRIBUTES[element.tag]
+        for name in element.attrib:
+            if _is_foreign(name) or name in known:
+                continue
+            self.report(f"unknown attribute '{name}' on <{element.tag}>"
+                        f"{did_you_mean(name, known)}; allowed: {', '.join(known)}",
+                        self.source.attribute(element, name), "unknown-attribute")
+        complete = True
+        for name in REQUIRED[element.tag]:
+            if element.get(name) is None:
+                complete = False
+                self.report(f"<{element.tag}> is missing the '{name}' attribute"
+                            f"{_required_hint(element.tag, name)}",
+                            self.source.element(element), "missing-attribute")
+            elif not element.get(name).strip():
+                complete = False
+                self.report(f"'{name}' on <{element.tag}> is empty", 
+                            self.source.value(element, name), "empty-attribute")
+        return complete
+
+    def state(self, element: etree._Element) -> DraftState | None:
+        complete = self.check_attributes(element)
+        location = self.source.element(element)
+        final = self.boolean(element, "final")
+        transitions = [t for t in map(self.transition, self.children(element)) if t is not None]
+        if not complete and element.get("name") is None:
+            return None
+        return DraftState(name=element.get("name", "").strip(),
+                          behavior=element.get("behavior", "").strip(), final=final,
+                          location=location,
+                          behavior_location=self.source.value(element, "behavior"),
+                          transitions=transitions, foreign=self.foreign(element))
+
+    def boolean(self, element: etree._Element, name: str) -> bool:
+        value = element.get(name)
+        if value is None:
+            return False
+        if value.strip() in ("true", "1"):
+            return True
+        if value.strip() not in ("false", "0"):
+            self.report(f"'{name}' must be true or false, not {value!r}",
+                        self.source.value(element, name), "bad-value")
+        return False
+
+    def transition(self, element: etree._Element) -> DraftTransition | None:
+        complete = self.check_attributes(element)
+        for _ in self.children(element):
+            pass
+        priority = self.priority(element)
+        when = element.get("when")
+        condition = self.condition(element, when) if when is not None else \
+            compile_condition(ALWAYS, declarations=self.declarations)
+        if not complete:
+            return None
+        return DraftTransition(target=element.get("to").strip(),
+                               when=when if when is not None else ALWAYS,
+                               condition=condition, priority=priority,
+                               location=self.source.element(element),
+                               target_location=self.source.value(element, "to"),
+                               when_location=self.source.value(element, "when"),
+                               foreign=self.foreign(element))
+
+    def priority(self, element: etree._Element) -> int | None:
+        value = element.get("priority")
+        if value is None:
+            return None
+        text = value.strip()
+        if not text.isdigit():
+            self.report(f"priority must be a whole number ≥ 0 (lower number is tried first), "
+                        f"not {value!r}", self.source.value(element, "priority"), "bad-value")
+            return None
+        return int(text)
+
+    def condition(self, element: etree._Element, when: str) -> CompiledCondition | None:
+        try:
+            return compile_condition(when, self.source.value(element, "when"), self.declarations)
+        except ConditionError as problem:
+            self.report(f"in condition: {problem.reason}",
+                        self.source.value(element, "when", problem.offset), "condition")
+            return None
+
+    def foreign(self, element: etree._Element) -> Foreign:
+        attributes = tuple((k, v) for k, v in element.attrib.items() if _is_foreign(k))
+        elements = tuple(etree.tostring(child, encoding="unicode", with_tail=False)
+                         for child in element
+                         if isinstance(child.tag, str) and _is_foreign(child.tag))
+        return Foreign(attributes, elements)
+
+
+def _is_foreign(name: str) -> bool:
+    return name.startswith("{")
+
+
+def _written(element: etree._Element) -> str:
+    return etree.QName(element).localname if _is_foreign(element.tag) else element.tag
+
+
+def _required_hint(tag: str, name: str) -> str:
+    examples = {("application", "name"): ' (e.g. name="survey")',
+                ("application", "initial"): ": add initial=\"…\" naming the state to start in",
+                ("state", "name"): ' (e.g. name="Wait")',
+                ("state", "behavior"): ': add behavior="…" naming the macro-behavior to run '
+                                       '(e.g. behavior="Idle")',
+                ("transition", "to"): ': add to="…" naming the target state'}
+    return examples.get((tag, name), "")
