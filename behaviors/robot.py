@@ -97,6 +97,11 @@ class Robot:
         events.sort(key=lambda e: e["t"])
         return events
 
+    @property
+    def scenario_duration(self) -> float | None:
+        """How long the simulated scenario suggests running, s (None on a real robot)."""
+        return self.skills.scenario_duration
+
     def ground_truth(self) -> list[tuple[str, float, float]]:
         return self.skills.ground_truth()
 

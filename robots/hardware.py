@@ -39,6 +39,12 @@ class Hardware:
         self.base.poll()
         return now
 
+    @property
+    def scenario_duration(self) -> float | None:
+        """The simulated scenario's suggested run length, s (None on a real robot)."""
+        scenario = getattr(self.simulation, "scenario", None)
+        return scenario.duration if scenario is not None else None
+
     def ground_truth(self) -> list[tuple[str, float, float]]:
         """Where the simulated people really are (empty on a real robot)."""
         if self.simulation is None:

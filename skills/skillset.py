@@ -102,6 +102,10 @@ class SkillSet:
             if skill is not None and hasattr(skill, "cancel"):
                 skill.cancel(now)
 
+    @property
+    def scenario_duration(self) -> float | None:
+        return self.hardware.scenario_duration
+
     def ground_truth(self) -> list[tuple[str, float, float]]:
         return self.hardware.ground_truth()
 

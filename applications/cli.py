@@ -1,0 +1,71 @@
+"""The `interbot` command line. Subcommands are plugins (entry-point group `interbot.commands`).
+
+A subcommand is a class with `name`, `help`, `add_arguments(parser)` and `run(args) -> int`.
+Plugins let each layer contribute a command (e.g. `robots` contributes `emulate`) without
+the application layer importing the layers below its neighbour.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+from importlib.metadata import entry_points
+
+from applications.exceptions import ApplicationError, UnknownApplicationError
+from behaviors.exceptions import (BehaviorError, BehaviorFault, RobotOpenError,
+                                  UnknownBehaviorError, UnsupportedBehaviorError)
+
+GROUP = "interbot.commands"
+
+# Exit codes: 0 fine, 1 the application has errors, 2 unknown name or bad usage, 3 fault.
+EXIT_ERRORS, EXIT_USAGE, EXIT_FAULT = 1, 2, 3
+
+
+def load_commands() -> dict[str, object]:
+    commands = {}
+    for ep in sorted(entry_points(group=GROUP), key=lambda e: e.name):
+        try:
+            commands[ep.name] = ep.load()()
+        except Exception as exc:  # a broken plugin must not take the whole CLI down
+            print(f"interbot: warning: command plugin '{ep.name}' failed to load: {exc}",
+                  file=sys.stderr)
+    return commands
+
+
+def build_parser(commands: dict[str, object]) -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="interbot",
+        description="Run, check and draw interaction-robot applications on real or simulated robots.")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for name, command in commands.items():
+        sub_parser = sub.add_parser(name, help=command.help, description=command.help)
+        command.add_arguments(sub_parser)
+        sub_parser.set_defaults(handler=command)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    commands = load_commands()
+    args = build_parser(commands).parse_args(argv)
+    try:
+        return int(args.handler.run(args) or 0)
+    except KeyboardInterrupt:
+        print("interbot: interrupted", file=sys.stderr)
+        return 130
+    except (UnknownApplicationError, RobotOpenError, UnknownBehaviorError,
+            UnsupportedBehaviorError) as exc:
+        print(f"interbot: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except BehaviorFault as exc:
+        print(f"interbot: fault: {exc}", file=sys.stderr)
+        return EXIT_FAULT
+    except ApplicationError as exc:
+        for line in [str(d) for d in exc.diagnostics] or [str(exc)]:
+            print(line, file=sys.stderr)
+        return EXIT_ERRORS
+    except BehaviorError as exc:
+        print(f"interbot: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+
+
+if __name__ == "__main__":
+    sys.exit(main())

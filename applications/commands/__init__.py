@@ -1,0 +1,1 @@
+"""One module per `interbot` subcommand; each registered by entry point in setup.cfg."""

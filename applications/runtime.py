@@ -1,0 +1,192 @@
+"""The tick loop: sense, decide, act at 10 Hz, with the trace, the answers and a summary.
+
+Per tick: the robot senses (L0/L1, through L2) and hands back the percept view; the state
+machine may fire one transition, and on a transition the dialog manager picks the behavior to
+activate; the robot acts (L2 ticks the active tree, L1 drives, L0 sends). On the simulated clock
+(`fast`) robot time jumps from tick to tick; on the real clock the loop sleeps to keep 10 Hz.
+A behavior fault stops the robot and ends the run; nothing restarts motion by itself.
+"""
+from __future__ import annotations
+
+import logging
+import time
+from collections import Counter
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable
+
+from applications.database import AnswerDatabase
+from applications.dialog import Dialog, load_dialog
+from applications.graph.model import Application
+from applications.statemachine import StateMachine
+from applications.trace import TraceWriter
+from behaviors.robot import Robot
+
+log = logging.getLogger("interbot.runtime")
+
+TICK = 0.1                   # s: the P2OS status cycle, the robot's heartbeat
+DEFAULT_DURATION = 120.0     # s, when neither --duration nor the scenario says
+OVERRUN_WARNING = 0.5        # s behind schedule before the loop reports a stall
+
+
+@dataclass
+class RunSummary:
+    duration: float = 0.0
+    ticks: int = 0
+    time_in_state: Counter = field(default_factory=Counter)
+    transitions: list[tuple[float, str, str]] = field(default_factory=list)
+    answers: int = 0
+    surveys_completed: int = 0
+    fault: str | None = None
+    stalls: int = 0
+    wall_seconds: float = 0.0
+
+    def lines(self) -> list[str]:
+        out = [f"ran {self.duration:.1f} s of robot time in {self.ticks} ticks "
+               f"({self.wall_seconds:.2f} s wall clock)"]
+        for state, seconds in self.time_in_state.most_common():
+            out.append(f"  {state:<18} {seconds:7.1f} s")
+        out.append(f"answers recorded: {self.answers}; surveys completed: {self.surveys_completed}")
+        if self.stalls:
+            out.append(f"the loop fell behind real time {self.stalls} time(s)")
+        if self.fault:
+            out.append(f"STOPPED ON A FAULT: {self.fault}")
+        return out
+
+
+class Run:
+    """One run of an application on an opened robot."""
+
+    def __init__(self, app: Application, robot: Robot, *, duration: float | None = None,
+                 trace: TraceWriter | None = None, database: AnswerDatabase | None = None,
+                 echo: Callable[[str], None] | None = print,
+                 reload: Callable[[], Application | list | None] | None = None) -> None:
+        self.app = app
+        self.robot = robot
+        self.dialog: Dialog = load_dialog(app.folder / "dialog.xml")
+        self.duration = duration or robot.scenario_duration or DEFAULT_DURATION
+        self.trace = trace or TraceWriter(None)
+        self.database = database
+        self.echo = echo
+        self.reload = reload
+        self.summary = RunSummary()
+        self._answered: dict[int, set[str]] = {}
+
+    def run(self) -> RunSummary:
+        start_wall = time.perf_counter()
+        robot = self.robot
+        t0 = robot.now()
+        machine = StateMachine(self.app, t0)
+        self._emit({"t": 0.0, "kind": "transition", "from": None, "to": machine.state.name,
+                    "when": "initial"})
+        self._activate(machine, robot.sense())
+        next_tick = t0
+        while True:
+            percepts = robot.sense()
+            now = percepts.t
+            self._hot_reload(machine, percepts, now)
+            fired = machine.step(percepts, now)
+            if fired is not None:
+                self._emit({"t": round(now, 3), "kind": "transition", "from": fired.source,
+                            "to": fired.target, "when": fired.transition.when})
+                self.summary.transitions.append((now, fired.source, fired.target))
+                self._activate(machine, percepts)
+            robot.act()
+            for event in robot.events():
+                self._emit(event)
+            self.summary.ticks += 1
+            self.summary.time_in_state[machine.state.name] += TICK
+            if robot.fault or machine.finished or now - t0 + TICK > self.duration + 1e-9:
+                break
+            next_tick += TICK
+            self._keep_time(next_tick)
+        self.summary.duration = robot.now() - t0
+        self.summary.fault = robot.fault
+        self.summary.wall_seconds = time.perf_counter() - start_wall
+        return self.summary
+
+    def _activate(self, machine: StateMachine, percepts) -> None:
+        state = machine.state
+        choice = self.dialog.choose(state.name, state.behavior, percepts)
+        if choice.overridden:
+            self._say_line(f"dialog manager: {choice.behavior} instead of {choice.suggested}")
+        self.robot.activate(choice.behavior, choice.params)
+
+    def _keep_time(self, next_tick: float) -> None:
+        behind = self.robot.now() - next_tick
+        if not self.robot.simulated_time and behind > OVERRUN_WARNING:
+            self.summary.stalls += 1
+            log.warning("tick loop is %.2f s behind real time", behind)
+        self.robot.wait_until(next_tick)
+
+    def _hot_reload(self, machine: StateMachine, percepts, now: float) -> None:
+        if self.reload is None:
+            return
+        result = self.reload()
+        if result is None:
+            return
+        if isinstance(result, list):
+            self._say_line("the edited application has errors; carrying on with the running one:")
+            for problem in result:
+                self._say_line(f"  {problem}")
+            return
+        old_state = machine.state.name
+        self.app = result
+        self.dialog = load_dialog(result.folder / "dialog.xml")
+        moved = machine.replace(result, now)
+        self._emit({"t": round(now, 3), "kind": "reload", "state": machine.state.name})
+        if moved:
+            self._emit({"t": round(now, 3), "kind": "transition", "from": old_state,
+                        "to": machine.state.name, "when": "reload"})
+            self._activate(machine, percepts)
+
+    def _emit(self, event: dict[str, Any]) -> None:
+        self.trace.write(event)
+        kind = event["kind"]
+        if kind == "answer":
+            self._record_answer(event)
+        line = _describe(event, self.robot.name)
+        if line:
+            self._say_line(line)
+
+    def _record_answer(self, event: dict[str, Any]) -> None:
+        self.summary.answers += 1
+        if self.database is not None:
+            self.database.record_answer(robot=self.robot.name, session=event.get("session", 0),
+                                        question=event["question"], answer=event["answer"],
+                                        robot_time=event["t"])
+        answered = self._answered.setdefault(event.get("session", 0), set())
+        answered.add(event["question"])
+        if len(answered) == len(self.dialog.questions) and answered:
+            self.summary.surveys_completed += 1
+
+    def _say_line(self, text: str) -> None:
+        if self.echo is not None:
+            self.echo(text)
+
+
+def _describe(event: dict[str, Any], robot: str) -> str | None:
+    """The human-readable line for an event, or None for events only the trace keeps."""
+    t = f"[{event['t']:7.1f} s]"
+    kind = event["kind"]
+    if kind == "transition":
+        if event["from"] is None:
+            return f"{t} start in {event['to']}"
+        return f"{t} {event['from']} -> {event['to']}   ({event['when']})"
+    if kind == "behavior":
+        return f"{t}   behavior {event['name']} ({event['realization']})"
+    if kind == "say":
+        return f"{t}   {robot} says: \"{event['text']}\""
+    if kind == "ask":
+        return f"{t}   {robot} asks {event['question']}: {event['text']} [{' | '.join(event['buttons'])}]"
+    if kind == "answer":
+        return f"{t}   answer {event['question']} = {event['answer']}"
+    if kind == "fault":
+        return f"{t} FAULT: {event['reason']} (the robot is stopped)"
+    if kind == "skill" and event.get("status") == "failed":
+        return f"{t}   skill {event['name']} failed: {event['reason']}"
+    return None
+
+
+def default_data_dir() -> Path:
+    return Path.cwd() / "interbot-data"
