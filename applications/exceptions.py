@@ -43,3 +43,7 @@ class ConditionError(ApplicationError):
         else:
             self.column = offset + 1
         super().__init__(f"{where}{message} (at column {offset + 1} of condition {text!r})")
+
+
+class UnknownScenarioError(UnknownApplicationError):
+    """No scenario of that name in the application, and no such file."""
