@@ -1,0 +1,449 @@
+"""A P2OS firmware emulator: the robot side of the wire, around a body in the simulated world.
+
+It answers the handshake as the firmware does (echoes SYNC0/SYNC1, answers SYNC2 with name,
+class and subclass), streams a SIP every 100 ms while open, drives the world's body with the
+commanded VEL/RVEL (the body applies the profile's acceleration limits), stops the body after
+2 s without any client packet and re-accelerates to the last command on the next packet (the
+real firmware's watchdog, which the driver must guard against), and reports sonar, bumpers and
+stall from the world.
+
+Transports: a raw-mode pty (`serve_pty`) or a TCP port like MobileSim (`serve_tcp`). A reader
+thread answers packets as they arrive, so the handshake works even while a simulated clock
+stands still.
+
+Two ways to keep time:
+- Lock-step (`LockStep` given, a simulated clock): SIPs, snapshots and the firmware watchdog run
+  in the world's step hook, in sim time. Every byte the driver wrote is processed (and the body
+  command set) before the driver's write returns, and every SIP is written in the hook before
+  the driver's `poll()` reads it, so a `--fast` run is deterministic.
+- Real time (no lock-step): `start_clock()` runs a thread that emits SIPs every 100 ms of the
+  clock and checks the watchdog; the world is either stepped by its own tick loop (whose hook
+  only refreshes the snapshot the thread encodes), or, standing alone, by this thread
+  (`start_clock(simulation)`).
+"""
+from __future__ import annotations
+
+import math
+import socket
+import termios
+import threading
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from robots.exceptions import LinkError
+from robots.link.lockstep import LockStep
+from robots.link.pty import PtyPair
+from robots.p2os import protocol as p
+
+SIP_CYCLE = 0.1               # s
+FIRMWARE_WATCHDOG = 2.0       # s without any client packet
+BATTERY_DECIVOLTS = 125
+BUMPER_FRONT, BUMPER_REAR = 1, 2          # the world's bumper bits
+ALL_BUMPER_SEGMENTS = 0x3E                # bits 1..5 of a bumper byte
+BAUD_CONSTANTS = {9600: termios.B9600, 19200: termios.B19200, 38400: termios.B38400,
+                  57600: termios.B57600, 115200: termios.B115200}
+
+
+@dataclass(frozen=True)
+class Snapshot:
+    """What the firmware reports, sampled from the world on the thread that steps it."""
+    x: float = 0.0
+    y: float = 0.0
+    th: float = 0.0
+    v: float = 0.0
+    w: float = 0.0
+    sonar: tuple[float, ...] = ()
+    bumpers: int = 0
+    stalled: bool = False
+
+    @classmethod
+    def of(cls, world) -> "Snapshot":
+        body = world.body
+        return cls(body.x, body.y, body.th, body.v, body.w,
+                   tuple(float(r) for r in np.asarray(world.sonar_ranges())),
+                   int(world.bumpers), bool(world.stalled))
+
+
+class Firmware:
+    """The controller's state machine, pure: packets in, reply bytes and a drive command out."""
+
+    def __init__(self, factors: p.Factors, name: str = "horos", klass: str = "Pioneer",
+                 sonar_max_range: float = 5.0) -> None:
+        self.factors = factors
+        self.name, self.klass = name, klass
+        self.sonar_max_units = math.ceil(sonar_max_range * 1000.0 / factors.range)
+        self.reset()
+
+    def reset(self) -> None:
+        """Power-up / CLOSE: not connected, motors off, no command."""
+        self.sync_stage = 0          # next SYNC expected (0, 1, 2), 3 = synced
+        self.open = False
+        self.motors = False
+        self.sonar_on = False
+        self.vel = 0                 # mm/s commanded
+        self.rvel = 0                # deg/s commanded
+        self.max_vel = self.factors.max_vel
+        self.max_rvel = self.factors.max_rvel
+        self.last_packet_t: float | None = None
+        self.watchdog_tripped = False
+        self.origin = (0.0, 0.0, 0.0)
+        self.packets = 0
+        self.ignored = 0
+
+    # -- client packets ---------------------------------------------------------------------
+    def receive(self, packet: p.Packet, now: float, pose: tuple[float, float, float]) -> bytes:
+        """Act on one checked client packet; return what the firmware sends back (maybe nothing)."""
+        self.packets += 1
+        self.last_packet_t = now
+        self.watchdog_tripped = False          # the drives resume on any packet
+        if not self.open:
+            return self._handshake(packet)
+        try:
+            arg = p.decode_argument(packet.data)
+        except Exception:
+            self.ignored += 1
+            return b""
+        self._command(packet.kind, arg, pose)
+        return b""
+
+    def _handshake(self, packet: p.Packet) -> bytes:
+        kind = packet.kind
+        if kind == p.Cmd.SYNC0:
+            self.sync_stage = 1
+            return p.sync_echo(0)
+        if kind == p.Cmd.SYNC1 and self.sync_stage == 1:
+            self.sync_stage = 2
+            return p.sync_echo(1)
+        if kind == p.Cmd.SYNC2 and self.sync_stage == 2:
+            self.sync_stage = 3
+            return p.sync2_reply(self.name, self.klass, self.factors.subclass)
+        if kind == p.Cmd.OPEN and self.sync_stage == 3:
+            self.open = True
+            return b""
+        self.sync_stage = 0
+        self.ignored += 1
+        return b""
+
+    def _command(self, kind: int, arg, pose) -> None:
+        as_int = arg if isinstance(arg, int) else 0
+        if kind == p.Cmd.CLOSE:
+            self.reset()
+        elif kind == p.Cmd.ENABLE:
+            self.motors = bool(as_int)
+        elif kind == p.Cmd.VEL:
+            self.vel = as_int
+        elif kind == p.Cmd.RVEL:
+            self.rvel = as_int
+        elif kind == p.Cmd.VEL2:
+            left, right = p.vel2_wheels(as_int)
+            div = self.factors.vel2_divisor
+            self.vel = round((left + right) * div / 2)
+            self.rvel = round(math.degrees((right - left) * div / 2 * self.factors.diff))
+        elif kind in (p.Cmd.STOP, p.Cmd.ESTOP):
+            self.vel = self.rvel = 0
+        elif kind == p.Cmd.SETV:
+            self.max_vel = min(abs(as_int), self.factors.max_vel)
+        elif kind == p.Cmd.SETRV:
+            self.max_rvel = min(abs(as_int), self.factors.max_rvel)
+        elif kind == p.Cmd.SONAR:
+            self.sonar_on = bool(as_int & 1)
+        elif kind == p.Cmd.SETO:
+            self.origin = pose
+        elif kind == p.Cmd.PULSE:
+            pass
+        else:                                   # SETA, SETRA, BUMPSTALL, SAY, ...: accepted
+            self.ignored += 1
+
+    # -- time ----------------------------------------------------------------------------------
+    def check_watchdog(self, now: float) -> bool:
+        """Trip after FIRMWARE_WATCHDOG s without a packet; True when it just tripped."""
+        if (self.open and not self.watchdog_tripped and self.last_packet_t is not None
+                and now - self.last_packet_t >= FIRMWARE_WATCHDOG):
+            self.watchdog_tripped = True
+            return True
+        return False
+
+    def drive(self) -> tuple[float, float]:
+        """The (v m/s, w rad/s) the motors are driven at now."""
+        if not (self.open and self.motors) or self.watchdog_tripped:
+            return 0.0, 0.0
+        vel = max(-self.max_vel, min(self.max_vel, self.vel))
+        rvel = max(-self.max_rvel, min(self.max_rvel, self.rvel))
+        return vel / 1000.0, math.radians(rvel)
+
+    # -- status --------------------------------------------------------------------------------
+    def sip(self, snap: Snapshot) -> bytes:
+        """The SIP for this world snapshot, in the odometry frame set by SETO."""
+        f = self.factors
+        ox, oy, oth = self.origin
+        c, s = math.cos(oth), math.sin(oth)
+        dx, dy = snap.x - ox, snap.y - oy
+        x_mm, y_mm = (c * dx + s * dy) * 1000.0, (-s * dx + c * dy) * 1000.0
+        th = p.normalize_angle(snap.th - oth)
+        half = snap.w / f.diff               # mm/s of (R - L) / 2
+        left = _i16(snap.v * 1000.0 - half)
+        right = _i16(snap.v * 1000.0 + half)
+        stall_bumpers = 0
+        if snap.bumpers & BUMPER_FRONT:
+            stall_bumpers |= ALL_BUMPER_SEGMENTS << 8
+        if snap.bumpers & BUMPER_REAR:
+            stall_bumpers |= ALL_BUMPER_SEGMENTS
+        if snap.stalled:
+            stall_bumpers |= 0x0101
+        flags = (0x01 if self.motors else 0) | (0x02 if self.sonar_on else 0)
+        sonar = tuple((i, self._range_units(r)) for i, r in enumerate(snap.sonar)) \
+            if self.sonar_on else ()
+        return p.encode_sip(p.SIP(
+            moving=bool(snap.v or snap.w), xpos=round(x_mm / f.dist) & 0x7FFF,
+            ypos=round(y_mm / f.dist) & 0x7FFF, thpos=_i16(th / f.angle), lvel=left, rvel=right,
+            battery=BATTERY_DECIVOLTS, stall_bumpers=stall_bumpers, flags=flags, sonar=sonar))
+
+    def _range_units(self, metres: float) -> int:
+        if not math.isfinite(metres):
+            return self.sonar_max_units
+        return min(self.sonar_max_units, max(0, round(metres * 1000.0 / self.factors.range)))
+
+
+def _i16(value: float) -> int:
+    return max(-32768, min(32767, round(value)))
+
+
+class _PtyTransport:
+    def __init__(self, pty: PtyPair, baud: int | None) -> None:
+        self.pty = pty
+        self.baud = baud
+
+    def read(self, timeout: float) -> bytes | None:
+        if self.pty.closed:
+            return None
+        try:
+            data = self.pty.read(timeout=timeout)
+        except (OSError, ValueError):
+            return None
+        if data and self.baud is not None and self.pty.line_speed() != BAUD_CONSTANTS[self.baud]:
+            return b""                          # at the wrong baud the UART sees only noise
+        return data
+
+    def write(self, data: bytes) -> None:
+        self.pty.write(data)
+
+    def close(self) -> None:
+        self.pty.close()
+
+
+class _SocketTransport:
+    def __init__(self, conn: socket.socket) -> None:
+        self.conn = conn
+        conn.settimeout(None)
+
+    def read(self, timeout: float) -> bytes | None:
+        self.conn.settimeout(timeout)
+        try:
+            data = self.conn.recv(4096)
+        except socket.timeout:
+            return b""
+        except OSError:
+            return None
+        return data if data else None          # None: the client hung up
+
+    def write(self, data: bytes) -> None:
+        try:
+            self.conn.sendall(data)
+        except OSError:
+            pass                                 # the reader notices the hang-up
+
+    def close(self) -> None:
+        try:
+            self.conn.close()
+        except OSError:
+            pass
+
+
+class P2OSEmulator:
+    """The firmware on a transport, around `world.body`. See the module docstring for timing."""
+
+    def __init__(self, world, subclass: str = "p2dx", name: str = "horos",
+                 sonar_max_range: float = 5.0, clock=None, lockstep: LockStep | None = None,
+                 baud: int | None = None) -> None:
+        factors = p.factors_for(subclass)
+        if factors is None:
+            raise LinkError(f"P2OS emulator: unknown subclass {subclass!r}; known: "
+                            f"{', '.join(sorted(p.FACTORS))}")
+        if baud is not None and baud not in BAUD_CONSTANTS:
+            raise LinkError(f"P2OS emulator: baud {baud} not one of {sorted(BAUD_CONSTANTS)}")
+        self.world = world
+        self.firmware = Firmware(factors, name, sonar_max_range=sonar_max_range)
+        self.clock = clock
+        self.lockstep = lockstep
+        self.baud = baud
+        self.sips_sent = 0
+        self.parser = p.P2OSParser()
+        self._lock = threading.RLock()
+        self._snapshot = Snapshot.of(world)
+        self._next_sip: float | None = None
+        self._snapshot_due = 0.0
+        self._transport = None
+        self._threads: list[threading.Thread] = []
+        self._stop = threading.Event()
+        self._server: socket.socket | None = None
+        self._hooked = False
+
+    @classmethod
+    def for_profile(cls, profile, world, **kw) -> "P2OSEmulator":
+        """An emulator shaped like `profile`'s base (subclass, name, sonar range)."""
+        max_range = profile.sonar.max_range if profile.sonar is not None else 5.0
+        return cls(world, subclass=profile.base.options.get("subclass", "p2dx"),
+                   name=profile.name, sonar_max_range=max_range, **kw)
+
+    # -- time ----------------------------------------------------------------------------------
+    def now(self) -> float:
+        if self.lockstep is not None or self.clock is None:
+            return float(self.world.t)
+        return self.clock.now()
+
+    def attach(self, simulation) -> None:
+        """Hook into the simulation's steps (lock-step SIPs, or snapshots for the clock thread)."""
+        if not self._hooked:
+            simulation.on_step(self._on_world_step)
+            self._hooked = True
+
+    def _on_world_step(self, world, dt: float) -> None:
+        if self.lockstep is not None:
+            self.tick(world.t)
+        elif self._next_sip is None or world.t >= self._snapshot_due:
+            self._snapshot = Snapshot.of(world)
+            self._snapshot_due = world.t + SIP_CYCLE / 2
+
+    def tick(self, now: float) -> None:
+        """The firmware's cycle: watchdog, then a SIP when one is due."""
+        with self._lock:
+            if self.firmware.check_watchdog(now):
+                self._apply()
+            if not self.firmware.open:
+                self._next_sip = None
+                return
+            if self._next_sip is None:           # first SIP: on the cycle grid in lock-step
+                self._next_sip = (math.ceil(now / SIP_CYCLE - 1e-6) * SIP_CYCLE
+                                  if self.lockstep is not None else now)
+            if now + 1e-9 < self._next_sip:
+                return
+            self._next_sip = max(self._next_sip + SIP_CYCLE, now + SIP_CYCLE / 2)
+            if self.lockstep is not None:
+                self._snapshot = Snapshot.of(self.world)
+            self._send(self.firmware.sip(self._snapshot))
+            self.sips_sent += 1
+
+    def start_clock(self, simulation=None, period: float = 0.01) -> None:
+        """Real-time mode: a thread runs `tick` every `period` s (and steps `simulation` if given)."""
+        def run() -> None:
+            while not self._stop.wait(period):
+                now = self.clock.now()
+                if simulation is not None:
+                    simulation.advance(now)
+                self.tick(now)
+        self._spawn(run, "p2os-emulator-clock")
+
+    # -- transports ----------------------------------------------------------------------------
+    def serve_pty(self, link: str | None = None) -> str:
+        """Serve on a new raw pty; returns the path a driver should open."""
+        pty = PtyPair(link=link)
+        self._serve(_PtyTransport(pty, self.baud))
+        return pty.path
+
+    def serve_tcp(self, host: str = "127.0.0.1", port: int = 0) -> tuple[str, int]:
+        """Listen for one client at a time; returns the bound (host, port)."""
+        server = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+        server.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        server.bind((host, port))
+        server.listen(1)
+        server.settimeout(0.2)
+        self._server = server
+
+        def accept_loop() -> None:
+            while not self._stop.is_set():
+                try:
+                    conn, _ = server.accept()
+                except socket.timeout:
+                    continue
+                except OSError:
+                    return
+                conn.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+                self._serve(_SocketTransport(conn), threaded=False)
+        self._spawn(accept_loop, "p2os-emulator-accept")
+        return server.getsockname()[:2]
+
+    def _serve(self, transport, threaded: bool = True) -> None:
+        with self._lock:
+            self._transport = transport
+            self.parser.reset()
+        if threaded:
+            self._spawn(lambda: self._read_loop(transport), "p2os-emulator-reader")
+        else:
+            self._read_loop(transport)
+
+    def _read_loop(self, transport) -> None:
+        while not self._stop.is_set():
+            data = transport.read(0.1)
+            if data is None:                        # hung up: the robot is left closed
+                with self._lock:
+                    if self._transport is transport:
+                        self.firmware.reset()
+                        self._apply()
+                        self._transport = None
+                transport.close()
+                return
+            if data:
+                self.receive(data)
+
+    def receive(self, data: bytes) -> None:
+        """Bytes from the client: act on every whole packet, answer, then count them as read."""
+        with self._lock:
+            now = self.now()
+            pose = (self._snapshot.x, self._snapshot.y, self._snapshot.th)
+            if self.lockstep is not None:
+                body = self.world.body
+                pose = (body.x, body.y, body.th)
+            for packet in self.parser.feed(data):
+                reply = self.firmware.receive(packet, now, pose)
+                if reply:
+                    self._send(reply)
+                self._apply()
+        if self.lockstep is not None:
+            self.lockstep.to_device.got(len(data))
+
+    def _send(self, data: bytes) -> None:
+        transport = self._transport
+        if transport is None:
+            return
+        if self.lockstep is not None:
+            self.lockstep.to_host.wrote(len(data))
+        transport.write(data)
+
+    def _apply(self) -> None:
+        self.world.body.set_command(*self.firmware.drive())
+
+    def _spawn(self, target: Callable[[], None], name: str) -> None:
+        thread = threading.Thread(target=target, name=name, daemon=True)
+        self._threads.append(thread)
+        thread.start()
+
+    def unplug(self) -> None:
+        """Drop the current connection (tests: a pulled cable). The firmware forgets the client."""
+        with self._lock:
+            transport, self._transport = self._transport, None
+            self.firmware.reset()
+            self._apply()
+        if transport is not None:
+            transport.close()
+
+    def close(self) -> None:
+        self._stop.set()
+        if self._server is not None:
+            self._server.close()
+        self.unplug()
+        for thread in self._threads:
+            if thread is not threading.current_thread():
+                thread.join(timeout=1.0)
+        self._threads.clear()
