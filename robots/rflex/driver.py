@@ -1,0 +1,454 @@
+"""The host side of rFLEX: `RFlexBase`, PERSES's B21r base on any pyserial URL.
+
+Start sequence (rflex.md §7): motor reports for both axes and DIO reports at 10 Hz, set
+defaults, release the brake, zero on both axes, sonar on, one status request. Then both
+SET_DIR frames (translation, rotation) go out every 100 ms **always, zeros included**, and
+the watchdog sends zero on its own 150 ms after the last fresh `command()`.
+
+Conversion factors default to CARMEN's "b21r+" values (101230 units/m, 35343.888 units/rad),
+the same ones `robots/profiles/perses.toml` carries; Player and ROS use 103000 / 35000. All are
+empirical: calibrate on the robot (rflex.md §6).
+
+Odometry: the two axes report in separate frames; a pose update happens only when both are
+fresh, with signed 32-bit wrapping deltas, the heading from the bearing axis (synchro drive)
+and the translation applied along the mid-step heading.
+
+Two ways to run: in real time an I/O thread reads, resends and reconnects while the watchdog
+has its own thread; on a simulated clock (lock-step with an in-process emulator) `poll()` does
+the same work deterministically, waiting (real-time timeout) for the emulator's bytes.
+"""
+from __future__ import annotations
+
+import math
+import threading
+import time
+
+import serial
+
+from robots.base import Base, BaseState, clamp_velocity
+from robots.exceptions import LinkError, ProfileError, ProtocolError
+from robots.link import Backoff, CommandWatchdog, LockStep, PtyPair
+from robots.profile import Limits
+from robots.rflex import protocol as p
+
+DIST_CONV = 101230.0          # units/m, CARMEN b21r+ (Player/ROS: 103000)
+ANGLE_CONV = 35343.888        # units/rad, CARMEN b21r+ (Player/ROS: 35000)
+BAUD = 115200
+RESEND_PERIOD = 0.1           # s: both axes at 10 Hz, always
+WATCHDOG_TIMEOUT = 0.15       # s: zero goes out within 200 ms of the last fresh command
+LINK_TIMEOUT = 0.5            # s without a report: link down (five missed 10 Hz reports)
+RESTART_PERIOD = 1.0          # s between start sequences while the controller is silent
+STATUS_EVERY = 50             # resend cycles between SYS_STATUS requests (ROS: "overwhelms")
+FRAME_GAP = 0.001             # s after each frame in real time ("not recognised if too rapid")
+LOCKSTEP_TIMEOUT = 1.0        # s (real) to wait for the emulator's reports in lock-step
+OPTIONS = ("dist_conv", "angle_conv", "baud", "accel")
+
+
+class RFlexBase(Base):
+    """A B21r base over rFLEX. `url` is any pyserial URL (`/dev/ttyUSB0`, `socket://h:p`)."""
+
+    def __init__(self, limits: Limits, url: str, clock=None, dist_conv: float = DIST_CONV,
+                 angle_conv: float = ANGLE_CONV, *, baud: int = BAUD,
+                 initial_pose: tuple[float, float, float] = (0.0, 0.0, 0.0),
+                 lockstep: LockStep | None = None, open_timeout: float = 2.0, **options) -> None:
+        super().__init__(limits)
+        unknown = sorted(set(options) - set(OPTIONS))
+        if unknown:
+            raise ProfileError(f"rflex base: unknown option(s) {', '.join(unknown)}; "
+                               f"allowed: {', '.join(OPTIONS)}")
+        for name, value in (("dist_conv", dist_conv), ("angle_conv", angle_conv)):
+            if not (isinstance(value, (int, float)) and 1.0 <= value <= 1e7):
+                raise ProfileError(f"rflex base: {name} = {value!r}; allowed 1 .. 1e7 units")
+        self.url = url
+        self.clock = clock
+        self.dist_conv = float(dist_conv)
+        self.angle_conv = float(angle_conv)
+        self.baud = int(baud)
+        self.accel = float(options.get("accel", limits.max_accel))
+        self.lockstep = lockstep
+        self.open_timeout = open_timeout
+        self.frame_gap = 0.0 if lockstep is not None else FRAME_GAP
+        self.parser = p.FrameParser(gap_timeout=None if lockstep is not None else 0.1)
+        self.backoff = Backoff(initial=0.1, maximum=2.0)
+        self.watchdog = CommandWatchdog(WATCHDOG_TIMEOUT, self._watchdog_expired, "rflex-watchdog",
+                                        time_source=self._now)
+        self._emulator = None                 # set by for_simulation, closed with us
+        self._port: serial.SerialBase | None = None
+        self._state_lock = threading.Lock()
+        self._write_lock = threading.RLock()
+        self._report_cond = threading.Condition(self._state_lock)
+        self._thread: threading.Thread | None = None
+        self._running = False
+        self._opened = False
+        self._closed = False
+        self._cmd = (0.0, 0.0)
+        self._next_send = 0.0
+        self._next_attempt = 0.0
+        self._last_start = -math.inf
+        self._cycles = 0
+        # What the reports said.
+        self._x, self._y, self._th = (float(c) for c in initial_pose)
+        self._v = self._w = 0.0
+        self._positions: list[int | None] = [None, None]
+        self._baseline: tuple[int, int] | None = None
+        self._fresh = 0
+        self._sonar = [math.inf] * p.SONAR_COUNT
+        self._panels: dict[int, int] = {}
+        self._battery = math.nan
+        self._brake = True
+        self._report_t = -math.inf
+        self._reports = 0
+        self._decode_errors = 0
+        self._reconnects = 0
+        self._link_up = False
+
+    # -- construction for the simulated world ---------------------------------------------------
+    @classmethod
+    def for_simulation(cls, profile, simulation, clock) -> "RFlexBase":
+        """The real driver on a raw pty to an emulator around `simulation.world`. On a simulated
+        clock both run in lock-step (deterministic); in real time the emulator still steps with
+        the simulation and the driver runs its own threads."""
+        from robots.rflex.emulator import RFlexEmulator
+
+        options = dict(profile.base.options)
+        dist = options.pop("dist_conv", DIST_CONV)
+        angle = options.pop("angle_conv", ANGLE_CONV)
+        lockstep = LockStep() if getattr(clock, "simulated", False) else None
+        emulator = RFlexEmulator(simulation.world, PtyPair(), dist_conv=dist, angle_conv=angle,
+                                 lockstep=lockstep)
+        emulator.attach(simulation)
+        body = simulation.world.body
+        base = cls(profile.limits, emulator.path, clock=clock, dist_conv=dist, angle_conv=angle,
+                   initial_pose=(body.x, body.y, body.th), lockstep=lockstep, **options)
+        base._emulator = emulator
+        return base
+
+    # -- Base interface -------------------------------------------------------------------------
+    def open(self) -> None:
+        """Open the port and run the start sequence. In real time, wait for the first reports
+        of both axes (LinkError after `open_timeout`); in lock-step they come with `poll()`."""
+        if self._closed:
+            raise LinkError(f"rflex base on {self.url} was closed; make a new one")
+        if self._opened:
+            return
+        self._connect()
+        self._opened = True
+        if self.lockstep is not None:
+            return
+        self._running = True
+        self._thread = threading.Thread(target=self._io_loop, name="rflex-io", daemon=True)
+        self._thread.start()
+        self.watchdog.start()
+        if not self.wait_for_report(self.open_timeout, both_axes=True):
+            self.close()
+            raise LinkError(f"no motor reports from an rFLEX controller on {self.url} within "
+                            f"{self.open_timeout} s; is the base powered, and the line {self.baud} 8N1?")
+
+    def read_state(self) -> BaseState:
+        with self._state_lock:
+            now = self._now()
+            link_up = self._port is not None and now - self._report_t <= LINK_TIMEOUT
+            bumpers = 0
+            for address, data in self._panels.items():
+                panel = address - p.BUMPER_FIRST_ADDRESS
+                if 0 <= panel < p.BUMPER_PANELS and data & 0xF:
+                    bumpers |= 1 << panel
+            return BaseState(
+                t=self._report_t if self._report_t > -math.inf else now,
+                x=self._x, y=self._y, th=self._th, v=self._v, w=self._w,
+                sonar=tuple(self._sonar), bumpers=bumpers, stalled=False,
+                motors_enabled=link_up and not self._brake, battery=self._battery,
+                link_up=link_up,
+                extra={"reports": self._reports, "reconnects": self._reconnects,
+                       "watchdog_expirations": self.watchdog.expirations,
+                       "decode_errors": self._decode_errors,
+                       "parser": self.parser.stats, "command": self._cmd})
+
+    def command(self, v: float, w: float) -> None:
+        """Clamp (NaN -> 0), remember, and send both axes now; the watchdog is re-armed."""
+        if not self._opened or self._closed:
+            raise LinkError(f"rflex base on {self.url} is not open; call open() first")
+        v, w = clamp_velocity(v, w, self.limits)
+        with self._state_lock:
+            self._cmd = (v, w)
+        self.watchdog.feed()
+        self._send_axes()
+
+    def stop(self) -> None:
+        with self._state_lock:
+            self._cmd = (0.0, 0.0)
+        self.watchdog.disarm()
+        if self._opened and not self._closed:
+            self._send_axes()
+
+    def close(self) -> None:
+        """Zero, stop sequence, brake on, release the port; then the emulator if we made one."""
+        if self._closed:
+            return
+        self._closed = True
+        self._running = False
+        self.watchdog.stop()
+        if self._thread is not None and self._thread is not threading.current_thread():
+            self._thread.join(timeout=2.0)
+        if self._port is not None:
+            with self._state_lock:
+                self._cmd = (0.0, 0.0)
+            try:
+                self._send_frames(self._axis_frames(0.0, 0.0) + self._stop_frames())
+            except LinkError:
+                pass
+            self._drop_port()
+        if self._emulator is not None:
+            self._emulator.close()
+
+    def poll(self, timeout: float = 0.0) -> None:
+        """Lock-step: take the emulator's reports of this sim time, then watchdog and resend."""
+        if self.lockstep is None or not self._opened or self._closed:
+            return
+        now = self._now()
+        if self._port is None:
+            self._try_reconnect(now)
+            return
+        self._drain_lockstep()
+        self._housekeeping(now)
+
+    def wait_for_report(self, timeout: float, both_axes: bool = False) -> bool:
+        """Real time: block until a new motor report (of both axes) arrives; False on timeout."""
+        deadline = time.monotonic() + timeout
+        with self._report_cond:
+            seen = self._reports
+            while True:
+                if self._reports > seen and (not both_axes or self._baseline is not None):
+                    return True
+                remaining = deadline - time.monotonic()
+                if remaining <= 0:
+                    return False
+                self._report_cond.wait(remaining)
+
+    # -- I/O ------------------------------------------------------------------------------------
+    def _now(self) -> float:
+        return self.clock.now() if self.clock is not None else time.monotonic()
+
+    def _connect(self) -> None:
+        try:
+            port = serial.serial_for_url(self.url, baudrate=self.baud, bytesize=8, parity="N",
+                                         stopbits=1, xonxoff=False, rtscts=False,
+                                         timeout=0.02 if self.lockstep is None else 0)
+        except (serial.SerialException, OSError, ValueError) as exc:
+            raise LinkError(f"cannot open rFLEX port {self.url}: {exc}") from exc
+        self.parser.reset()
+        if self.lockstep is not None:
+            self.lockstep.reset()
+        self._port = port
+        self._start_sequence(self._now())
+
+    def _start_sequence(self, now: float) -> None:
+        """Reports on, defaults, brake off, zero on both axes, sonar on, status (rflex.md §7)."""
+        self._last_start = now
+        with self._state_lock:
+            self._positions = [None, None]
+            self._baseline = None
+            self._fresh = 0
+        frames = [p.system_report_request(p.REPORT_PERIOD_US, 3), p.dio_reports_request(p.REPORT_PERIOD_US),
+                  p.set_defaults(), p.brake_release()]
+        frames += self._axis_frames(0.0, 0.0)
+        frames += [p.sonar_run(True), p.system_status_request()]
+        self._send_frames(frames)
+        self._brake = False
+        self._next_send = now + RESEND_PERIOD
+
+    @staticmethod
+    def _stop_frames() -> list[p.Frame]:
+        return [p.set_defaults(), p.system_report_request(0, 0), p.dio_reports_request(0),
+                p.sonar_run(False), p.ir_run(False), p.brake_set()]
+
+    def _axis_frames(self, v: float, w: float) -> list[p.Frame]:
+        """Translation then rotation, magnitudes with a direction byte (Player's constants)."""
+        return [p.axis_set_dir(p.TRANSLATION_AXIS, p.velocity_units(v, self.dist_conv),
+                               p.velocity_units(self.accel, self.dist_conv), p.TRANSLATION_TORQUE),
+                p.axis_set_dir(p.ROTATION_AXIS, p.velocity_units(w, self.angle_conv),
+                               p.ROTATION_ACCEL, p.ROTATION_TORQUE)]
+
+    def _send_axes(self) -> None:
+        with self._state_lock:
+            v, w = self._cmd
+        try:
+            self._send_frames(self._axis_frames(v, w))
+        except LinkError:
+            self._lost("write failed")
+
+    def _send_frames(self, frames: list[p.Frame]) -> None:
+        with self._write_lock:
+            port = self._port
+            if port is None:
+                return
+            for frame in frames:
+                raw = p.encode_raw(frame)
+                try:
+                    port.write(raw)
+                except (serial.SerialException, OSError) as exc:
+                    raise LinkError(f"rFLEX port {self.url}: write failed: {exc}") from exc
+                if self.lockstep is not None:
+                    self.lockstep.to_device.wrote(len(raw))
+                if self.frame_gap:
+                    time.sleep(self.frame_gap)
+
+    def _read_available(self) -> bytes:
+        port = self._port
+        if port is None:
+            return b""
+        try:
+            waiting = port.in_waiting
+            return port.read(waiting if waiting else (1 if self.lockstep is None else 0))
+        except (serial.SerialException, OSError, TypeError) as exc:
+            raise LinkError(f"rFLEX port {self.url}: read failed: {exc}") from exc
+
+    def _drain_lockstep(self) -> None:
+        counter = self.lockstep.to_host
+        deadline = time.monotonic() + LOCKSTEP_TIMEOUT
+        while True:
+            try:
+                data = self._read_available()
+            except LinkError:
+                self._lost("read failed")
+                return
+            if data:
+                counter.got(len(data))
+                self._handle_bytes(data)
+            elif counter.backlog() <= 0 or time.monotonic() > deadline:
+                return
+            else:
+                time.sleep(0.0002)
+
+    def _io_loop(self) -> None:
+        while self._running:
+            now = self._now()
+            if self._port is None:
+                self._try_reconnect(now)
+                time.sleep(0.01)
+                continue
+            try:
+                data = self._read_available()
+            except LinkError:
+                self._lost("read failed")
+                continue
+            if data:
+                self._handle_bytes(data, time.monotonic())
+            self._housekeeping(self._now())
+
+    def _housekeeping(self, now: float) -> None:
+        """Watchdog (lock-step), the 10 Hz resend, the silent-controller restart."""
+        if self.lockstep is not None:
+            self.watchdog.check(now)
+        if now - self._report_t > LINK_TIMEOUT and now - self._last_start >= RESTART_PERIOD:
+            self._silent(now)
+        if now >= self._next_send:
+            self._next_send = max(self._next_send + RESEND_PERIOD, now + RESEND_PERIOD / 2)
+            self._cycles += 1
+            self._send_axes()
+            if self._cycles % STATUS_EVERY == 0 and self._port is not None:
+                self._send_frames_safely([p.system_status_request()])
+
+    def _send_frames_safely(self, frames: list[p.Frame]) -> None:
+        try:
+            self._send_frames(frames)
+        except LinkError:
+            self._lost("write failed")
+
+    def _silent(self, now: float) -> None:
+        """No reports: forget the command (nothing resumes by itself) and restart the controller
+        side in case it was power-cycled."""
+        with self._state_lock:
+            self._cmd = (0.0, 0.0)
+        self.watchdog.disarm()
+        try:
+            self._start_sequence(now)
+        except LinkError:
+            self._lost("write failed")
+
+    def _lost(self, why: str) -> None:
+        """The port failed: zero the command, close, and let the reconnect loop try again."""
+        with self._state_lock:
+            self._cmd = (0.0, 0.0)
+        self.watchdog.disarm()
+        self._drop_port()
+        self._next_attempt = self._now() + self.backoff.next_delay()
+
+    def _drop_port(self) -> None:
+        with self._write_lock:
+            port, self._port = self._port, None
+        if port is not None:
+            try:
+                port.close()
+            except (serial.SerialException, OSError):
+                pass
+
+    def _try_reconnect(self, now: float) -> None:
+        if now < self._next_attempt or self._closed:
+            return
+        try:
+            self._connect()
+        except LinkError:
+            self._drop_port()
+            self._next_attempt = now + self.backoff.next_delay()
+            return
+        self.backoff.reset()
+        self._reconnects += 1
+
+    # -- reports --------------------------------------------------------------------------------
+    def _handle_bytes(self, data: bytes, wall: float | None = None) -> None:
+        for frame in self.parser.feed(data, wall):
+            try:
+                report = p.decode_report(frame)
+            except ProtocolError:
+                self._decode_errors += 1
+                continue
+            self._apply_report(report)
+
+    def _apply_report(self, report) -> None:
+        with self._report_cond:
+            if isinstance(report, p.MotorReport):
+                self._motor(report)
+                self._report_t = self._now()
+                self._reports += 1
+                self._report_cond.notify_all()
+            elif isinstance(report, p.SonarReport):
+                for wire, raw in report.readings:
+                    index = p.SONAR_INDEX_OF_WIRE_ID.get(wire)
+                    if index is not None:
+                        self._sonar[index] = p.sonar_metres(raw)
+            elif isinstance(report, p.DioReport):
+                self._panels[report.address] = report.data
+            elif isinstance(report, p.SystemStatus):
+                self._battery = report.volts
+                self._brake = bool(report.brake)
+
+    def _motor(self, report: p.MotorReport) -> None:
+        """Keep each axis; integrate once both are fresh (ROS's odomReady mask)."""
+        if report.axis not in (p.TRANSLATION_AXIS, p.ROTATION_AXIS):
+            return
+        self._positions[report.axis] = report.position
+        if report.axis == p.TRANSLATION_AXIS:
+            self._v = report.velocity / self.dist_conv
+        else:
+            self._w = report.velocity / self.angle_conv
+        self._fresh |= 1 << report.axis
+        if self._fresh != 3:
+            return
+        self._fresh = 0
+        current = (self._positions[0], self._positions[1])
+        if self._baseline is not None:
+            distance = p.wrap_delta(current[0], self._baseline[0]) / self.dist_conv
+            turn = p.wrap_delta(current[1], self._baseline[1]) / self.angle_conv
+            heading = self._th + turn / 2
+            self._x += distance * math.cos(heading)
+            self._y += distance * math.sin(heading)
+            self._th = math.atan2(math.sin(self._th + turn), math.cos(self._th + turn))
+        self._baseline = current
+
+    def _watchdog_expired(self) -> None:
+        with self._state_lock:
+            self._cmd = (0.0, 0.0)
+        if self._port is not None:
+            self._send_axes()
+
