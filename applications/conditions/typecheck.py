@@ -72,7 +72,7 @@ class _Checker:
             return self.compare_names(node)
         name, literal = (left, right) if isinstance(left, Name) else (right, left)
         var = self.resolve(name)
-        value = self.literal_for(var, literal, node.op)
+        value = self.literal_for(var, literal, node)
         pair = (var, value) if name is left else (value, var)
         return Cmp(node.op, *pair)
 
@@ -87,19 +87,19 @@ class _Checker:
         self.check_operator(left, node.op, node)
         return Cmp(node.op, left, right)
 
-    def literal_for(self, var: Var, literal: Literal, op: str) -> Value:
+    def literal_for(self, var: Var, literal: Literal, node: Compare) -> Value:
         value = literal.value
         if var.type == "bool":
             if not isinstance(value, bool):
                 raise self.fail(f"'{var.name}' is true/false; compare it with true or false, "
                                 f"or use it alone", literal)
-            self.check_operator(var, op, literal)
+            self.check_operator(var, node.op, node)
             return Value(value)
         if var.type == "str":
             if not isinstance(value, str):
                 raise self.fail(f"'{var.name}' is a string; compare it with a quoted string "
                                 f"like \"yes\"", literal)
-            self.check_operator(var, op, literal)
+            self.check_operator(var, node.op, node)
             return Value(value)
         if not isinstance(value, float):
             raise self.fail(f"'{var.name}' is {_type_words(var)}; compare it with a number"

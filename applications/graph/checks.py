@@ -36,7 +36,7 @@ def check_targets(draft: Draft) -> list[Diagnostic]:
     return [error(f"transition to unknown state '{t.target}'{did_you_mean(t.target, draft.states)}",
                   t.target_location, "unknown-state")
             for state in draft.states.values() for t in state.transitions
-            if t.target not in draft.states]
+            if t.target and t.target not in draft.states]
 
 
 def check_robot(draft: Draft, catalog: Catalog) -> list[Diagnostic]:
@@ -52,6 +52,8 @@ def check_behaviors(draft: Draft, catalog: Catalog) -> list[Diagnostic]:
     found = []
     for state in draft.states.values():
         spec = catalog.behaviors.get(state.behavior)
+        if not state.behavior:
+            continue
         if spec is None:
             found.append(error(f"unknown behavior '{state.behavior}'"
                                f"{did_you_mean(state.behavior, catalog.behaviors)}; known: "

@@ -5,7 +5,7 @@ an application with errors (for `interbot run`), with the same messages.
 """
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -51,11 +51,14 @@ def graph_path(folder: Path, name_or_path: str | Path) -> Path:
 
 
 def check_application(name_or_path: str | Path, robot: str | None = None,
-                      catalog: Catalog | None = None,
+                      catalog: Catalog | Callable[[str | None], Catalog] | None = None,
                       declarations: Mapping[str, Any] | None = None
                       ) -> tuple[Application | None, list[Diagnostic]]:
     """The model (None when there are errors) and all diagnostics, errors and warnings, in file
-    order. UnknownApplicationError when there is no such application."""
+    order. UnknownApplicationError when there is no such application.
+
+    `robot` overrides the application's own; `catalog` (a Catalog, or a function robot -> Catalog)
+    replaces what L2 reports, for tests."""
     folder = find_application(name_or_path)
     graph_file = graph_path(folder, name_or_path)
     data = graph_file.read_bytes()
@@ -64,7 +67,7 @@ def check_application(name_or_path: str | Path, robot: str | None = None,
 
 
 def check_graph_bytes(data: bytes, filename: str, folder: Path, graph_file: Path,
-                      robot: str | None = None, catalog: Catalog | None = None,
+                      robot: str | None = None, catalog: Catalog | Callable[[str | None], Catalog] | None = None,
                       declarations: Mapping[str, Any] | None = None
                       ) -> tuple[Application | None, list[Diagnostic]]:
     try:
@@ -76,7 +79,9 @@ def check_graph_bytes(data: bytes, filename: str, folder: Path, graph_file: Path
     if draft is None:
         return None, sort_diagnostics(diagnostics)
     if catalog is None:
-        catalog = load_catalog(robot or draft.robot)
+        catalog = load_catalog
+    if callable(catalog):
+        catalog = catalog(robot or draft.robot)
     diagnostics += check_draft(draft, catalog)
     diagnostics = sort_diagnostics(diagnostics)
     if has_errors(diagnostics):
@@ -85,7 +90,7 @@ def check_graph_bytes(data: bytes, filename: str, folder: Path, graph_file: Path
 
 
 def load_application(name_or_path: str | Path, robot: str | None = None,
-                     catalog: Catalog | None = None,
+                     catalog: Catalog | Callable[[str | None], Catalog] | None = None,
                      declarations: Mapping[str, Any] | None = None) -> Application:
     """The checked model; ApplicationError with every diagnostic when there is any error."""
     application, diagnostics = check_application(name_or_path, robot, catalog, declarations)

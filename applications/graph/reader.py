@@ -190,9 +190,9 @@ class _Reader:
         when = element.get("when")
         condition = self.condition(element, when) if when is not None else \
             compile_condition(ALWAYS, declarations=self.declarations)
-        if not complete:
+        if condition is None and not complete:
             return None
-        return DraftTransition(target=element.get("to").strip(),
+        return DraftTransition(target=(element.get("to") or "").strip(),
                                when=when if when is not None else ALWAYS,
                                condition=condition, priority=priority,
                                location=self.source.element(element),

@@ -1,0 +1,144 @@
+"""Property tests (hypothesis) of the condition parser, evaluator and overlap analysis against a
+small reference interpreter written here, independently of the implementation."""
+from __future__ import annotations
+
+import operator
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from applications.conditions import ConditionError, compile_condition
+from applications.conditions.analysis import EXCLUSIVE, OVERLAP, can_be_true, can_both_be_true
+from applications.conditions.nodes import unparse
+from applications.conditions.parser import parse
+
+OPS = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge,
+       "==": operator.eq, "!=": operator.ne}
+NUMERIC = {"user.distance": ("m", {"m": 1.0, "cm": 0.01}),
+           "people.count": (None, {}),
+           "time_in_state": ("s", {"s": 1.0, "ms": 0.001, "min": 60.0})}
+FLAGS = ["user.present", "survey.done", "user.left"]
+
+numbers = st.sampled_from([0, 0.5, 0.75, 1, 2, 3, 15, 30, 100])
+
+
+@st.composite
+def comparisons(draw):
+    name = draw(st.sampled_from(sorted(NUMERIC)))
+    op = draw(st.sampled_from(sorted(OPS)))
+    value = draw(numbers)
+    _, units = NUMERIC[name]
+    unit = draw(st.sampled_from([None, *sorted(units)]))
+    return ("cmp", name, op, value, unit)
+
+
+leaves = st.one_of(comparisons(), st.sampled_from(FLAGS).map(lambda n: ("flag", n)),
+                   st.booleans().map(lambda b: ("const", b)))
+expressions = st.recursive(
+    leaves,
+    lambda inner: st.one_of(inner.map(lambda e: ("not", e)),
+                            st.tuples(st.sampled_from(["and", "or"]), inner, inner)),
+    max_leaves=8)
+spaces = st.sampled_from(["", " ", "  ", "\t"])
+
+
+def render(expr, draw_space=lambda: " ") -> str:
+    kind = expr[0]
+    if kind == "const":
+        return "true" if expr[1] else "false"
+    if kind == "flag":
+        return expr[1]
+    if kind == "cmp":
+        _, name, op, value, unit = expr
+        return f"{name}{draw_space()}{op}{draw_space()}{value}{unit or ''}"
+    if kind == "not":
+        return f"not ({render(expr[1], draw_space)})"
+    return f"({render(expr[1], draw_space)}){draw_space()} {kind} {draw_space()}({render(expr[2], draw_space)})"
+
+
+def reference(expr, values: dict, t: float) -> bool:
+    kind = expr[0]
+    if kind == "const":
+        return expr[1]
+    if kind == "flag":
+        return bool(values.get(expr[1]))
+    if kind == "cmp":
+        _, name, op, value, unit = expr
+        actual = t if name == "time_in_state" else values.get(name)
+        if actual is None:
+            return False
+        factor = NUMERIC[name][1].get(unit, 1.0) if unit else 1.0
+        return OPS[op](actual, value * factor)
+    if kind == "not":
+        return not reference(expr[1], values, t)
+    if kind == "and":
+        return reference(expr[1], values, t) and reference(expr[2], values, t)
+    return reference(expr[1], values, t) or reference(expr[2], values, t)
+
+
+percept_values = st.fixed_dictionaries({
+    "user.distance": st.one_of(st.none(), st.sampled_from([0.0, 0.5, 0.75, 1.0, 2.0, 30.0]),
+                               st.floats(0, 30)),
+    "people.count": st.one_of(st.none(), st.integers(0, 200)),
+    "user.present": st.one_of(st.none(), st.booleans()),
+    "survey.done": st.one_of(st.none(), st.booleans()),
+    "user.left": st.one_of(st.none(), st.booleans()),
+})
+times = st.one_of(st.sampled_from([0.0, 0.5, 1.0, 15.0, 30.0, 60.0]), st.floats(0, 1000))
+
+
+@settings(max_examples=300, deadline=None)
+@given(expressions, percept_values, times)
+def test_compiled_conditions_agree_with_the_reference(expr, values, t) -> None:
+    condition = compile_condition(render(expr))
+    assert condition.evaluate(values, t) is reference(expr, values, t)
+
+
+@settings(max_examples=200, deadline=None)
+@given(expressions, st.data())
+def test_whitespace_does_not_change_the_meaning(expr, data) -> None:
+    spaced = render(expr, lambda: data.draw(spaces))
+    assert compile_condition(spaced).tree == compile_condition(render(expr)).tree
+
+
+@settings(max_examples=200, deadline=None)
+@given(expressions)
+def test_unparse_then_parse_is_a_fixed_point(expr) -> None:
+    once = unparse(parse(render(expr)))
+    assert unparse(parse(once)) == once
+    assert compile_condition(once).tree == compile_condition(render(expr)).tree
+
+
+@settings(max_examples=500, deadline=None)
+@given(st.text(alphabet=st.sampled_from(list("abcdeforntu._ ()<>=!'\"0123456789smc&|[]{}:,+-*/\\")),
+               max_size=40))
+def test_any_text_either_compiles_or_raises_condition_error(text) -> None:
+    try:
+        condition = compile_condition(text)
+    except ConditionError as problem:
+        assert 0 <= problem.offset <= len(text)
+        return
+    assert isinstance(condition.evaluate({}, 0.0), bool)
+
+
+@settings(max_examples=200, deadline=None)
+@given(expressions, expressions, st.lists(st.tuples(percept_values, times), min_size=20,
+                                          max_size=20))
+def test_overlap_verdicts_are_sound(first, second, samples) -> None:
+    a, b = compile_condition(render(first)), compile_condition(render(second))
+    verdict = can_both_be_true(a, b)
+    if verdict.status == OVERLAP:
+        witness = dict(verdict.witness)
+        t = witness.pop("time_in_state", 0.0)
+        assert a.evaluate(witness, t) and b.evaluate(witness, t)
+    elif verdict.status == EXCLUSIVE:
+        for values, t in samples:
+            assert not (a.evaluate(values, t) and b.evaluate(values, t))
+
+
+@settings(max_examples=200, deadline=None)
+@given(expressions, percept_values, times)
+def test_never_true_verdict_is_sound(expr, values, t) -> None:
+    condition = compile_condition(render(expr))
+    if condition.evaluate(values, t):
+        assert can_be_true(condition).status != EXCLUSIVE
