@@ -1,0 +1,108 @@
+"""`interbot emulate BASE`: a base's firmware emulator around the simulated world, on a pty or TCP.
+
+Like MobileSim for ARIA: start it, then point any client (our driver with `--port`, or another
+program) at the printed address. The CLI (L3) finds this command by the entry point
+`interbot.commands: emulate`, so no import crosses layers.
+
+Adding a base is one line in `EMULATORS`: the name, its default robot profile, and where its
+factory lives ("module:Class.method"). The factory is called as
+`factory(profile, world, clock=clock)` and returns an object with `attach(simulation)`,
+`serve_pty(link=None) -> path`, `serve_tcp(host, port) -> (host, port)`,
+`start_clock(simulation)` and `close()`.
+"""
+from __future__ import annotations
+
+import argparse
+import importlib
+import signal
+import sys
+import threading
+from dataclasses import dataclass
+
+from robots.exceptions import RobotError
+
+
+@dataclass(frozen=True)
+class EmulatorEntry:
+    robot: str          # the profile it emulates by default
+    factory: str        # "package.module:Class.method"
+    about: str = ""
+
+
+EMULATORS: dict[str, EmulatorEntry] = {
+    "p2os": EmulatorEntry("horos", "robots.p2os.emulator:P2OSEmulator.for_profile",
+                          "ActivMedia Pioneer 2 (P2OS)"),
+}
+
+
+def load_factory(spec: str):
+    """The callable named by "module:attr.attr"."""
+    module_name, _, attr_path = spec.partition(":")
+    target = importlib.import_module(module_name)
+    for attr in attr_path.split("."):
+        target = getattr(target, attr)
+    return target
+
+
+class EmulateCommand:
+    name = "emulate"
+    help = "run a base's firmware emulator around the simulated world, on a pty or a TCP port"
+
+    def add_arguments(self, parser: argparse.ArgumentParser) -> None:
+        parser.add_argument("base", choices=sorted(EMULATORS), help="which firmware to emulate")
+        where = parser.add_mutually_exclusive_group()
+        where.add_argument("--tcp", type=int, metavar="PORT",
+                           help="listen on this TCP port (0 picks a free one)")
+        where.add_argument("--pty", action="store_true", help="serve on a pseudo-terminal (default)")
+        parser.add_argument("--host", default="127.0.0.1", help="address to bind with --tcp")
+        parser.add_argument("--link", metavar="PATH", help="with --pty: a stable symlink to it")
+        parser.add_argument("--robot", help="robot profile (default: the base's usual robot)")
+        parser.add_argument("--scenario", metavar="FILE", help="people scenario (TOML)")
+        parser.add_argument("--seed", type=int, default=0)
+
+    def run(self, args, stop: threading.Event | None = None) -> int:
+        from robots.clock import RealClock
+        from robots.profile import load_profile
+        from robots.sim.simulation import Simulation
+
+        entry = EMULATORS[args.base]
+        stop = stop or threading.Event()
+        try:
+            profile = load_profile(args.robot or entry.robot)
+            clock = RealClock()
+            simulation = Simulation(profile, args.scenario, args.seed, clock)
+            emulator = load_factory(entry.factory)(profile, simulation.world, clock=clock)
+        except RobotError as exc:
+            print(f"interbot emulate: error: {exc}", file=sys.stderr)
+            return 2
+        try:
+            emulator.attach(simulation)
+            if args.tcp is not None:
+                host, port = emulator.serve_tcp(args.host, args.tcp)
+                address = f"socket://{host}:{port}"
+            else:
+                address = emulator.serve_pty(link=args.link)
+            emulator.start_clock(simulation)
+            print(f"{args.base} emulator ({entry.about}, robot {profile.name}) ready; connect to: "
+                  f"{address}", flush=True)
+            print(f"  e.g. interbot run APP --robot {profile.name} --port {address}", flush=True)
+            _wait_for_interrupt(stop)
+        finally:
+            emulator.close()
+        print(f"{args.base} emulator stopped", flush=True)
+        return 0
+
+
+def _wait_for_interrupt(stop: threading.Event) -> None:
+    """Until Ctrl-C, SIGTERM or `stop` is set."""
+    previous = None
+    if threading.current_thread() is threading.main_thread():
+        previous = signal.signal(signal.SIGTERM, lambda *_: stop.set())
+    try:
+        while not stop.wait(0.2):
+            pass
+    except KeyboardInterrupt:
+        pass
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
