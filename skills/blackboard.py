@@ -76,7 +76,13 @@ class Blackboard:
     def __init__(self, robot_name: str) -> None:
         self.namespace = f"/interbot/{robot_name}{next(_instances)}"
         self._reader = py_trees.blackboard.Client(name="reader", namespace=self.namespace)
-        self._writers: dict[str, py_trees.blackboard.Client] = {}
+        self._readable: set[str] = set()
+        for key in SCHEMA:
+            self._allow_read(key)
+
+    def _allow_read(self, key: str) -> None:
+        self._reader.register_key(key=key, access=py_trees.common.Access.READ)
+        self._readable.add(key)
 
     def _path(self, key: str) -> str:
         return f"{self.namespace}/{key}"
@@ -88,12 +94,15 @@ class Blackboard:
         client = py_trees.blackboard.Client(name=skill, namespace=self.namespace)
         for key in owned:
             client.register_key(key=key, access=py_trees.common.Access.WRITE)
-            self._reader.register_key(key=key, access=py_trees.common.Access.READ)
-        self._writers[skill] = client
+        self._allow_read(owned[-1])
         return KeyWriter(skill, client, frozenset(owned))
 
     def read(self, key: str) -> Stamped | None:
         """The stamped entry, or None when it was never written."""
+        if key not in self._readable:
+            if key in SCHEMA or key.startswith(SKILL_STATUS_PREFIX):
+                return None   # a skill this robot does not have
+            raise BlackboardError(f"'{key}' is not a blackboard key; see skills.blackboard.SCHEMA")
         try:
             return self._reader.get(key)
         except KeyError:

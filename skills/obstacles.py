@@ -36,9 +36,10 @@ class ObstacleSensing(Skill):
         if self.laser is not None:
             scan = self.laser.read()
             if scan is not None:
-                free = min(free, self._free_ahead_points(
-                    scan.origin[0] + scan.ranges * np.cos(scan.angles + scan.origin[2]),
-                    scan.origin[1] + scan.ranges * np.sin(scan.angles + scan.origin[2])))
+                hit = np.isfinite(scan.ranges)
+                ranges, angles = scan.ranges[hit], scan.angles[hit] + scan.origin[2]
+                free = min(free, self._free_ahead_points(scan.origin[0] + ranges * np.cos(angles),
+                                                         scan.origin[1] + ranges * np.sin(angles)))
         self.write("obstacles/front", free, now)
 
     def _free_ahead_sonar(self, ranges) -> float:
@@ -46,6 +47,8 @@ class ObstacleSensing(Skill):
             return math.inf
         r = np.asarray(ranges, dtype=float)
         poses = self._sonar_poses[: len(r)]
+        echo = np.isfinite(r)
+        r, poses = r[echo], poses[echo]
         xs = poses[:, 0] + r * np.cos(poses[:, 2])
         ys = poses[:, 1] + r * np.sin(poses[:, 2])
         return self._free_ahead_points(xs, ys)

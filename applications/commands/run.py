@@ -9,6 +9,7 @@ from applications.exceptions import UnknownScenarioError
 from applications.graph.loader import find_application, load_application
 from applications.runtime import Run, default_data_dir
 from applications.trace import TraceWriter
+from behaviors import robot_capabilities
 from behaviors.robot import open_robot
 
 DEFAULT_ROBOT = "horos"
@@ -39,6 +40,8 @@ class RunCommand:
 
     def run(self, args) -> int:
         folder = find_application(args.app)
+        if args.robot:
+            robot_capabilities(args.robot)        # an unknown robot: one line naming the known ones
         app = load_application(folder, robot=args.robot)   # refuses an application with errors
         robot_name = args.robot or app.robot or DEFAULT_ROBOT
         scenario = None if args.port else resolve_scenario(folder, args.scenario)

@@ -1,0 +1,37 @@
+import math
+
+from robots.profile import load_profile
+from skills.safety import STOP_DISTANCE, arbitrate
+
+LIMITS = load_profile("horos").limits
+
+
+def call(v, w, link=True, free=math.inf, person=math.inf):
+    return arbitrate(v, w, link_fresh=link, free_ahead=free, nearest_person=person, limits=LIMITS)
+
+
+def test_a_safe_command_passes_unchanged():
+    assert call(0.2, 0.1) == (0.2, 0.1, "")
+
+
+def test_stale_data_stops_everything():
+    v, w, why = call(0.2, 0.5, link=False)
+    assert (v, w) == (0.0, 0.0) and "stale" in why
+
+
+def test_not_a_number_becomes_zero():
+    assert call(math.nan, 0.3)[:2] == (0.0, 0.0)
+    assert call(0.1, math.inf)[:2] == (0.0, 0.0)
+
+
+def test_obstacle_ahead_stops_forward_motion_but_not_turning_or_backing():
+    v, w, why = call(0.3, 0.2, free=STOP_DISTANCE / 2)
+    assert v == 0.0 and w == 0.2 and "obstacle" in why
+    assert call(-0.1, 0.0, free=0.0)[0] == -0.1
+
+
+def test_speed_is_capped_near_people_and_by_the_profile():
+    v, _, why = call(0.5, 0.0, person=LIMITS.near_people_distance / 2)
+    assert v == LIMITS.max_speed_near_people and "person" in why
+    assert call(5.0, 0.0)[0] == LIMITS.max_speed
+    assert call(0.0, -9.0)[1] == -LIMITS.max_turn_rate
