@@ -27,7 +27,7 @@ import serial
 
 from robots.base import Base, BaseState, clamp_velocity
 from robots.exceptions import LinkError, ProfileError, ProtocolError
-from robots.link import Backoff, CommandWatchdog, LockStep, PtyPair
+from robots.link import Backoff, CommandWatchdog, LockStep
 from robots.profile import Limits
 from robots.rflex import protocol as p
 
@@ -50,7 +50,7 @@ class RFlexBase(Base):
     def __init__(self, limits: Limits, url: str, clock=None, dist_conv: float = DIST_CONV,
                  angle_conv: float = ANGLE_CONV, *, baud: int = BAUD,
                  initial_pose: tuple[float, float, float] = (0.0, 0.0, 0.0),
-                 lockstep: LockStep | None = None, open_timeout: float = 2.0, **options) -> None:
+                 lockstep: LockStep | None = None, open_timeout: float | None = 2.0, **options) -> None:
         super().__init__(limits)
         unknown = sorted(set(options) - set(OPTIONS))
         if unknown:
@@ -114,19 +114,23 @@ class RFlexBase(Base):
         dist = options.pop("dist_conv", DIST_CONV)
         angle = options.pop("angle_conv", ANGLE_CONV)
         lockstep = LockStep() if getattr(clock, "simulated", False) else None
-        emulator = RFlexEmulator(simulation.world, PtyPair(), dist_conv=dist, angle_conv=angle,
+        emulator = RFlexEmulator(simulation.world, dist_conv=dist, angle_conv=angle, clock=clock,
                                  lockstep=lockstep)
         emulator.attach(simulation)
+        path = emulator.serve_pty()
         body = simulation.world.body
-        base = cls(profile.limits, emulator.path, clock=clock, dist_conv=dist, angle_conv=angle,
-                   initial_pose=(body.x, body.y, body.th), lockstep=lockstep, **options)
+        # Reports come as the tick loop steps the world, which starts after open(): don't wait.
+        base = cls(profile.limits, path, clock=clock, dist_conv=dist, angle_conv=angle,
+                   initial_pose=(body.x, body.y, body.th), lockstep=lockstep, open_timeout=None,
+                   **options)
         base._emulator = emulator
         return base
 
     # -- Base interface -------------------------------------------------------------------------
     def open(self) -> None:
         """Open the port and run the start sequence. In real time, wait for the first reports
-        of both axes (LinkError after `open_timeout`); in lock-step they come with `poll()`."""
+        of both axes (LinkError after `open_timeout`, unless it is None); in lock-step they
+        come with `poll()`."""
         if self._closed:
             raise LinkError(f"rflex base on {self.url} was closed; make a new one")
         if self._opened:
@@ -139,7 +143,7 @@ class RFlexBase(Base):
         self._thread = threading.Thread(target=self._io_loop, name="rflex-io", daemon=True)
         self._thread.start()
         self.watchdog.start()
-        if not self.wait_for_report(self.open_timeout, both_axes=True):
+        if self.open_timeout is not None and not self.wait_for_report(self.open_timeout, both_axes=True):
             self.close()
             raise LinkError(f"no motor reports from an rFLEX controller on {self.url} within "
                             f"{self.open_timeout} s; is the base powered, and the line {self.baud} 8N1?")
@@ -168,6 +172,8 @@ class RFlexBase(Base):
         """Clamp (NaN -> 0), remember, and send both axes now; the watchdog is re-armed."""
         if not self._opened or self._closed:
             raise LinkError(f"rflex base on {self.url} is not open; call open() first")
+        if self._port is None:                 # link down: nothing is kept for after the reconnect
+            return
         v, w = clamp_velocity(v, w, self.limits)
         with self._state_lock:
             self._cmd = (v, w)
@@ -292,6 +298,8 @@ class RFlexBase(Base):
                     self.lockstep.to_device.wrote(len(raw))
                 if self.frame_gap:
                     time.sleep(self.frame_gap)
+            if self.lockstep is not None:      # the emulator applies it before we go on
+                self.lockstep.to_device.wait_drained(LOCKSTEP_TIMEOUT)
 
     def _read_available(self) -> bytes:
         port = self._port

@@ -1,23 +1,31 @@
 """The rFLEX controller side, for tests and the simulated world: PERSES's firmware in software.
 
-`RFlexController` is the firmware logic without I/O: it takes command bytes, drives a body in
-the simulated world with the commanded accelerations, counts odometry per axis and produces
-the reports (motor per axis, 48 sonars, bumper panels, system status). `RFlexEmulator` puts it
-on a link (a raw pty or a TCP socket) and steps it either from a simulation's `on_step` hook
-(lock-step with the simulated clock) or from its own real-time thread.
+`RFlexController` is the firmware logic without I/O: it takes command bytes, drives the world's
+body, counts odometry per axis and produces the reports (motor per axis, the 48 sonars, bumper
+panels, system status). `RFlexEmulator` puts it on a transport (a raw pty or a TCP port) in the
+same shape as the P2OS emulator, so `interbot emulate` can host either:
+- a reader thread applies commands as they arrive (in lock-step, before the driver's write
+  returns, so a command written before `advance` is in force for the whole next step);
+- reports are produced in the simulation's step hook on the 100 ms grid of world time; standing
+  alone, `start_clock(simulation)` steps the simulation in real time.
+
+Acceleration: the body ramps towards the commanded velocities with the profile's physical
+limits, capped further by the acceleration each SET_DIR carries (units/s², as the controller
+would ramp).
 
 Failsafe: the controller zeroes both axes when no SET_DIR arrived for `FAILSAFE_TIMEOUT` =
-0.5 s. The real interval is undocumented (rflex.md §8). 0.5 s is five missed 10 Hz resends, so
-one late host cycle on a loaded machine does not stop the robot, and at PERSES's 0.6 m/s it
-bounds the run-on before braking to 0.3 m. Nothing resumes motion afterwards but a new SET_DIR.
+0.5 s of controller time. The real interval is undocumented (rflex.md §8). 0.5 s is five missed
+10 Hz resends, so one late host cycle on a loaded machine does not stop the robot, and at
+PERSES's 0.6 m/s it bounds the run-on to 0.3 m before braking. Nothing resumes motion
+afterwards but a new SET_DIR.
 """
 from __future__ import annotations
 
 import math
 import socket
 import threading
-import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import Callable
 
 from robots.exceptions import LinkError, ProtocolError
 from robots.link import LockStep, PtyPair
@@ -25,9 +33,10 @@ from robots.rflex import protocol as p
 
 FAILSAFE_TIMEOUT = 0.5          # s without a SET_DIR before the controller stops the axes
 SONAR_PERIOD = 0.1              # s between sonar reports while sonar runs
-BATTERY_RAW = 2480              # 24.8 V + 1.2 V offset = 26.0 V, a charged B21r
+BATTERY_RAW = 2480              # 24.80 + 1.2 V offset = 26.0 V, a charged B21r
 FRONT_PANEL, REAR_PANEL = 6, 10  # base bumper panels hit by the simulated body's front / rear
-DRAIN_TIMEOUT = 1.0             # s (real) to wait for the driver's bytes in lock-step
+WORLD_BUMPER_FRONT, WORLD_BUMPER_REAR = 1, 2
+DIST_CONV, ANGLE_CONV = 101230.0, 35343.888   # CARMEN b21r+, as robots/profiles/perses.toml
 
 
 def wrap_i32(value: int) -> int:
@@ -36,23 +45,23 @@ def wrap_i32(value: int) -> int:
 
 @dataclass
 class Axis:
-    """One motion axis as the controller keeps it (units, units/s, units/s²)."""
+    """One motion axis as the controller keeps it (units/s, units/s², units)."""
     target: float = 0.0
     accel: float = 0.0
-    velocity: float = 0.0       # the ramped setpoint sent to the body
     position: float = 0.0       # counter, from the body's measured motion
 
 
 class RFlexController:
     """Controller logic: commands in, reports out, the world's body driven in between."""
 
-    def __init__(self, world, dist_conv: float, angle_conv: float,
+    def __init__(self, world, dist_conv: float = DIST_CONV, angle_conv: float = ANGLE_CONV,
                  failsafe: float = FAILSAFE_TIMEOUT, start_counts: tuple[int, int] = (0, 0)) -> None:
         self.world = world
         self.conv = (float(dist_conv), float(angle_conv))
         self.failsafe = failsafe
         self.axes = (Axis(position=start_counts[0]), Axis(position=start_counts[1]))
         self.parser = p.FrameParser(gap_timeout=None)
+        self.physical_limits = world.body.limits
         self.brake = True                   # on after power-up (rflex.md §9)
         self.motor_period = 0.0             # s; 0 = reports off
         self.axis_mask = 0
@@ -80,6 +89,7 @@ class RFlexController:
                 continue
             self.commands.append((now, command))
             replies += self._apply(command, now)
+        self._drive()
         return replies
 
     def _apply(self, command, now: float) -> bytes:
@@ -99,8 +109,10 @@ class RFlexController:
             self._next_sonar = now
         elif command == p.Simple(p.MOT, p.MOT_BRAKE_RELEASE):
             self.brake = False
-        elif command in (p.Simple(p.MOT, p.MOT_BRAKE_SET), p.Simple(p.MOT, p.MOT_SET_DEFAULTS)):
-            self.brake = self.brake or command.opcode == p.MOT_BRAKE_SET
+        elif command == p.Simple(p.MOT, p.MOT_BRAKE_SET):
+            self.brake = True
+            self._stop_axes()
+        elif command == p.Simple(p.MOT, p.MOT_SET_DEFAULTS):
             self._stop_axes()
         elif command == p.Simple(p.SYS, p.SYS_STATUS):
             return p.encode_escaped(p.status_report(self._next_seq(), p.SystemStatus(
@@ -114,9 +126,23 @@ class RFlexController:
         for axis in self.axes:
             axis.target = 0.0
 
+    def _drive(self) -> None:
+        """Hand the targets to the body, ramped at min(physical, commanded) acceleration."""
+        body = self.world.body
+        if self.brake:
+            body.set_command(0.0, 0.0)
+            return
+        translation, rotation = self.axes
+        limits = self.physical_limits
+        body.limits = replace(
+            limits,
+            max_accel=_cap(limits.max_accel, translation.accel / self.conv[0]),
+            max_turn_accel=_cap(limits.max_turn_accel, rotation.accel / self.conv[1]))
+        body.set_command(translation.target / self.conv[0], rotation.target / self.conv[1])
+
     # -- time -----------------------------------------------------------------------------------
     def step(self, dt: float, now: float) -> bytes:
-        """The body moved for `dt`: count odometry, ramp the setpoints, return the due reports."""
+        """The body moved for `dt`: count odometry, apply the failsafe, return the due reports."""
         self.now = now
         body = self.world.body
         self.axes[0].position += body.v * dt * self.conv[0]
@@ -124,27 +150,20 @@ class RFlexController:
         if (self.last_set_dir is not None and now - self.last_set_dir > self.failsafe
                 and any(a.target for a in self.axes)):
             self._stop_axes()
+            self._drive()
             self.failsafe_stops += 1
-        for axis in self.axes:
-            target = 0.0 if self.brake else axis.target
-            step = axis.accel * dt
-            axis.velocity = min(target, axis.velocity + step) if target > axis.velocity \
-                else max(target, axis.velocity - step)
-            if self.brake:
-                axis.velocity = 0.0
-        body.set_command(self.axes[0].velocity / self.conv[0], self.axes[1].velocity / self.conv[1])
         return self._due_reports(now)
 
     def _due_reports(self, now: float) -> bytes:
         out = b""
         if self.motor_period > 0 and now >= self._next_motor - 1e-9:
-            self._next_motor = _next_time(self._next_motor, self.motor_period, now)
+            self._next_motor = _next_time(self.motor_period, now)
             out += self._motor_reports()
         if self.sonar_on and now >= self._next_sonar - 1e-9:
-            self._next_sonar = _next_time(self._next_sonar, SONAR_PERIOD, now)
+            self._next_sonar = _next_time(SONAR_PERIOD, now)
             out += self._sonar_report()
         if self.dio_period > 0 and now >= self._next_dio - 1e-9:
-            self._next_dio = _next_time(self._next_dio, self.dio_period, now)
+            self._next_dio = _next_time(self.dio_period, now)
             out += self._dio_reports()
         return out
 
@@ -155,8 +174,8 @@ class RFlexController:
         for index, axis in enumerate(self.axes):
             if self.axis_mask & (1 << index):
                 report = p.MotorReport(0, self._timestamp(), index, wrap_i32(round(axis.position)),
-                                       wrap_i32(round(measured[index])), round(axis.accel) & 0x7FFFFFFF,
-                                       0)
+                                       wrap_i32(round(measured[index])),
+                                       min(round(axis.accel), 2**31 - 1), 0)
                 out += p.encode_escaped(p.motor_report(self._next_seq(), report))
         return out
 
@@ -171,15 +190,14 @@ class RFlexController:
         """Every pressed panel each period, and each release once."""
         pressed = {}
         bumpers = int(self.world.bumpers)
-        if bumpers & 1:
+        if bumpers & WORLD_BUMPER_FRONT:
             pressed[FRONT_PANEL] = 0x3
-        if bumpers & 2:
+        if bumpers & WORLD_BUMPER_REAR:
             pressed[REAR_PANEL] = 0xC
         out = b""
         for panel in sorted(set(pressed) | set(self._panels_reported)):
-            data = pressed.get(panel, 0)
             out += p.encode_escaped(p.dio_report(self._next_seq(), p.DioReport(
-                self._timestamp(), p.BUMPER_FIRST_ADDRESS + panel, data)))
+                self._timestamp(), p.BUMPER_FIRST_ADDRESS + panel, pressed.get(panel, 0))))
         self._panels_reported = pressed
         return out
 
@@ -191,166 +209,200 @@ class RFlexController:
         return int(self.now * 1000) & p.U32_MAX     # ms; unknown on the real controller
 
 
-def _next_time(scheduled: float, period: float, now: float) -> float:
-    """The next report time on the grid of whole periods after `now` (reports fall on 0.1 s
-    marks of controller time; after a stall the controller skips ahead rather than bursting)."""
+def _cap(physical: float, commanded: float) -> float:
+    return min(physical, commanded) if commanded > 0 else physical
+
+
+def _next_time(period: float, now: float) -> float:
+    """The next whole multiple of `period` after `now`: reports fall on the 100 ms grid of
+    controller time, and after a stall the controller skips ahead rather than bursting."""
     return (math.floor(now / period + 1e-6) + 1) * period
 
 
-# --------------------------------------------------------------------------- links
+# --------------------------------------------------------------------------- transports
 
-class TcpLink:
-    """A one-client TCP server with the PtyPair read/write/close shape (for `--tcp PORT`)."""
+class _PtyTransport:
+    def __init__(self, pty: PtyPair) -> None:
+        self.pty = pty
+        self.path = pty.path
 
-    def __init__(self, port: int, host: str = "127.0.0.1") -> None:
-        self.server = socket.create_server((host, port))
-        self.server.settimeout(0.1)
-        self.port = self.server.getsockname()[1]
-        self.path = f"socket://{host}:{self.port}"
-        self.client: socket.socket | None = None
-        self.closed = False
-
-    def _accept(self, timeout: float | None) -> bool:
-        if self.client is not None:
-            return True
-        self.server.settimeout(timeout if timeout is not None else 0.1)
+    def read(self, timeout: float) -> bytes | None:
+        if self.pty.closed:
+            return None
         try:
-            self.client, _ = self.server.accept()
-        except (socket.timeout, OSError):
-            return False
-        self.client.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-        return True
+            return self.pty.read(4096, timeout=timeout)
+        except (OSError, ValueError):
+            return None
 
-    def read(self, size: int = 4096, timeout: float | None = None) -> bytes:
-        if not self._accept(timeout):
-            return b""
-        self.client.settimeout(timeout)
+    def write(self, data: bytes) -> None:
         try:
-            data = self.client.recv(size)
+            self.pty.write(data)
+        except (LinkError, OSError, ValueError):
+            pass                                 # unplugged: the reader notices
+
+    def close(self) -> None:
+        self.pty.close()
+
+
+class _SocketTransport:
+    def __init__(self, conn: socket.socket) -> None:
+        self.conn = conn
+
+    def read(self, timeout: float) -> bytes | None:
+        self.conn.settimeout(timeout)
+        try:
+            data = self.conn.recv(4096)
         except socket.timeout:
             return b""
         except OSError:
-            data = b""
-        if not data:                       # the driver hung up: wait for the next one
-            self.client.close()
-            self.client = None
-        return data
+            return None
+        return data if data else None            # None: the client hung up
 
     def write(self, data: bytes) -> None:
-        if self.client is None:
-            return
         try:
-            self.client.sendall(data)
+            self.conn.sendall(data)
         except OSError:
-            self.client.close()
-            self.client = None
+            pass
 
     def close(self) -> None:
-        self.closed = True
-        if self.client is not None:
-            self.client.close()
-        self.server.close()
+        try:
+            self.conn.close()
+        except OSError:
+            pass
 
+
+# --------------------------------------------------------------------------- the emulator
 
 class RFlexEmulator:
-    """An `RFlexController` on a link. Lock-step: `attach(simulation)`; real time: `start()`."""
+    """An `RFlexController` on a pty or TCP port, around `world` (see the module docstring)."""
 
-    def __init__(self, world, link: PtyPair | TcpLink | None = None, *, dist_conv: float,
-                 angle_conv: float, lockstep: LockStep | None = None, clock=None,
-                 failsafe: float = FAILSAFE_TIMEOUT, start_counts: tuple[int, int] = (0, 0)) -> None:
+    def __init__(self, world, *, dist_conv: float = DIST_CONV, angle_conv: float = ANGLE_CONV,
+                 clock=None, lockstep: LockStep | None = None, failsafe: float = FAILSAFE_TIMEOUT,
+                 start_counts: tuple[int, int] = (0, 0)) -> None:
         self.world = world
-        self.link = link if link is not None else PtyPair()
-        self.lockstep = lockstep
         self.clock = clock
+        self.lockstep = lockstep
         self.controller = RFlexController(world, dist_conv, angle_conv, failsafe, start_counts)
-        self._lock = threading.Lock()
-        self._thread: threading.Thread | None = None
-        self._running = False
-        self.unplugged = False
+        self.muted = False                  # tests: a controller that stops reporting
+        self._lock = threading.RLock()
+        self._transport = None
+        self._server: socket.socket | None = None
+        self._threads: list[threading.Thread] = []
+        self._stop = threading.Event()
+        self._hooked = False
 
-    @property
-    def path(self) -> str:
-        return self.link.path
+    @classmethod
+    def for_profile(cls, profile, world, **kw) -> "RFlexEmulator":
+        """An emulator with `profile`'s conversion factors (the `interbot emulate` factory)."""
+        options = profile.base.options
+        return cls(world, dist_conv=options.get("dist_conv", DIST_CONV),
+                   angle_conv=options.get("angle_conv", ANGLE_CONV), **kw)
 
-    # -- lock-step with a simulation ------------------------------------------------------------
+    # -- time -----------------------------------------------------------------------------------
     def attach(self, simulation) -> None:
-        """Run inside `simulation.advance`: after every world substep, take the commands the
-        driver has written, update the controller and write the reports that fell due."""
-        simulation.on_step(self.on_step)
+        """Produce reports in the simulation's step hook (world time)."""
+        if not self._hooked:
+            simulation.on_step(self.on_step)
+            self._hooked = True
 
     def on_step(self, world, dt: float) -> None:
-        if self.unplugged:
-            return
         with self._lock:
-            self._pump_commands(world.t)
-            self._write(self.controller.step(dt, world.t))
+            self._send(self.controller.step(dt, float(world.t)))
 
-    def _pump_commands(self, now: float) -> None:
-        """Read what the driver wrote; in lock-step, wait (real time) until all of it is here."""
-        deadline = time.monotonic() + DRAIN_TIMEOUT
-        counter = self.lockstep.to_device if self.lockstep is not None else None
-        while True:
-            data = self.link.read(4096, timeout=0)
-            if data:
-                if counter is not None:
-                    counter.got(len(data))
-                self._write(self.controller.receive(data, now))
-                continue
-            if counter is None or counter.backlog() <= 0 or time.monotonic() > deadline:
+    def start_clock(self, simulation=None, period: float = 0.01) -> None:
+        """Standing alone: a thread steps `simulation` to the clock's time every `period` s."""
+        if simulation is None:
+            return
+
+        def run() -> None:
+            while not self._stop.wait(period):
+                simulation.advance(self.clock.now())
+        self._spawn(run, "rflex-emulator-clock")
+
+    # -- transports -----------------------------------------------------------------------------
+    def serve_pty(self, link: str | None = None) -> str:
+        """Serve on a new raw pty; returns the path a driver should open."""
+        transport = _PtyTransport(PtyPair(link=link))
+        self._serve(transport)
+        return transport.path
+
+    def serve_tcp(self, host: str = "127.0.0.1", port: int = 0) -> tuple[str, int]:
+        """Listen for one client at a time; returns the bound (host, port)."""
+        server = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+        server.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        server.bind((host, port))
+        server.listen(1)
+        server.settimeout(0.2)
+        self._server = server
+
+        def accept_loop() -> None:
+            while not self._stop.is_set():
+                try:
+                    conn, _ = server.accept()
+                except socket.timeout:
+                    continue
+                except OSError:
+                    return
+                conn.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+                self._serve(_SocketTransport(conn), threaded=False)
+        self._spawn(accept_loop, "rflex-emulator-accept")
+        return server.getsockname()[:2]
+
+    def _serve(self, transport, threaded: bool = True) -> None:
+        with self._lock:
+            self._transport = transport
+            self.controller.parser.reset()
+        if threaded:
+            self._spawn(lambda: self._read_loop(transport), "rflex-emulator-reader")
+        else:
+            self._read_loop(transport)
+
+    def _read_loop(self, transport) -> None:
+        while not self._stop.is_set():
+            data = transport.read(0.05)
+            if data is None:
+                with self._lock:
+                    if self._transport is transport:
+                        self._transport = None
+                transport.close()
                 return
-            data = self.link.read(4096, timeout=0.01)
             if data:
-                if counter is not None:
-                    counter.got(len(data))
-                self._write(self.controller.receive(data, now))
+                self.receive(data)
 
-    def _write(self, data: bytes) -> None:
-        if not data or self.unplugged:
+    def receive(self, data: bytes) -> None:
+        """Bytes from the driver: apply, answer, then count them as read (lock-step)."""
+        with self._lock:
+            self._send(self.controller.receive(data, float(self.world.t)))
+        if self.lockstep is not None:
+            self.lockstep.to_device.got(len(data))
+
+    def _send(self, data: bytes) -> None:
+        transport = self._transport
+        if not data or transport is None or self.muted:
             return
         if self.lockstep is not None:
             self.lockstep.to_host.wrote(len(data))
-        try:
-            self.link.write(data)
-        except LinkError:
-            self.unplugged = True
+        transport.write(data)
 
-    # -- real time ------------------------------------------------------------------------------
-    def start(self, step: float = 0.01, own_world: bool = True) -> "RFlexEmulator":
-        """Serve in a thread of our own, stepping the world (if `own_world`) in real time."""
-        self._running = True
-        self._thread = threading.Thread(target=self._serve, args=(step, own_world),
-                                        name="rflex-emulator", daemon=True)
-        self._thread.start()
-        return self
-
-    def _serve(self, step: float, own_world: bool) -> None:
-        start = time.monotonic()
-        last = 0.0
-        while self._running and not self.unplugged:
-            data = self.link.read(4096, timeout=step)
-            now = time.monotonic() - start
-            with self._lock:
-                if data:
-                    self._write(self.controller.receive(data, now))
-                dt = now - last
-                if dt >= step:
-                    if own_world:
-                        self.world.step(dt)
-                    self._write(self.controller.step(dt, now))
-                    last = now
+    def _spawn(self, target: Callable[[], None], name: str) -> None:
+        thread = threading.Thread(target=target, name=name, daemon=True)
+        self._threads.append(thread)
+        thread.start()
 
     def unplug(self) -> None:
-        """Pull the cable: both ends of the link close; the driver sees an error or silence."""
-        self.unplugged = True
-        self.link.close()
-
-    def stop(self) -> None:
-        self._running = False
-        if self._thread is not None and self._thread is not threading.current_thread():
-            self._thread.join(timeout=1.0)
-        self._thread = None
+        """Pull the cable: the link closes; the controller keeps running (its failsafe stops
+        the body 0.5 s after the last SET_DIR)."""
+        with self._lock:
+            transport, self._transport = self._transport, None
+        if transport is not None:
+            transport.close()
 
     def close(self) -> None:
-        self.stop()
-        self.unplugged = True
-        self.link.close()
+        self._stop.set()
+        if self._server is not None:
+            self._server.close()
+        self.unplug()
+        for thread in self._threads:
+            if thread is not threading.current_thread():
+                thread.join(timeout=1.0)
+        self._threads.clear()
