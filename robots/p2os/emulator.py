@@ -27,6 +27,8 @@ import math
 import socket
 import termios
 import threading
+import time
+from collections import deque
 from dataclasses import dataclass
 from typing import Callable
 
@@ -279,6 +281,7 @@ class P2OSEmulator:
         self.lockstep = lockstep
         self.baud = baud
         self.sips_sent = 0
+        self.received: deque[tuple[float, p.Packet]] = deque(maxlen=10_000)  # (monotonic, packet)
         self.parser = p.P2OSParser()
         self._lock = threading.RLock()
         self._snapshot = Snapshot.of(world)
@@ -405,7 +408,9 @@ class P2OSEmulator:
             if self.lockstep is not None:
                 body = self.world.body
                 pose = (body.x, body.y, body.th)
+            arrived = time.monotonic()
             for packet in self.parser.feed(data):
+                self.received.append((arrived, packet))
                 reply = self.firmware.receive(packet, now, pose)
                 if reply:
                     self._send(reply)
