@@ -67,17 +67,39 @@ def check_application(name_or_path: str | Path, robot: str | None = None,
 
 
 def check_graph_bytes(data: bytes, filename: str, folder: Path, graph_file: Path,
-                      robot: str | None = None, catalog: Catalog | Callable[[str | None], Catalog] | None = None,
+                      robot: str | None = None,
+                      catalog: Catalog | Callable[[str | None], Catalog] | None = None,
                       declarations: Mapping[str, Any] | None = None
                       ) -> tuple[Application | None, list[Diagnostic]]:
+    """As `check_application`, for the bytes of a graph.xml (`filename` names it in messages)."""
+    _, application, diagnostics = inspect_graph_bytes(data, filename, folder, graph_file, robot,
+                                                      catalog, declarations)
+    return application, diagnostics
+
+
+def inspect_application(name_or_path: str | Path, robot: str | None = None,
+                        catalog: Catalog | Callable[[str | None], Catalog] | None = None
+                        ) -> tuple[Draft | None, Application | None, list[Diagnostic]]:
+    """Like `check_application`, also returning the draft (drawable even when it has errors)."""
+    folder = find_application(name_or_path)
+    graph_file = graph_path(folder, name_or_path)
+    return inspect_graph_bytes(graph_file.read_bytes(), str(_shown(graph_file)), folder,
+                               graph_file, robot, catalog)
+
+
+def inspect_graph_bytes(data: bytes, filename: str, folder: Path, graph_file: Path,
+                        robot: str | None = None,
+                        catalog: Catalog | Callable[[str | None], Catalog] | None = None,
+                        declarations: Mapping[str, Any] | None = None
+                        ) -> tuple[Draft | None, Application | None, list[Diagnostic]]:
     try:
         tree = parse_xml_bytes(data, filename)
     except ApplicationError as problem:
-        return None, list(problem.diagnostics)
+        return None, None, list(problem.diagnostics)
     text = data.decode(tree.docinfo.encoding or "utf-8", errors="replace")
     draft, diagnostics = read_graph(tree, text, filename, declarations)
     if draft is None:
-        return None, sort_diagnostics(diagnostics)
+        return None, None, sort_diagnostics(diagnostics)
     if catalog is None:
         catalog = load_catalog
     if callable(catalog):
@@ -85,8 +107,8 @@ def check_graph_bytes(data: bytes, filename: str, folder: Path, graph_file: Path
     diagnostics += check_draft(draft, catalog)
     diagnostics = sort_diagnostics(diagnostics)
     if has_errors(diagnostics):
-        return None, diagnostics
-    return build_model(draft, folder, graph_file), diagnostics
+        return draft, None, diagnostics
+    return draft, build_model(draft, folder, graph_file), diagnostics
 
 
 def load_application(name_or_path: str | Path, robot: str | None = None,

@@ -1,5 +1,6 @@
 """The data model a graph.xml becomes: plain frozen data, separate from the interpreter that runs
-it. Transitions of a state are tried by priority (lower number first), unprioritised ones after
+it. Two models are equal when their content is; where they were read from does not count.
+Transitions of a state are tried by priority (lower number first), unprioritised ones after
 them in document order; the checker guarantees that which one fires never depends on that order
 unless priorities say so."""
 from __future__ import annotations
@@ -20,6 +21,7 @@ class Foreign:
 
     attributes: tuple[tuple[str, str], ...] = ()    # (Clark name "{ns}local", value)
     elements: tuple[str, ...] = ()                  # serialized XML of each foreign child
+    namespaces: tuple[tuple[str, str], ...] = ()    # (prefix, uri) declared for them
 
     def __bool__(self) -> bool:
         return bool(self.attributes or self.elements)
@@ -31,7 +33,7 @@ class Transition:
     when: str
     condition: CompiledCondition
     priority: int | None
-    location: Location
+    location: Location = field(compare=False)
     foreign: Foreign = field(default=Foreign(), compare=False, repr=False)
 
 
@@ -41,7 +43,7 @@ class State:
     behavior: str
     transitions: tuple[Transition, ...]
     final: bool
-    location: Location
+    location: Location = field(compare=False)
     foreign: Foreign = field(default=Foreign(), compare=False, repr=False)
 
     def ordered_transitions(self) -> tuple[Transition, ...]:
@@ -57,8 +59,8 @@ class Application:
     initial: str
     robot: str | None
     states: dict[str, State]
-    folder: Path
-    graph_file: Path
+    folder: Path = field(compare=False)
+    graph_file: Path = field(compare=False)
     foreign: Foreign = field(default=Foreign(), compare=False, repr=False)
 
     def __hash__(self) -> int:

@@ -221,10 +221,13 @@ class _Reader:
 
     def foreign(self, element: etree._Element) -> Foreign:
         attributes = tuple((k, v) for k, v in element.attrib.items() if _is_foreign(k))
-        elements = tuple(etree.tostring(child, encoding="unicode", with_tail=False)
+        elements = tuple(_serialize(child)
                          for child in element
                          if isinstance(child.tag, str) and _is_foreign(child.tag))
-        return Foreign(attributes, elements)
+        namespaces = tuple((prefix, uri) for prefix, uri in element.nsmap.items()
+                           if prefix and (element.getparent() is None
+                                          or element.getparent().nsmap.get(prefix) != uri))
+        return Foreign(attributes, elements, namespaces)
 
 
 def _is_foreign(name: str) -> bool:
@@ -243,3 +246,12 @@ def _required_hint(tag: str, name: str) -> str:
                                        '(e.g. behavior="Idle")',
                 ("transition", "to"): ': add to="…" naming the target state'}
     return examples.get((tag, name), "")
+
+
+def _serialize(element: etree._Element) -> str:
+    """Foreign markup as text, without namespace declarations it does not use."""
+    import copy
+    alone = copy.deepcopy(element)
+    alone.tail = None
+    etree.cleanup_namespaces(alone)
+    return etree.tostring(alone, encoding="unicode")

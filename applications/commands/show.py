@@ -1,0 +1,39 @@
+"""`interbot show APP [--format ascii|dot|svg|png] [-o FILE]`: draw the state graph."""
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from applications.graph.loader import inspect_application
+from applications.graph.pictures import FORMATS, GraphvizMissingError, render
+
+
+class ShowCommand:
+    name = "show"
+    help = "draw an application's state graph (ascii, Graphviz dot, svg or png)"
+
+    def add_arguments(self, parser) -> None:
+        parser.add_argument("application", help="bundled application name or application folder")
+        parser.add_argument("--format", choices=FORMATS, default="ascii")
+        parser.add_argument("-o", "--output", help="write to this file instead of the terminal")
+
+    def run(self, args) -> int:
+        draft, application, diagnostics = inspect_application(args.application)
+        for diagnostic in diagnostics:
+            print(diagnostic, file=sys.stderr)
+        graph = application or draft
+        if graph is None:
+            return 1
+        try:
+            picture = render(graph, args.format)
+        except GraphvizMissingError as problem:
+            print(f"interbot: error: {problem}", file=sys.stderr)
+            return 1
+        if args.output:
+            Path(args.output).write_bytes(picture)
+        elif args.format == "png":
+            print("interbot: error: png is binary: give -o FILE.png", file=sys.stderr)
+            return 2
+        else:
+            sys.stdout.write(picture.decode())
+        return 1 if application is None else 0

@@ -1,0 +1,206 @@
+"""SCXML interchange (a W3C SCXML subset), so an application can be edited in existing SCXML
+editors such as Qt Creator's.
+
+Mapping: <state>/<final> ↔ state; <transition target cond> ↔ transition (document order is
+SCXML's priority, so prioritised transitions are written first, and our priority is kept in an
+interbot attribute); <onentry><send event="Behavior" type="urn:interbot:behavior"/> names the
+state's behavior. Markup in other namespaces (e.g. Qt's layout data) is kept both ways.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+from lxml import etree
+
+from ..exceptions import ApplicationError
+from .diagnostics import Diagnostic, error
+from .location import Location
+from .model import Application, Foreign
+from .source import SourceMap
+from .xmlsafe import parse_xml_bytes
+
+SCXML = "http://www.w3.org/2005/07/scxml"
+INTERBOT = "urn:interbot:graph"
+BEHAVIOR_SEND_TYPE = "urn:interbot:behavior"
+_S = f"{{{SCXML}}}"
+_I = f"{{{INTERBOT}}}"
+
+
+# ---------------------------------------------------------------- export
+
+def export_scxml(application: Application) -> str:
+    nsmap = {None: SCXML, "interbot": INTERBOT}
+    nsmap.update({p: u for p, u in application.foreign.namespaces if p not in nsmap})
+    root = etree.Element(_S + "scxml", nsmap=nsmap)
+    root.set("version", "1.0")
+    root.set("name", application.name)
+    root.set("initial", application.initial)
+    if application.robot:
+        root.set(_I + "robot", application.robot)
+    _add_foreign(root, application.foreign)
+    for state in application.states.values():
+        as_final = state.final and not state.transitions
+        element = etree.SubElement(root, _S + ("final" if as_final else "state"), id=state.name)
+        if state.final and not as_final:
+            element.set(_I + "final", "true")
+        _add_foreign(element, state.foreign)
+        onentry = etree.SubElement(element, _S + "onentry")
+        etree.SubElement(onentry, _S + "send", event=state.behavior, type=BEHAVIOR_SEND_TYPE)
+        for transition in state.ordered_transitions():
+            child = etree.SubElement(element, _S + "transition", target=transition.target,
+                                     cond=transition.when)
+            if transition.priority is not None:
+                child.set(_I + "priority", str(transition.priority))
+            _add_foreign(child, transition.foreign)
+    etree.indent(root, space="  ")
+    return etree.tostring(root, encoding="unicode", pretty_print=True)
+
+
+def _add_foreign(element: etree._Element, foreign: Foreign) -> None:
+    for name, value in foreign.attributes:
+        element.set(name, value)
+    for serialized in foreign.elements:
+        element.append(etree.fromstring(serialized))
+
+
+# ---------------------------------------------------------------- import
+
+class ScxmlImportError(ApplicationError):
+    """The SCXML uses something the interbot subset cannot express; diagnostics say what."""
+
+
+def import_scxml(path: str | Path, name: str | None = None) -> Application:
+    """The application an SCXML file describes (not yet checked: write it and check it)."""
+    path = Path(path)
+    data = path.read_bytes()
+    tree = parse_xml_bytes(data, str(path))
+    source = SourceMap(data.decode(tree.docinfo.encoding or "utf-8", "replace"), str(path))
+    source.bind(tree.getroot())
+    importer = _Importer(source)
+    application = importer.application(tree.getroot(), name or path.stem, path)
+    if importer.diagnostics:
+        raise ScxmlImportError(f"{path}: cannot import:\n" + "\n".join(
+            map(str, importer.diagnostics)), importer.diagnostics)
+    return application
+
+
+class _Importer:
+    def __init__(self, source: SourceMap) -> None:
+        self.source = source
+        self.diagnostics: list[Diagnostic] = []
+
+    def report(self, message: str, element: etree._Element) -> None:
+        self.diagnostics.append(error(message, self.source.element(element), "scxml"))
+
+    def application(self, root: etree._Element, default_name: str, path: Path) -> Application:
+        from .model import Application as App
+        if root.tag != _S + "scxml":
+            self.report(f"not an SCXML document: the root must be <scxml xmlns=\"{SCXML}\">", root)
+            return None
+        states = {}
+        for child in root:
+            if not isinstance(child.tag, str) or _foreign(child.tag):
+                continue
+            if child.tag in (_S + "state", _S + "final"):
+                state = self.state(child)
+                if state is not None:
+                    states[state.name] = state
+            else:
+                self.unsupported(child)
+        first = next(iter(states), "")
+        return App(name=root.get("name") or default_name, initial=root.get("initial") or first,
+                   robot=root.get(_I + "robot"), states=states, folder=path.parent,
+                   graph_file=path, foreign=_foreign_of(root))
+
+    def unsupported(self, element: etree._Element) -> None:
+        local = etree.QName(element).localname
+        self.report(f"SCXML <{local}> is outside the subset interbot reads (state, final, "
+                    "transition with cond and target, onentry with a behavior send): remove it "
+                    "or move it into a foreign namespace", element)
+
+    def state(self, element: etree._Element):
+        from .model import State
+        name = element.get("id")
+        if not name:
+            self.report("a state without an id: give it id=\"…\"", element)
+            return None
+        behavior, transitions = None, []
+        for child in element:
+            if not isinstance(child.tag, str) or _foreign(child.tag):
+                continue
+            if child.tag == _S + "onentry":
+                behavior = self.behavior(child) or behavior
+            elif child.tag == _S + "transition":
+                transition = self.transition(child)
+                if transition is not None:
+                    transitions.append(transition)
+            else:
+                self.unsupported(child)
+        if behavior is None:
+            self.report(f"state '{name}' names no behavior: add <onentry><send event=\"Idle\" "
+                        f"type=\"{BEHAVIOR_SEND_TYPE}\"/></onentry>", element)
+            behavior = ""
+        final = element.tag == _S + "final" or element.get(_I + "final") == "true"
+        return State(name=name, behavior=behavior, transitions=tuple(transitions), final=final,
+                     location=self.source.element(element),
+                     foreign=_foreign_of(element, skip=(_I + "final",)))
+
+    def behavior(self, onentry: etree._Element) -> str | None:
+        sends = [c for c in onentry if c.tag == _S + "send"]
+        ours = [s for s in sends if s.get("type") == BEHAVIOR_SEND_TYPE] or sends[:1]
+        for child in onentry:
+            if isinstance(child.tag, str) and not _foreign(child.tag) and child not in ours:
+                self.unsupported(child)
+        if not ours:
+            return None
+        if not ours[0].get("event"):
+            self.report("the behavior <send> needs event=\"BehaviorName\"", ours[0])
+            return None
+        return ours[0].get("event")
+
+    def transition(self, element: etree._Element):
+        from .model import Transition
+        from ..conditions import ConditionError, compile_condition
+        target = element.get("target")
+        if not target or " " in target.strip():
+            self.report("a transition needs exactly one target state (target=\"…\")", element)
+            return None
+        if element.get("event"):
+            self.report("event-triggered transitions are outside the subset: interbot "
+                        "transitions fire on conditions (cond=\"…\"); remove event=", element)
+        when = element.get("cond") or "true"
+        priority_text = element.get(_I + "priority")
+        priority = int(priority_text) if priority_text and priority_text.isdigit() else None
+        location = self.source.element(element)
+        try:
+            condition = compile_condition(when, self.source.value(element, "cond"))
+        except ConditionError as problem:
+            self.diagnostics.append(error(f"in condition: {problem.reason}",
+                                          self.source.value(element, "cond", problem.offset),
+                                          "condition"))
+            return None
+        return Transition(target.strip(), when, condition, priority, location,
+                          _foreign_of(element, skip=(_I + "priority",)))
+
+
+def _foreign(name: str) -> bool:
+    return not name.startswith(_S) and not name.startswith(_I) and name.startswith("{")
+
+
+def _foreign_of(element: etree._Element, skip: tuple[str, ...] = ()) -> Foreign:
+    attributes = tuple((k, v) for k, v in element.attrib.items()
+                       if _foreign(k) and k not in skip)
+    elements = tuple(_serialize(c) for c in element
+                     if isinstance(c.tag, str) and _foreign(c.tag))
+    namespaces = tuple((p, u) for p, u in element.nsmap.items()
+                       if p and u not in (SCXML, INTERBOT) and element.getparent() is None)
+    return Foreign(attributes, elements, namespaces)
+
+
+def _serialize(element: etree._Element) -> str:
+    """Foreign markup as text, without namespace declarations it does not use."""
+    import copy
+    alone = copy.deepcopy(element)
+    alone.tail = None
+    etree.cleanup_namespaces(alone)
+    return etree.tostring(alone, encoding="unicode")

@@ -1,0 +1,61 @@
+"""Hot reload: notice when an application's files change and re-check them.
+
+The runtime calls `poll()` between two ticks. It returns None while nothing changed, a new
+checked Application to swap in, or the diagnostics of an edit with errors (the running
+application then carries on unchanged). Each change is reported once.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+from .diagnostics import Diagnostic
+from .loader import GRAPH_FILE, check_application, find_application
+from .model import Application
+
+WATCHED_SUFFIXES = (".xml",)
+
+
+class ApplicationWatcher:
+    """Watches the *.xml files of one application folder (graph.xml, dialog.xml)."""
+
+    def __init__(self, app_path: str | Path, robot: str | None = None) -> None:
+        self.folder = find_application(app_path)
+        self.robot = robot
+        self._seen = self._snapshot()
+
+    def _snapshot(self) -> dict[str, tuple[int, int]]:
+        stamps = {}
+        for path in sorted(self.folder.iterdir()):
+            if path.suffix in WATCHED_SUFFIXES and path.is_file():
+                stat = path.stat()
+                stamps[path.name] = (stat.st_mtime_ns, stat.st_size)
+        return stamps
+
+    def changed(self) -> bool:
+        """True (once) when a watched file was added, removed or modified since the last look."""
+        now = self._snapshot()
+        if now == self._seen:
+            return False
+        self._seen = now
+        return True
+
+    def poll(self) -> Application | list[Diagnostic] | None:
+        """None: no change. An Application: the edit is clean, swap it in. A list of
+        diagnostics: the edit has errors (print them, keep running the old application)."""
+        if not self.changed():
+            return None
+        if not (self.folder / GRAPH_FILE).is_file():
+            from .diagnostics import error
+            from .location import Location
+            return [error(f"{GRAPH_FILE} was removed; put it back",
+                          Location(str(self.folder / GRAPH_FILE), 1, 1), "unreadable")]
+        application, diagnostics = check_application(self.folder, self.robot)
+        if application is None:
+            return [d for d in diagnostics if d.is_error] or diagnostics
+        return application
+
+
+def state_after_reload(application: Application, current: str) -> str:
+    """The state to continue in after a swap: the current one when it still exists, else the
+    new application's initial state (the runtime then halts the active behavior first)."""
+    return current if current in application.states else application.initial

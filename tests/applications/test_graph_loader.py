@@ -1,0 +1,128 @@
+"""Loading applications: finding them, the model, one-pass diagnostics, robots and behaviors."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from applications.exceptions import ApplicationError, UnknownApplicationError
+from applications.graph.catalog import Catalog
+from applications.graph.diagnostics import format_json
+from applications.graph.loader import (check_application, find_application, load_application)
+from applications.graph.model import Application, Location
+
+SURVEY_GRAPH = """<?xml version="1.0"?>
+<application name="mini" initial="Wait" robot="horos">
+  <state name="Wait" behavior="Idle">
+    <transition to="Face" when="time_in_state > 30s and people.new >= 1"/>
+  </state>
+  <state name="Face" behavior="FaceUser">
+    <transition to="Wait" when="not user.present or time_in_state > 15s" priority="2"/>
+    <transition to="Done" when="user.distance &lt; 0.75m" priority="1"/>
+  </state>
+  <state name="Done" behavior="Survey" final="true"/>
+</application>
+"""
+
+
+def write_app(tmp_path: Path, text: str, name: str = "mini") -> Path:
+    folder = tmp_path / name
+    folder.mkdir()
+    (folder / "graph.xml").write_text(text)
+    return folder
+
+
+def test_bundled_survey_loads_clean() -> None:
+    application, diagnostics = check_application("survey")
+    assert diagnostics == []
+    assert application.initial == "Wait" and application.robot == "horos"
+    assert application.states["CreateAttention"].behavior == "FaceUser"
+    assert find_application("survey").name == "survey"
+
+
+def test_model_from_a_folder(tmp_path: Path) -> None:
+    folder = write_app(tmp_path, SURVEY_GRAPH)
+    application = load_application(folder)
+    assert isinstance(application, Application)
+    assert application.folder == folder and application.graph_file == folder / "graph.xml"
+    face = application.states["Face"]
+    assert [t.target for t in face.ordered_transitions()] == ["Done", "Wait"]
+    first = face.transitions[0]
+    assert first.priority == 2 and first.when.startswith("not user.present")
+    assert first.location == Location(str(folder / "graph.xml"), 7, 5)
+    assert first.condition.evaluate({"user.present": False}, 0.0) is True
+    assert application.states["Done"].final is True
+    assert load_application(folder / "graph.xml") == application
+
+
+def test_unknown_application_names_the_bundled_ones() -> None:
+    with pytest.raises(UnknownApplicationError) as caught:
+        find_application("no-such-app")
+    assert "survey" in str(caught.value)
+
+
+def test_errors_raise_with_all_diagnostics(tmp_path: Path) -> None:
+    text = SURVEY_GRAPH.replace('to="Done"', 'to="Dne"').replace("people.new", "people.nwe")
+    folder = write_app(tmp_path, text)
+    with pytest.raises(ApplicationError) as caught:
+        load_application(folder)
+    messages = [str(d) for d in caught.value.diagnostics]
+    assert any(":8:21: error: transition to unknown state 'Dne' (did you mean 'Done'?)" in m
+               for m in messages)
+    assert any(":4:57: error: in condition: unknown percept 'people.nwe'" in m for m in messages)
+
+
+def test_warnings_alone_do_not_refuse(tmp_path: Path) -> None:
+    text = SURVEY_GRAPH.replace(' final="true"', "")
+    folder = write_app(tmp_path, text)
+    application, diagnostics = check_application(folder)
+    assert application is not None
+    assert [d.code for d in diagnostics] == ["no-way-out"]
+    assert load_application(folder).name == "mini"
+
+
+def test_json_diagnostics(tmp_path: Path) -> None:
+    folder = write_app(tmp_path, SURVEY_GRAPH.replace('initial="Wait"', 'initial="Wiat"'))
+    _, diagnostics = check_application(folder)
+    document = json.loads(format_json(diagnostics))
+    assert document["errors"] == 1
+    entry = document["diagnostics"][0]
+    assert (entry["line"], entry["column"], entry["code"]) == (2, 35, "unknown-initial")
+
+
+class Spec:
+    def __init__(self, name: str, realizations: dict, requires=frozenset()):
+        self.name, self.realizations, self.requires = name, realizations, frozenset(requires)
+
+
+def catalog_for(robot: str | None) -> Catalog:
+    behaviors = {"Idle": Spec("Idle", {"any": frozenset()}),
+                 "FaceUser": Spec("FaceUser", {"head": frozenset({"pan_tilt"}),
+                                               "body": frozenset({"turn_in_place"})}),
+                 "Survey": Spec("Survey", {"screen": frozenset({"touch_screen"})},
+                                requires={"touch_screen"})}
+    robots = {"horos": frozenset({"pan_tilt", "touch_screen"}), "perses": frozenset(),
+              "b21": frozenset({"turn_in_place", "touch_screen"})}
+    return Catalog(behaviors, tuple(robots), robot, robots.get(robot))
+
+
+def test_behaviors_are_checked_against_the_chosen_robot(tmp_path: Path) -> None:
+    folder = write_app(tmp_path, SURVEY_GRAPH)
+    assert check_application(folder, catalog=catalog_for)[1] == []
+    assert check_application(folder, robot="b21", catalog=catalog_for)[1] == []
+    _, diagnostics = check_application(folder, robot="perses", catalog=catalog_for)
+    assert [(d.location.line, d.code) for d in diagnostics] == [
+        (6, "robot-lacks-capability"), (10, "robot-lacks-capability")]
+    assert "needs touch_screen, which robot 'perses' lacks" in diagnostics[1].message
+    _, diagnostics = check_application(folder, robot="robby", catalog=catalog_for)
+    assert diagnostics[0].code == "unknown-robot" and "horos" in diagnostics[0].message
+
+
+def test_real_registry_knows_the_survey_behaviors() -> None:
+    from applications.graph.catalog import load_catalog
+    catalog = load_catalog("horos")
+    if catalog.behaviors is None:
+        pytest.skip("behavior registry not available")
+    assert {"Idle", "FaceUser", "Survey", "CallBack"} <= set(catalog.behaviors)
+    assert check_application("survey", robot="perses")[1] == []
