@@ -206,7 +206,7 @@ class RFlexController:
         return self._seq
 
     def _timestamp(self) -> int:
-        return int(self.now * 1000) & p.U32_MAX     # ms; unknown on the real controller
+        return round(self.now * 1000) & p.U32_MAX   # ms; unknown on the real controller
 
 
 def _cap(physical: float, commanded: float) -> float:
