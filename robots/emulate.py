@@ -32,6 +32,7 @@ class EmulatorEntry:
 EMULATORS: dict[str, EmulatorEntry] = {
     "p2os": EmulatorEntry("horos", "robots.p2os.emulator:P2OSEmulator.for_profile",
                           "ActivMedia Pioneer 2 (P2OS)"),
+    "rflex": EmulatorEntry("perses", "robots.rflex.emulator:RFlexEmulator.for_profile", "RWI B21r (rFLEX)"),
 }
 
 

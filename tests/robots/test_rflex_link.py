@@ -110,3 +110,42 @@ def test_over_tcp():
     finally:
         base.close()
         emulator.close()
+
+
+def test_interbot_emulate_rflex_serves_a_driver(capsys):
+    import argparse
+    import re
+    import threading
+
+    from robots.emulate import EmulateCommand
+
+    command = EmulateCommand()
+    parser = argparse.ArgumentParser()
+    command.add_arguments(parser)
+    args = parser.parse_args(["rflex", "--tcp", "0"])
+    stop = threading.Event()
+    runner = threading.Thread(target=command.run, args=(args, stop), daemon=True)
+    runner.start()
+    try:
+        address = None
+
+        def ready():
+            nonlocal address
+            found = re.search(r"socket://[\d.]+:\d+", capsys.readouterr().out)
+            address = address or (found.group(0) if found else None)
+            return address is not None
+        assert wait_until(ready)
+        base = RFlexBase(PERSES.limits, address, **PERSES.base.options)
+        try:
+            base.open()
+            for _ in range(5):
+                base.command(0.2, 0.0)
+                time.sleep(0.05)
+            assert wait_until(lambda: base.read_state().v > 0.05)
+            assert sum(r < 5.0 for r in base.read_state().sonar) > 0    # the office walls
+        finally:
+            base.close()
+    finally:
+        stop.set()
+        runner.join(timeout=5)
+    assert not runner.is_alive()
