@@ -8,8 +8,6 @@ from __future__ import annotations
 
 import numpy as np
 
-_EMPTY_SEGMENTS = np.zeros((0, 4))
-_EMPTY_CIRCLES = np.zeros((0, 3))
 
 
 def cast_rays(origins: np.ndarray, angles: np.ndarray, segments: np.ndarray,
@@ -22,10 +20,11 @@ def cast_rays(origins: np.ndarray, angles: np.ndarray, segments: np.ndarray,
     """
     origins = np.asarray(origins, dtype=float).reshape(-1, 2)
     angles = np.asarray(angles, dtype=float).reshape(-1)
-    dx = np.cos(angles)[:, None]
-    dy = np.sin(angles)[:, None]
-    px = origins[:, 0:1]
-    py = origins[:, 1:2]
+    # (obstacle, ray) layout: the final min runs along the long axis, which numpy does fast
+    dx = np.cos(angles)
+    dy = np.sin(angles)
+    px = origins[:, 0]
+    py = origins[:, 1]
     best = np.full(angles.shape[0], np.inf)
     if segments is not None and len(segments):
         best = np.minimum(best, _segment_hits(px, py, dx, dy, segments))
@@ -37,11 +36,11 @@ def cast_rays(origins: np.ndarray, angles: np.ndarray, segments: np.ndarray,
 
 def _segment_hits(px, py, dx, dy, segments: np.ndarray) -> np.ndarray:
     """Nearest ray parameter t >= 0 where each ray crosses a segment (inf when none)."""
-    ax = segments[:, 0]
-    ay = segments[:, 1]
-    ex = segments[:, 2] - ax
-    ey = segments[:, 3] - ay
-    qx = ax - px                      # (n, m): ray origin to segment start
+    ax = segments[:, 0:1]
+    ay = segments[:, 1:2]
+    ex = segments[:, 2:3] - ax
+    ey = segments[:, 3:4] - ay
+    qx = ax - px                      # (m, n): ray origin to segment start
     qy = ay - py
     denom = dx * ey - dy * ex         # cross(d, e); 0 when parallel
     t_num = qx * ey - qy * ex         # cross(q, e)
@@ -50,21 +49,21 @@ def _segment_hits(px, py, dx, dy, segments: np.ndarray) -> np.ndarray:
         t = t_num / denom
         s = s_num / denom
     hit = (t >= 0.0) & (s >= 0.0) & (s <= 1.0)
-    return np.where(hit, t, np.inf).min(axis=1)
+    return np.where(hit, t, np.inf).min(axis=0)
 
 
 def _circle_hits(px, py, dx, dy, circles: np.ndarray) -> np.ndarray:
     """Nearest ray parameter t >= 0 where each ray enters a circle (0 when it starts inside)."""
-    fx = circles[:, 0] - px           # (n, k): ray origin to circle centre
-    fy = circles[:, 1] - py
+    fx = circles[:, 0:1] - px         # (k, n): ray origin to circle centre
+    fy = circles[:, 1:2] - py
     b = fx * dx + fy * dy             # projection of the centre on the ray
-    c = fx * fx + fy * fy - circles[:, 2] ** 2
+    c = fx * fx + fy * fy - circles[:, 2:3] ** 2
     disc = b * b - c
     with np.errstate(invalid="ignore"):
         t = b - np.sqrt(disc)
     t = np.where(c <= 0.0, 0.0, t)    # origin inside the circle
     hit = (disc >= 0.0) & (t >= 0.0)
-    return np.where(hit, t, np.inf).min(axis=1)
+    return np.where(hit, t, np.inf).min(axis=0)
 
 
 def point_segment_distances(x: float, y: float, segments: np.ndarray) -> np.ndarray:
@@ -82,3 +81,5 @@ def point_segment_distances(x: float, y: float, segments: np.ndarray) -> np.ndar
     cx = ax + u * ex - x
     cy = ay + u * ey - y
     return np.sqrt(cx * cx + cy * cy)
+
+

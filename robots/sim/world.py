@@ -16,12 +16,13 @@ from robots.profile import RobotProfile
 from robots.sim.body import Obstacles, UnicycleBody
 from robots.sim.floor import Floor
 from robots.sim.people import BODY_RADIUS, LEG_RADIUS, SimPerson
-from robots.sim.raycast import cast_rays
+from robots.sim.raycast import cast_rays, point_segment_distances
 from robots.sim.scenario import Leave, Scenario, Walk
 
 MAX_SUBSTEP = 0.05          # s
 SONAR_RAY_SPREAD = (-1 / 3, 0.0, 1 / 3)   # rays across each cone, as fractions of the cone
 SECONDS_PER_CHARACTER = 0.06
+WALL_CACHE_MARGIN = 0.5     # m the body may move before the walls near it are chosen again
 _NO_CIRCLES = np.zeros((0, 3))
 
 
@@ -74,6 +75,9 @@ class World:
         self._walls = floor.segments
         self._sonar_rays = self._sonar_ray_table()
         self._laser_offsets = self._laser_angles()
+        self._version = 0                  # bumped every substep; keys the caches below
+        self._cache: dict[str, tuple[int, object]] = {}
+        self._near_walls: dict[float, tuple[float, float, np.ndarray]] = {}
 
     # -- places ----------------------------------------------------------------------------
 
@@ -108,7 +112,10 @@ class World:
             self.t = start + h * i
             for person in self.people:
                 person.step(h, self)
-            self.body.step(h, Obstacles(self._walls, self.body_circles()))
+            self._version += 1
+            reach = self.body.radius + 0.5
+            self.body.step(h, Obstacles(self._walls_near(reach), self.body_circles()))
+            self._version += 1
             for hook in self.hooks:
                 hook(self, h)
 
@@ -130,13 +137,38 @@ class World:
     def present_people(self) -> list[SimPerson]:
         return [p for p in self.people if p.in_world]
 
+    def _cached(self, key: str, compute: Callable[[], object]):
+        """The value of `compute()` for the current substep (the world has not moved since)."""
+        hit = self._cache.get(key)
+        if hit is not None and hit[0] == self._version:
+            return hit[1]
+        value = compute()
+        self._cache[key] = (self._version, value)
+        return value
+
+    def _walls_near(self, reach: float) -> np.ndarray:
+        """Walls within `reach` of the body; re-chosen only after the body moved 0.5 m."""
+        body = self.body
+        near = self._near_walls.get(reach)
+        if near is None or math.hypot(body.x - near[0], body.y - near[1]) > WALL_CACHE_MARGIN:
+            distances = point_segment_distances(body.x, body.y, self._walls)
+            near = (body.x, body.y, self._walls[distances <= reach + WALL_CACHE_MARGIN])
+            self._near_walls[reach] = near
+        return near[2]
+
     def body_circles(self) -> np.ndarray:
         """People as sonar and bumpers see them: one circle each (k, 3)."""
+        return self._cached("body_circles", self._body_circles)
+
+    def _body_circles(self) -> np.ndarray:
         present = [(p.x, p.y, BODY_RADIUS) for p in self.people if p.in_world]
         return np.array(present) if present else _NO_CIRCLES
 
     def leg_circles(self) -> np.ndarray:
         """People as the laser sees them: two leg circles each (2k, 3)."""
+        return self._cached("leg_circles", self._leg_circles)
+
+    def _leg_circles(self) -> np.ndarray:
         legs = []
         for person in self.people:
             if person.in_world:
@@ -144,6 +176,14 @@ class World:
                 legs.append((left[0], left[1], LEG_RADIUS))
                 legs.append((right[0], right[1], LEG_RADIUS))
         return np.array(legs) if legs else _NO_CIRCLES
+
+    def _circles_near(self, circles: np.ndarray, reach: float) -> np.ndarray:
+        """The circles whose centre is within `reach` of the body."""
+        if len(circles) == 0:
+            return circles
+        dx = circles[:, 0] - self.body.x
+        dy = circles[:, 1] - self.body.y
+        return circles[dx * dx + dy * dy <= reach * reach]
 
     def _sonar_ray_table(self) -> np.ndarray | None:
         """Per ray (3 per sonar): x, y, heading in the robot frame."""
@@ -170,11 +210,16 @@ class World:
 
     def sonar_ranges(self) -> np.ndarray:
         """One range per sonar (m from the transducer), inf when no echo within max_range."""
-        sonar = self.profile.sonar
-        if sonar is None:
+        if self.profile.sonar is None:
             return np.zeros(0)
+        return self._cached("sonar", self._sonar_ranges).copy()
+
+    def _sonar_ranges(self) -> np.ndarray:
+        sonar = self.profile.sonar
+        reach = sonar.max_range + float(np.hypot(*self._sonar_rays[:, :2].T).max())
         origins, angles = self._to_world(self._sonar_rays)
-        ranges = cast_rays(origins, angles, self._walls, self.body_circles(), sonar.max_range)
+        circles = self._circles_near(self.body_circles(), reach + BODY_RADIUS)
+        ranges = cast_rays(origins, angles, self._walls_near(reach), circles, sonar.max_range)
         return ranges.reshape(-1, len(SONAR_RAY_SPREAD)).min(axis=1)
 
     def laser_scan(self) -> tuple[np.ndarray, np.ndarray]:
@@ -182,15 +227,21 @@ class World:
         laser = self.profile.laser
         if laser is None:
             return np.zeros(0), np.zeros(0)
-        body = self.body
+        ranges = self._cached("laser", self._laser_ranges)
+        if laser.noise > 0:
+            ranges = np.maximum(ranges + self.rng.normal(0.0, laser.noise, ranges.shape), 0.0)
+        return self._laser_offsets.copy(), ranges.copy()
+
+    def _laser_ranges(self) -> np.ndarray:
+        """Noise-free laser ranges of the current substep."""
+        laser, body = self.profile.laser, self.body
         c, s = math.cos(body.th), math.sin(body.th)
         origin = np.array([[body.x + c * laser.x - s * laser.y, body.y + s * laser.x + c * laser.y]])
         origins = np.broadcast_to(origin, (laser.beams, 2))
-        ranges = cast_rays(origins, self._laser_offsets + body.th, self._walls,
-                           self.leg_circles(), laser.max_range)
-        if laser.noise > 0:
-            ranges = np.maximum(ranges + self.rng.normal(0.0, laser.noise, ranges.shape), 0.0)
-        return self._laser_offsets.copy(), ranges
+        reach = laser.max_range + math.hypot(laser.x, laser.y)
+        circles = self._circles_near(self.leg_circles(), reach + LEG_RADIUS)
+        return cast_rays(origins, self._laser_offsets + body.th, self._walls_near(reach),
+                         circles, laser.max_range)
 
     def detect_people(self) -> list[tuple[float, float]]:
         """Noisy person positions in the robot frame: in range and field of view, not behind
@@ -213,7 +264,7 @@ class World:
         if candidates:
             table = np.array(candidates)
             origins = np.broadcast_to(np.array([[body.x, body.y]]), (len(table), 2))
-            walls = cast_rays(origins, table[:, 3], self._walls, None, spec.range)
+            walls = cast_rays(origins, table[:, 3], self._walls_near(spec.range), None, spec.range)
             seen = (walls >= table[:, 2]) & (self.rng.random(len(table)) >= spec.miss_rate)
             noise = self.rng.normal(0.0, spec.noise, (len(table), 2))
             found = [(float(x), float(y)) for x, y in table[seen, :2] + noise[seen]]

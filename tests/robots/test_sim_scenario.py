@@ -24,11 +24,13 @@ def write(tmp_path, text):
 
 
 def test_all_bundled_scenarios_are_present_and_load_against_the_office():
-    assert sorted(p.stem for p in SCENARIOS.glob("*.toml")) == sorted(BUNDLED)
+    present = {p.stem for p in SCENARIOS.glob("*.toml")}
+    assert set(BUNDLED) <= present
     for name in BUNDLED:
+        assert load_scenario(SCENARIOS / f"{name}.toml").duration <= 200.0
+    for name in sorted(present):
         scenario = load_scenario(SCENARIOS / f"{name}.toml")
         assert scenario.name == name and scenario.description
-        assert scenario.duration <= 200.0
         World(load_floor(), load_profile("horos"), scenario)   # every place exists
 
 
