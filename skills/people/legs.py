@@ -19,6 +19,7 @@ from robots.devices import Detection, LaserScan
 @dataclass(frozen=True)
 class LegParams:
     jump: float = 0.12          # m; a range step larger than this starts a new segment
+    contrast: float = 0.3       # m; a leg stands at least this far in front of both neighbours
     min_width: float = 0.05     # m; leg-sized segments
     max_width: float = 0.25
     max_both_width: float = 0.5  # m; both legs seen as one segment (one behind the other)
@@ -27,7 +28,7 @@ class LegParams:
     pair_sigma: float = 0.08    # m; position uncertainty of a person from a leg pair
     single_sigma: float = 0.15  # m; from one leg only
     single_legs: bool = True    # report unpaired legs as people too
-    max_range: float = 6.0      # m; farther legs are too sparse to be told from clutter
+    max_range: float = 5.0      # m; farther legs (1-2 beams) cannot be told from clutter
 
 
 def detect_legs(scan: LaserScan, params: LegParams | None = None) -> list[Detection]:
@@ -35,11 +36,33 @@ def detect_legs(scan: LaserScan, params: LegParams | None = None) -> list[Detect
     p = params or LegParams()
     points = _scan_points(scan)
     legs, both = [], []
-    for seg in _segments(scan.ranges, p):
-        found = _leg(points, scan, seg, p)
-        if found is not None:
-            (legs if found[1] <= p.max_width else both).append(found[0])
+    for run in _isolated_runs(scan, points, p):
+        for centre, width in run:
+            (legs if width <= p.max_width else both).append(centre)
     return _people(legs, scan.t, p) + [_detection(scan.t, xy, p.pair_sigma) for xy in both]
+
+
+def _isolated_runs(scan: LaserScan, points: np.ndarray, p: LegParams):
+    """Runs of at most two adjacent leg-sized segments that stand out from both neighbours.
+
+    Two adjacent segments are one leg partly behind the other. A longer run of short segments
+    is a wall seen at a grazing angle, whose range grows in steps from beam to beam."""
+    runs: list[list] = []
+    last_end = -1
+    for start, end in _segments(scan.ranges, p):
+        found = _leg(points, scan, (start, end), p)
+        if found is None or _is_hole(scan.ranges, start, end, p.jump):
+            last_end = -1
+            continue
+        if start == last_end:
+            runs[-1][1].append(found)
+            runs[-1][0][1] = end
+        else:
+            runs.append(([start, end], [found]))
+        last_end = end
+    for (start, end), members in runs:
+        if len(members) <= 2 and _stands_out(scan.ranges, start, end, p.contrast):
+            yield members
 
 
 def _scan_points(scan: LaserScan) -> np.ndarray:
@@ -69,8 +92,6 @@ def _leg(points: np.ndarray, scan: LaserScan, seg: tuple[int, int],
          p: LegParams) -> tuple[tuple[float, float], float] | None:
     """The centre and width of a segment as wide as one leg or two legs side by side, or None."""
     start, end = seg
-    if not _in_front_of_neighbours(scan.ranges, start, end, p.jump):
-        return None
     first, last = points[start], points[end - 1]
     beam_step = _beam_step(scan.angles, start, end)
     mean_range = float(np.mean(scan.ranges[start:end]))
@@ -86,13 +107,24 @@ def _leg(points: np.ndarray, scan: LaserScan, seg: tuple[int, int],
     return (float(centre[0]), float(centre[1])), width
 
 
-def _in_front_of_neighbours(ranges: np.ndarray, start: int, end: int, jump: float) -> bool:
-    """A leg stands in front of what the beams beside it see; a gap between two legs, where
-    the beams reach the wall behind, does not."""
-    nearest = float(np.min(ranges[start:end]))
+def _is_hole(ranges: np.ndarray, start: int, end: int, jump: float) -> bool:
+    """Beams between two nearer things (the wall seen between two legs)."""
     left = ranges[start - 1] if start > 0 else math.inf
     right = ranges[end] if end < len(ranges) else math.inf
-    return all(not np.isfinite(side) or side > nearest + jump for side in (left, right))
+    return left < ranges[start] - jump and right < ranges[end - 1] - jump
+
+
+def _stands_out(ranges: np.ndarray, start: int, end: int, contrast: float) -> bool:
+    """The beams beside the run see something clearly behind it, or on one side clearly in
+    front (an occluding leg). Not so the gap between two legs, whose beams reach the wall
+    behind: that piece is farther than both its neighbours."""
+    left = ranges[start - 1] if start > 0 else math.inf
+    right = ranges[end] if end < len(ranges) else math.inf
+    behind = [not np.isfinite(side) or side > own + contrast
+              for side, own in ((left, ranges[start]), (right, ranges[end - 1]))]
+    in_front = [side < own - contrast
+                for side, own in ((left, ranges[start]), (right, ranges[end - 1]))]
+    return any(behind) and all(b or f for b, f in zip(behind, in_front))
 
 
 def _beam_step(angles: np.ndarray, start: int, end: int) -> float:

@@ -25,9 +25,9 @@ WorldDetection = tuple[float, float, np.ndarray]   # x, y (m, world frame), 2x2 
 @dataclass(frozen=True)
 class TrackerParams:
     """Tuning of the tracker; times are in seconds so the tick rate can change."""
-    accel_noise: float = 1.0          # q of the white-noise acceleration model, m^2/s^3
+    accel_noise: float = 0.5          # q of the white-noise acceleration model, m^2/s^3
     initial_speed_sigma: float = 1.0  # m/s, velocity prior of a new track (walking pace)
-    gate: float = 13.8                # d^2 threshold; chi-square, 2 dof: 9.21 = 99 %, 13.8 = 99.9 %
+    gate: float = 18.4                # d^2 threshold; chi-square, 2 dof: 13.8 = 99.9 %, 18.4 = 99.99 %
     merge_distance: float = 0.3       # m; same-frame detections closer than this are one person
     confirm_hits: int = 3             # detections needed before a track is believed
     tentative_timeout: float = 0.25   # s unseen after which a tentative track is dropped

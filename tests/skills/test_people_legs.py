@@ -45,6 +45,27 @@ def test_an_empty_hallway_and_a_bare_wall_give_nobody():
     assert detect_legs(scan_of([], wall_x=1.0)) == []
 
 
+def test_the_wall_seen_between_two_legs_is_not_a_leg():
+    for wall in (2.5, 3.0, 4.0):
+        (person,) = detect_legs(scan_of([(2.0, 0.14), (2.0, -0.14)], wall_x=wall))
+        assert abs(person.y) < 0.05
+
+
+def test_a_wall_at_a_grazing_angle_gives_nobody():
+    """The hallway wall seen along its length: the range grows in steps from beam to beam."""
+    angles = ANGLES
+    with np.errstate(divide="ignore"):
+        ranges = np.where(np.sin(angles) > 0.05, 1.2 / np.sin(angles), np.inf)
+    scan = LaserScan(t=0.0, angles=angles, ranges=np.where(ranges < 8.0, ranges, np.inf),
+                     origin=(0.0, 0.0, 0.0))
+    assert detect_legs(scan) == []
+
+
+def test_one_leg_partly_behind_the_other_is_still_a_person():
+    (person,) = detect_legs(scan_of([(1.0, 2.125), (1.0, 1.875)]))
+    assert math.dist((person.x, person.y), (1.0, 2.0)) < 0.15
+
+
 def test_two_people_apart_are_two_detections():
     people = detect_legs(scan_of([(2.0, 1.1), (2.0, 0.9), (3.0, -1.0), (3.05, -1.2)]))
     assert sorted(round(p.y, 1) for p in people) == [-1.1, 1.0]
