@@ -232,10 +232,11 @@ def parse_sync2(data: bytes) -> tuple[str, str, str]:
 
 _SIP_HEAD = struct.Struct("<HHhhhBBBhHBB")   # through the sonar count (19 bytes)
 _SIP_TAIL = struct.Struct("<HBBB")           # timer/grip+anport, analog, digin, digout
+_READING = struct.Struct("<BH")              # sonar number, range
 _OPTIONAL = (("battery_x10", "<H"), ("charge_state", "<B"), ("rot_vel", "<h"), ("fault_flags", "<H"))
 
 
-@dataclass(frozen=True)
+@dataclass(eq=True, slots=True)
 class SIP:
     """The standard server information packet, in raw protocol units."""
     moving: bool = False
@@ -279,7 +280,7 @@ def encode_sip(sip: SIP) -> bytes:
                            sip.battery, sip.stall_bumpers & 0xFF, sip.stall_bumpers >> 8,
                            sip.control, sip.flags, sip.compass, len(sip.sonar))
     for number, rng in sip.sonar:
-        body += struct.pack("<BH", number, rng)
+        body += _READING.pack(number, rng)
     body += _SIP_TAIL.pack(sip.timer, sip.analog, sip.digin, sip.digout)
     for name, fmt in _OPTIONAL:
         if name in sip.optional:
@@ -299,7 +300,7 @@ def decode_sip(packet: Packet) -> SIP:
     if len(data) < end:
         raise ProtocolError(f"SIP announces {n} sonar readings ({3 * n} bytes) but only "
                             f"{len(data) - _SIP_HEAD.size} bytes follow the count")
-    sonar = tuple(struct.unpack_from("<BH", data, _SIP_HEAD.size + 3 * i) for i in range(n))
+    sonar = tuple(_READING.iter_unpack(data[_SIP_HEAD.size:end]))
     tail = (0, 0, 0, 0)
     if len(data) >= end + _SIP_TAIL.size:
         tail = _SIP_TAIL.unpack_from(data, end)
