@@ -76,7 +76,7 @@ class World:
         self._sonar_rays = self._sonar_ray_table()
         self._laser_offsets = self._laser_angles()
         self._version = 0                  # bumped every substep; keys the caches below
-        self._cache: dict[str, tuple[int, object]] = {}
+        self._cache: dict[str, tuple[tuple, object]] = {}
         self._near_walls: dict[float, tuple[float, float, np.ndarray]] = {}
 
     # -- places ----------------------------------------------------------------------------
@@ -89,10 +89,12 @@ class World:
         return float(where[0]), float(where[1])
 
     def _start_pose(self) -> tuple[float, float, float]:
-        robot = self.scenario.robot if self.scenario is not None else "robot_home"
+        """The scenario's robot pose; without a scenario robot_home, or the origin if the
+        floor has no robot_home."""
+        if self.scenario is None:
+            return self.floor.places.get("robot_home", (0.0, 0.0, 0.0))
+        robot = self.scenario.robot
         if isinstance(robot, str):
-            if robot not in self.floor.places and robot == "robot_home" and self.scenario is None:
-                return 0.0, 0.0, 0.0
             try:
                 return self.floor.place(robot)
             except FloorError as exc:
@@ -138,12 +140,14 @@ class World:
         return [p for p in self.people if p.in_world]
 
     def _cached(self, key: str, compute: Callable[[], object]):
-        """The value of `compute()` for the current substep (the world has not moved since)."""
+        """The value of `compute()` while nothing moved: same substep and same body pose
+        (a caller may place the body by hand between steps)."""
+        stamp = (self._version, self.body.x, self.body.y, self.body.th)
         hit = self._cache.get(key)
-        if hit is not None and hit[0] == self._version:
+        if hit is not None and hit[0] == stamp:
             return hit[1]
         value = compute()
-        self._cache[key] = (self._version, value)
+        self._cache[key] = (stamp, value)
         return value
 
     def _walls_near(self, reach: float) -> np.ndarray:

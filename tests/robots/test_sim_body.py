@@ -85,3 +85,27 @@ def test_reversing_into_a_person_sets_the_rear_bumper():
         b.step(0.05, person)
     assert b.stalled and b.bumpers == BUMPER_REAR
     assert b.x >= -0.6 + 0.2 + 0.26 - 1e-9
+
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from robots.sim.floor import load_floor
+
+OFFICE = Obstacles(load_floor().segments, np.zeros((0, 3)))
+commands = st.lists(st.tuples(st.floats(-1.0, 1.0), st.floats(-2.0, 2.0),
+                              st.integers(1, 40)), min_size=1, max_size=8)
+
+
+@settings(max_examples=60, deadline=None)
+@given(x=st.floats(-9.5, 9.5), y=st.floats(-0.9, 0.9), th=st.floats(-math.pi, math.pi),
+       plan=commands)
+def test_the_body_never_enters_a_wall(x, y, th, plan):
+    b = body(x, y, th)
+    assert b.clearance(b.x, b.y, OFFICE) >= 0.0
+    for v, w, steps in plan:
+        b.set_command(v, w)
+        for _ in range(steps):
+            b.step(0.05, OFFICE)
+            assert b.clearance(b.x, b.y, OFFICE) >= 0.0
+            assert abs(b.v) <= LIMITS.max_speed and abs(b.w) <= LIMITS.max_turn_rate

@@ -168,3 +168,11 @@ def test_legs_swing_while_walking_and_stand_still_when_standing():
     world.step(0.1)
     left, right = person.leg_positions()
     assert math.dist(left, right) == pytest.approx(0.25)
+
+
+def test_leave_to_exit_goes_to_the_exit_place():
+    world = world_with([{"walk": [[1.0, 0.0]]}, {"leave": "exit"}], at=(2.0, 0.0),
+                       exit="hall_east")
+    person = world.people[0]
+    run_until(world, lambda w: person.gone)
+    assert (person.x, person.y) == pytest.approx((9.5, 0.0), abs=0.03)

@@ -150,3 +150,19 @@ def test_same_seed_same_readings_different_seed_different():
         np.testing.assert_array_equal(la, lb)
         assert da == db
     assert any(not np.array_equal(la, lc) for (la, _), (lc, _) in zip(a, c))
+
+
+def test_readings_follow_a_body_placed_by_hand():
+    world = World(FLOOR, exact(HOROS))
+    before = world.sonar_ranges()[3]
+    world.body.y = -0.25                        # half a metre closer to the far wall
+    assert world.sonar_ranges()[3] == pytest.approx(before - 0.5)
+    assert world.laser_scan()[1][90] == pytest.approx(1.2 - (-0.25 + 0.16))
+
+
+def test_without_a_scenario_the_robot_starts_at_robot_home_or_the_origin():
+    from robots.sim.floor import parse_floor
+    bare = parse_floor({"floor": {"walls": [[5.0, -5.0, 5.0, 5.0]]}})
+    world = World(bare, HOROS)
+    assert (world.body.x, world.body.y, world.body.th) == (0.0, 0.0, 0.0)
+    assert world.sonar_ranges()[3] == pytest.approx(5.0 - 0.166, abs=1e-3)
