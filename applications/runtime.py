@@ -17,6 +17,7 @@ from typing import Any, Callable
 
 from applications.database import AnswerDatabase
 from applications.dialog import Dialog, load_dialog
+from applications.exceptions import ApplicationError
 from applications.graph.model import Application
 from applications.statemachine import StateMachine
 from applications.trace import TraceWriter
@@ -130,9 +131,14 @@ class Run:
             for problem in result:
                 self._say_line(f"  {problem}")
             return
+        try:
+            dialog = load_dialog(result.folder / "dialog.xml")
+        except ApplicationError as exc:
+            self._say_line("the edited dialog has errors; carrying on with the running one:")
+            self._say_line(f"  {exc}")
+            return
         old_state = machine.state.name
-        self.app = result
-        self.dialog = load_dialog(result.folder / "dialog.xml")
+        self.app, self.dialog = result, dialog
         moved = machine.replace(result, now)
         self._emit({"t": round(now, 3), "kind": "reload", "state": machine.state.name})
         if moved:
