@@ -80,3 +80,14 @@ def test_dialog_manager_override_is_traced(tmp_path):
     assert behavior["name"] in ("AttractAttention", "FaceUser")
     says = [e["text"] for e in trace[entered:] if e["kind"] == "say"]
     assert says, "the robot says something when it creates attention"
+
+
+def test_real_time_run_keeps_the_10_hz_tick(tmp_path, capsys):
+    """Without --fast the loop runs on the real clock, with the emulator on its own thread."""
+    trace = tmp_path / "rt.jsonl"
+    code = main(["run", "survey", "--duration", "1.5", "--scenario", "nobody",
+                 "--trace", str(trace), "--data", str(tmp_path), "--quiet"])
+    out = capsys.readouterr().out
+    assert code == 0
+    assert "in 15 ticks" in out
+    assert states(read_trace(trace)) == ["Wait"]
