@@ -218,11 +218,18 @@ class RFlexBase(Base):
         self._drain_lockstep()
         self._housekeeping(now)
 
-    def wait_for_report(self, timeout: float, both_axes: bool = False) -> bool:
-        """Real time: block until a new motor report (of both axes) arrives; False on timeout."""
+    @property
+    def report_count(self) -> int:
+        """Motor reports decoded so far (for `wait_for_report(after=...)`)."""
+        return self._reports
+
+    def wait_for_report(self, timeout: float, both_axes: bool = False,
+                        after: int | None = None) -> bool:
+        """Real time: block until a motor report newer than number `after` (default: now)
+        arrives, and with `both_axes` until odometry has both axes; False on timeout."""
         deadline = time.monotonic() + timeout
         with self._report_cond:
-            seen = self._reports
+            seen = self._reports if after is None else after
             while True:
                 if self._reports > seen and (not both_axes or self._baseline is not None):
                     return True

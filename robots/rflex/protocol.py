@@ -85,12 +85,21 @@ class Frame:
     id: int = 0
 
 
+def xor_bytes(data: bytes) -> int:
+    """XOR of all bytes, folded as one big integer (a handful of big-int operations instead
+    of one Python step per byte)."""
+    width = len(data)
+    value = int.from_bytes(data, "little")
+    while width > 1:
+        half = (width + 1) // 2
+        value = (value & ((1 << (8 * half)) - 1)) ^ (value >> (8 * half))
+        width = half
+    return value
+
+
 def checksum(port: int, id_: int, opcode: int, data: bytes) -> int:
     """XOR of port, id, opcode, dlen and every data byte."""
-    crc = port ^ id_ ^ opcode ^ len(data)
-    for byte in data:
-        crc ^= byte
-    return crc
+    return port ^ id_ ^ opcode ^ len(data) ^ xor_bytes(data)
 
 
 def frame_body(frame: Frame) -> bytes:
@@ -413,6 +422,7 @@ MOTOR_REPORT = struct.Struct(">IIBiiii")
 DIO_FORMAT = struct.Struct(">IBH")
 JOYSTICK_FORMAT = struct.Struct(">IiiB")
 STATUS_FORMAT = struct.Struct(">IIB")
+SONAR_READING = struct.Struct(">BH")
 
 
 def decode_report(frame: Frame):
@@ -439,7 +449,7 @@ def _decode_sonar(data: bytes) -> SonarReport:
     if len(data) < 8 or (len(data) - 8) % 3:
         raise ProtocolError(f"SONAR_REPORT: dlen {len(data)} is not 8 + 3n")
     rv, timestamp = struct.unpack_from(">II", data)
-    readings = tuple(struct.unpack_from(">BH", data, offset) for offset in range(8, len(data), 3))
+    readings = tuple(SONAR_READING.iter_unpack(data[8:]))
     return SonarReport(rv, timestamp, readings)
 
 
@@ -531,9 +541,7 @@ class FrameParser(FramedParser):
         if len(body) < 5 or body[3] != len(body) - 5:
             raise Reject("length", f"{len(body)}-byte body does not match dlen "
                          f"{body[3] if len(body) > 3 else '?'}")
-        crc = 0
-        for byte in body[:-1]:
-            crc ^= byte
+        crc = xor_bytes(body[:-1])
         if crc != body[-1]:
             raise Reject("checksum", f"crc {body[-1]:02X}, computed {crc:02X}")
         return Frame(body[0], body[2], bytes(body[4:-1]), body[1])

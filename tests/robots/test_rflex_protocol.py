@@ -362,3 +362,11 @@ def test_sonar_units():
     assert p.sonar_metres(p.SONAR_NO_ECHO) == float("inf")
     assert p.sonar_raw(float("inf")) == p.SONAR_NO_ECHO
     assert p.sonar_raw(2.0) == 2952
+
+
+@given(st.binary(max_size=600))
+def test_xor_fold_equals_bytewise_xor(data):
+    expected = 0
+    for byte in data:
+        expected ^= byte
+    assert p.xor_bytes(data) == expected
