@@ -45,6 +45,7 @@ SIP_CYCLE = 0.1            # s
 MISSED_CYCLES = 3          # link down after this many SIP cycles without one
 WATCHDOG = 0.15            # s without a fresh command -> zero (the bound we promise is 0.2 s)
 KEEPALIVE = 0.5            # s, re-send an unchanged fresh command this often (ARIA's figure)
+READ_QUANTUM = 0.02        # s, longest a read blocks (so close() and liveness stay prompt)
 STILL_OPEN, NO_REPLY = "still open", "no reply"
 
 
@@ -65,7 +66,8 @@ class _Port:
     def read(self, timeout: float) -> bytes:
         """What is there, or wait up to `timeout` s for at least one byte."""
         port = self.serial
-        port.timeout = timeout
+        if port.timeout != timeout:       # setting it reconfigures the tty: only on change
+            port.timeout = timeout
         data = port.read(max(1, port.in_waiting))
         if data and self.lockstep is not None:
             self.lockstep.to_host.got(len(data))
@@ -301,20 +303,27 @@ class P2OSBase(Base):
             return f"bad SYNC2 reply: {exc}"
 
     def _await(self, port: _Port, parser: p.P2OSParser, kind: int):
+        """The reply of type `kind`, STILL_OPEN if a SIP came instead, or what came otherwise."""
         deadline = time.monotonic() + self.reply_timeout
+        others = []
         while (remaining := deadline - time.monotonic()) > 0:
-            for packet in parser.feed(port.read(min(remaining, 0.05))):
+            for packet in parser.feed(port.read(READ_QUANTUM)):
                 if packet.kind == kind:
                     return packet
                 if packet.kind in p.SIP_TYPES:
                     return STILL_OPEN
+                others.append(f"{packet.kind:#04x}")
+        if others:
+            return f"packets of type {', '.join(others[:4])} instead of a reply"
+        if parser.stats.dropped_bytes:
+            return f"{NO_REPLY} ({parser.stats.dropped_bytes} bytes that formed no packet)"
         return NO_REPLY
 
     def _wait_first_sip(self) -> None:
         wait = (MISSED_CYCLES + 1) * SIP_CYCLE + 0.5
         deadline = time.monotonic() + wait
         while time.monotonic() < deadline and self.stats["sips"] == 0:
-            self._read_once(0.05)
+            self._read_once(READ_QUANTUM)
         if self.stats["sips"] == 0:
             self._drop_port()
             self._set_link(False)
@@ -331,7 +340,7 @@ class P2OSBase(Base):
                     continue
                 self._reconnect_with_backoff()
                 continue
-            self._read_once(0.02)
+            self._read_once(READ_QUANTUM)
             self._check_liveness(self._time())
 
     def _read_once(self, timeout: float) -> None:
@@ -353,7 +362,7 @@ class P2OSBase(Base):
             if time.monotonic() > deadline:
                 self.last_error = "emulator bytes did not arrive in time"
                 return
-            self._read_once(0.05)
+            self._read_once(READ_QUANTUM)
             port = self._port
 
     def _decode(self, data: bytes) -> None:

@@ -308,3 +308,20 @@ def test_sip_bumpers_and_stall_reach_the_state():
     state = base.read_state()
     assert state.bumpers == 2 and state.stalled and state.motors_enabled
     assert state.battery == pytest.approx(12.5)
+
+
+def test_silent_controller_means_link_down_then_reconnect_in_real_time(realtime):
+    base, emulator, _ = realtime
+    base.open()
+    assert wait_until(lambda: base.stats["sips"] >= 3)
+    silenced = time.monotonic()
+    emulator.firmware.open = False                      # SIPs stop; the port stays fine
+    assert wait_until(lambda: base.stats["link_downs"] == 1, timeout=2.0)
+    noticed = time.monotonic() - silenced
+    assert noticed >= 0.3                                # not before 3 cycles were missed
+    assert "no SIP" in base.last_error
+    assert wait_until(lambda: base.link_up and base.stats["reconnects"] == 1, timeout=5.0)
+    after = [(pkt.kind, p.decode_argument(pkt.data)) for t, pkt in list(emulator.received)
+             if t >= silenced]
+    kinds = [k for k, _ in after]
+    assert kinds.index(p.Cmd.VEL) < kinds.index(p.Cmd.ENABLE)
