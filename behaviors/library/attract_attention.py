@@ -1,18 +1,15 @@
 """AttractAttention: call out to a person who is still far away, turned towards them."""
 from __future__ import annotations
 
-from behaviors.leaves import StandStill
-from behaviors.library.common import head_and_body, orient, repeated_call, together
+from behaviors.library.common import head_and_body, repeated_call, while_facing_user
 from behaviors.registry import BehaviorContext, BehaviorSpec
 
 CALL = "Hello there! Do you have a minute?"
 
 
 def build(ctx: BehaviorContext, with_head: bool):
-    children = [repeated_call(ctx, ctx.param("say", CALL), every=6.0), orient(ctx, with_head)]
-    if with_head:
-        children.append(StandStill(ctx))
-    return together("AttractAttention", *children)
+    return while_facing_user("AttractAttention", ctx, with_head,
+                             repeated_call(ctx, ctx.param("say", CALL), every=6.0))
 
 
 ATTRACT_ATTENTION = BehaviorSpec(

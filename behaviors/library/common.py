@@ -4,7 +4,7 @@ from __future__ import annotations
 import py_trees
 from py_trees.common import ParallelPolicy
 
-from behaviors.leaves import LookAtUser, Pause, Say, TurnToUser
+from behaviors.leaves import LookAtUser, Pause, Say, StandStill, TurnToUser
 from behaviors.registry import BehaviorContext, Realization
 
 HEAD = frozenset({"pan_tilt"})
@@ -14,6 +14,15 @@ BODY = frozenset()
 def orient(ctx: BehaviorContext, with_head: bool) -> py_trees.behaviour.Behaviour:
     """Keep facing the user: the pan-tilt head where there is one, else the whole body."""
     return LookAtUser(ctx) if with_head else TurnToUser(ctx)
+
+
+def while_facing_user(name: str, ctx: BehaviorContext, with_head: bool,
+                      activity: py_trees.behaviour.Behaviour) -> py_trees.composites.Parallel:
+    """Run `activity` while facing the user; with a head, the base also holds still."""
+    children = [activity, orient(ctx, with_head)]
+    if with_head:
+        children.append(StandStill(ctx))
+    return together(name, *children)
 
 
 def together(name: str, *children: py_trees.behaviour.Behaviour) -> py_trees.composites.Parallel:

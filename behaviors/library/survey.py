@@ -7,8 +7,8 @@ from __future__ import annotations
 
 import py_trees
 
-from behaviors.leaves import AskQuestions, CloseSurvey, LoadQuestions, OnlyIf, Say, StandStill
-from behaviors.library.common import head_and_body, orient, together
+from behaviors.leaves import AskQuestions, CloseSurvey, LoadQuestions, OnlyIf, Say
+from behaviors.library.common import head_and_body, while_facing_user
 from behaviors.registry import BehaviorContext, BehaviorSpec
 from skills.questionnaire import Question
 
@@ -37,10 +37,7 @@ def build(ctx: BehaviorContext, with_head: bool):
         Say(ctx, ctx.param("closing", THANKS)),
         CloseSurvey(ctx),
     ])
-    children = [dialog, orient(ctx, with_head)]
-    if with_head:
-        children.append(StandStill(ctx))
-    return together("Survey", *children)
+    return while_facing_user("Survey", ctx, with_head, dialog)
 
 
 SURVEY = BehaviorSpec(
