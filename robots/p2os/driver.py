@@ -19,6 +19,8 @@ On a simulated clock (`for_simulation` with `clock.simulated`) there are no driv
 emulator wrote has been decoded, and checks link liveness and the command watchdog in sim time.
 Each write waits until the emulator has acted on it (`robots.link.LockStep`), so commands take
 effect in the next step and the run is deterministic. The handshake needs no clock at all.
+There the driver does not reconnect: the emulator lives in the same process, so a dead link
+means a broken run, reported as `link_up=False` (the safety arbiter then keeps the robot still).
 """
 from __future__ import annotations
 
@@ -340,8 +342,12 @@ class P2OSBase(Base):
                     continue
                 self._reconnect_with_backoff()
                 continue
-            self._read_once(READ_QUANTUM)
-            self._check_liveness(self._time())
+            try:
+                self._read_once(READ_QUANTUM)
+                self._check_liveness(self._time())
+            except Exception as exc:             # never let the reader die with the link "up"
+                log.exception("%s: reader failed", self.url)
+                self._link_lost(f"reader error: {exc!r}")
 
     def _read_once(self, timeout: float) -> None:
         port = self._port
