@@ -1,6 +1,8 @@
 """The device interfaces of `robots.devices` implemented over a simulated World."""
 from __future__ import annotations
 
+import math
+
 from robots.devices import (Detection, Laser, LaserScan, PanTiltHead, PersonDetector, Speaker,
                             TouchScreen)
 from robots.profile import HeadSpec, RobotProfile
@@ -38,7 +40,8 @@ class SimPersonDetector(PersonDetector):
 
 
 class SimPanTilt(PanTiltHead):
-    """Moves `world.head_pan`/`head_tilt` towards the target at the head's rate as the world steps."""
+    """Moves `world.head_pan`, `head_tilt` towards the target at the head's rate as the world
+    steps."""
 
     def __init__(self, world: World, spec: HeadSpec) -> None:
         self.world = world
@@ -48,8 +51,8 @@ class SimPanTilt(PanTiltHead):
 
     def point(self, pan: float, tilt: float) -> None:
         spec = self.spec
-        pan = min(spec.pan_max, max(spec.pan_min, float(pan))) if pan == pan else self.target[0]
-        tilt = min(spec.tilt_max, max(spec.tilt_min, float(tilt))) if tilt == tilt else self.target[1]
+        pan = _clamp(pan, spec.pan_min, spec.pan_max, self.target[0])
+        tilt = _clamp(tilt, spec.tilt_min, spec.tilt_max, self.target[1])
         self.target = (pan, tilt)
 
     def read(self) -> tuple[float, float]:
@@ -59,6 +62,14 @@ class SimPanTilt(PanTiltHead):
         step = self.spec.max_pan_rate * dt
         world.head_pan = _towards(world.head_pan, self.target[0], step)
         world.head_tilt = _towards(world.head_tilt, self.target[1], step)
+
+
+def _clamp(value: float, low: float, high: float, fallback: float) -> float:
+    """`value` within [low, high]; a NaN keeps the previous target (safe: no jump)."""
+    value = float(value)
+    if math.isnan(value):
+        return fallback
+    return min(high, max(low, value))
 
 
 def _towards(current: float, target: float, step: float) -> float:

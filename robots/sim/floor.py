@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 import tomllib
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -31,7 +31,7 @@ class Floor:
     name: str
     segments: np.ndarray
     places: dict[str, tuple[float, float, float]]
-    bounds: tuple[float, float, float, float] = field(default=(0.0, 0.0, 0.0, 0.0))  # xmin, ymin, xmax, ymax
+    bounds: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)   # xmin, ymin, xmax, ymax
     description: str = ""
 
     def place(self, name: str) -> tuple[float, float, float]:

@@ -240,7 +240,8 @@ class World:
         """Noise-free laser ranges of the current substep."""
         laser, body = self.profile.laser, self.body
         c, s = math.cos(body.th), math.sin(body.th)
-        origin = np.array([[body.x + c * laser.x - s * laser.y, body.y + s * laser.x + c * laser.y]])
+        origin = np.array([[body.x + c * laser.x - s * laser.y,
+                            body.y + s * laser.x + c * laser.y]])
         origins = np.broadcast_to(origin, (laser.beams, 2))
         reach = laser.max_range + math.hypot(laser.x, laser.y)
         circles = self._circles_near(self.leg_circles(), reach + LEG_RADIUS)

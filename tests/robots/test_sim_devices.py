@@ -182,3 +182,12 @@ def test_simulation_loads_its_scenario_and_floor():
     assert sim.scenario.name == "complete"
     assert [p.id for p in sim.world.people] == ["alice"]
     assert np.array_equal(sim.world.floor.segments, load_floor("office").segments)
+
+
+def test_pan_tilt_ignores_nan_targets():
+    sim, clock = simulation()
+    head = sim.devices()["head"]
+    head.point(0.5, 0.1)
+    head.point(float("nan"), float("nan"))
+    sim.advance(clock.advance(2.0))
+    assert head.read() == pytest.approx((0.5, 0.1))

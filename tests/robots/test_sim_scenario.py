@@ -8,7 +8,7 @@ from robots.clock import SimClock
 from robots.exceptions import ScenarioError
 from robots.profile import load_profile
 from robots.sim.floor import load_floor
-from robots.sim.scenario import (Answer, Approach, Leave, Pause, WaitForCall, Walk,
+from robots.sim.scenario import (Answer, Approach, Leave, Pause, Walk,
                                  load_scenario)
 from robots.sim.simulation import Simulation
 from robots.sim.world import World
