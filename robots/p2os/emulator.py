@@ -315,7 +315,7 @@ class P2OSEmulator:
     def _on_world_step(self, world, dt: float) -> None:
         if self.lockstep is not None:
             self.tick(world.t)
-        elif self._next_sip is None or world.t >= self._snapshot_due:
+        elif world.t >= self._snapshot_due:      # real time: the clock thread encodes it
             self._snapshot = Snapshot.of(world)
             self._snapshot_due = world.t + SIP_CYCLE / 2
 
