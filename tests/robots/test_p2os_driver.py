@@ -8,6 +8,7 @@ import time
 
 import pytest
 import serial
+from hypothesis import given, settings, strategies as st
 
 from robots.base import base_classes
 from robots.clock import RealClock, SimClock
@@ -323,3 +324,54 @@ def test_silent_controller_means_link_down_then_reconnect_in_real_time(realtime)
              if t >= silenced]
     kinds = [k for k, _ in after]
     assert kinds.index(p.Cmd.VEL) < kinds.index(p.Cmd.ENABLE)
+
+
+def test_factors_come_from_the_sync2_subclass_not_the_hint():
+    clock = RealClock()
+    simulation = Simulation(HOROS, None, 0, clock)
+    emulator = P2OSEmulator(simulation.world, subclass="p2at", clock=clock)
+    emulator.attach(simulation)
+    path = emulator.serve_pty()
+    emulator.start_clock(simulation)
+    base = P2OSBase(LIMITS, path, subclass_hint="p2dx", clock=clock)
+    try:
+        base.open()
+        assert base.robot_id[2] == "p2at"
+        assert base.factors is p.FACTORS["p2at"]
+        assert wait_until(lambda: base.read_state().extra.get("subclass") == "p2at")
+        body = simulation.world.body
+        state = base.read_state()
+        assert (state.x, state.y) == pytest.approx((body.x, body.y), abs=0.01)
+    finally:
+        base.close()
+        emulator.close()
+
+
+finite_or_not = st.one_of(st.floats(allow_nan=True, allow_infinity=True),
+                          st.floats(-5, 5))
+
+
+@settings(max_examples=150, deadline=None)
+@given(v=finite_or_not, w=finite_or_not)
+def test_any_command_reaches_the_wire_clamped_and_nan_as_zero(fast_base, v, w):
+    base, emulator = fast_base
+    base.command(v, w)
+    vel, rvel = emulator.firmware.vel, emulator.firmware.rvel
+    assert abs(vel) <= round(LIMITS.max_speed * 1000)
+    assert abs(rvel) <= round(math.degrees(LIMITS.max_turn_rate))
+    if not math.isfinite(v):
+        assert vel == 0
+    else:
+        assert vel == pytest.approx(max(-600, min(600, v * 1000)), abs=0.5 + 1e-9)
+    if not math.isfinite(w):
+        assert rvel == 0
+
+
+@pytest.fixture(scope="module")
+def fast_base():
+    clock = SimClock()
+    simulation = Simulation(HOROS, None, 0, clock)
+    base = P2OSBase.for_simulation(HOROS, simulation, clock)
+    base.open()
+    yield base, base.emulator
+    base.close()
