@@ -402,7 +402,9 @@ class P2OSBase(Base):
             battery=sip.battery / 10.0, link_up=True,
             extra={"front_bumpers": sip.front_bumpers, "rear_bumpers": sip.rear_bumpers,
                    "estop": bool(sip.flags & 0x20), "sips": self.stats["sips"],
-                   "subclass": self.factors.subclass})
+                   "subclass": self.factors.subclass,
+                   "rejected_packets": self.parser.stats.rejected,
+                   "dropped_bytes": self.parser.stats.dropped_bytes})
         with self._state_cond:
             self._state = state
             self._state_cond.notify_all()
