@@ -83,6 +83,7 @@ class RFlexBase(Base):
         self._closed = False
         self._cmd = (0.0, 0.0)
         self._next_send = 0.0
+        self._last_sent: tuple[float, float] | None = None
         self._next_attempt = 0.0
         self._last_start = -math.inf
         self._cycles = 0
@@ -178,7 +179,7 @@ class RFlexBase(Base):
         with self._state_lock:
             self._cmd = (v, w)
         self.watchdog.feed()
-        self._send_axes()
+        self._send_axes(force=False)
 
     def stop(self) -> None:
         with self._state_lock:
@@ -268,6 +269,7 @@ class RFlexBase(Base):
         frames += [p.sonar_run(True), p.system_status_request()]
         self._send_frames(frames)
         self._brake = False
+        self._last_sent = (0.0, 0.0)
         self._next_send = now + RESEND_PERIOD
 
     @staticmethod
@@ -282,27 +284,38 @@ class RFlexBase(Base):
                 p.axis_set_dir(p.ROTATION_AXIS, p.velocity_units(w, self.angle_conv),
                                p.ROTATION_ACCEL, p.ROTATION_TORQUE)]
 
-    def _send_axes(self) -> None:
+    def _send_axes(self, force: bool = True) -> None:
+        """Both axes now. Unforced (a caller's repeat of the same command) only when the 10 Hz
+        resend is due anyway, so a tick loop commanding every tick does not double the traffic."""
         with self._state_lock:
-            v, w = self._cmd
+            command = self._cmd
+        now = self._now()
+        if not force and command == self._last_sent and now < self._next_send - 1e-6:
+            return
+        self._last_sent = command
+        self._next_send = now + RESEND_PERIOD
         try:
-            self._send_frames(self._axis_frames(v, w))
+            self._send_frames(self._axis_frames(*command))
         except LinkError:
             self._lost("write failed")
 
     def _send_frames(self, frames: list[p.Frame]) -> None:
+        """Write frames; in real time with a gap after each, in lock-step as one write and then
+        wait until the emulator has applied them."""
+        chunks = [p.encode_raw(frame) for frame in frames]
+        if not self.frame_gap:
+            chunks = [b"".join(chunks)]
         with self._write_lock:
             port = self._port
             if port is None:
                 return
-            for frame in frames:
-                raw = p.encode_raw(frame)
+            for raw in chunks:
+                if self.lockstep is not None:
+                    self.lockstep.to_device.wrote(len(raw))
                 try:
                     port.write(raw)
                 except (serial.SerialException, OSError) as exc:
                     raise LinkError(f"rFLEX port {self.url}: write failed: {exc}") from exc
-                if self.lockstep is not None:
-                    self.lockstep.to_device.wrote(len(raw))
                 if self.frame_gap:
                     time.sleep(self.frame_gap)
             if self.lockstep is not None:      # the emulator applies it before we go on
@@ -357,8 +370,7 @@ class RFlexBase(Base):
             self.watchdog.check(now)
         if now - self._report_t > LINK_TIMEOUT and now - self._last_start >= RESTART_PERIOD:
             self._silent(now)
-        if now >= self._next_send:
-            self._next_send = max(self._next_send + RESEND_PERIOD, now + RESEND_PERIOD / 2)
+        if now >= self._next_send - 1e-6:
             self._cycles += 1
             self._send_axes()
             if self._cycles % STATUS_EVERY == 0 and self._port is not None:
