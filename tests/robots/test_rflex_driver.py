@@ -267,3 +267,18 @@ def test_open_on_a_missing_port_names_it():
 def test_command_before_open_is_refused():
     with pytest.raises(LinkError, match="not open"):
         make_unopened().command(0.1, 0.0)
+
+
+def test_perses_in_simulation_speaks_rflex_over_a_pty():
+    from robots.hardware import open_hardware
+
+    hardware = open_hardware("perses", fast=True)
+    try:
+        assert isinstance(hardware.base, RFlexBase)
+        assert hardware.base.url.startswith("/dev/pts/")
+        for _ in range(3):
+            hardware.clock.advance(0.1)
+            hardware.sense()
+        assert hardware.base.read_state().link_up
+    finally:
+        hardware.close()
