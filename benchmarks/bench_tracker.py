@@ -6,7 +6,7 @@ positives per frame, 10 Hz. The baseline, measured in the same run, is the bare 
 the tracker cannot avoid: one KalmanFilter predict and update per person, nothing else. The
 ratio shows what association, life cycle and snapshots cost on top.
 
-    python benchmarks/bench_tracker.py [--frames 300] [--sizes 1 10 50 200]
+    python benchmarks/bench_tracker.py [--frames 300] [--sizes 1 10 50 200] [--model cv|imm]
 """
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ import time
 import numpy as np
 from filterpy.kalman import KalmanFilter
 
-from skills.people import PeopleTracker
+from skills.people import PeopleTracker, TrackerParams
 from skills.people import motion_model
 
 DT = 0.1
@@ -47,8 +47,8 @@ def crowd_frames(n: int, frames: int, seed: int = 0) -> list[list[tuple[float, f
     return out
 
 
-def time_tracker(frames) -> np.ndarray:
-    tracker = PeopleTracker()
+def time_tracker(frames, model: str = "cv") -> np.ndarray:
+    tracker = PeopleTracker(TrackerParams(model=model))
     costs = []
     for k, detections in enumerate(frames):
         start = time.perf_counter()
@@ -79,12 +79,14 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--frames", type=int, default=300)
     parser.add_argument("--sizes", type=int, nargs="+", default=[1, 10, 50, 200])
+    parser.add_argument("--model", choices=("cv", "imm"), default="cv")
     args = parser.parse_args()
+    print(f"model={args.model}, {args.frames} frames of 10 Hz")
     print(f"{'people':>6} {'median ms':>10} {'p99 ms':>8} {'bare filterpy ms':>17} "
           f"{'ratio':>6}  target")
     for n in args.sizes:
         frames = crowd_frames(n, args.frames)
-        costs = time_tracker(frames)
+        costs = time_tracker(frames, args.model)
         bare = time_bare_filterpy(n, args.frames)
         median, p99 = np.median(costs), np.percentile(costs, 99)
         target = TARGETS_MS.get(n)

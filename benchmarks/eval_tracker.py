@@ -8,8 +8,8 @@ the hypotheses. Ground truth is the people the detector can see (in range, in it
 view, no wall between); a track on a person who is present but out of sight is neither
 counted right nor wrong. A hypothesis matches a person within 0.5 m.
 
-    python benchmarks/eval_tracker.py [--mode both|camera|laser] [--seeds 3] [--spin 0.3]
-        [scenario.toml ...]
+    python benchmarks/eval_tracker.py [--mode both|camera|laser|corroborated] [--seeds 3]
+        [--confirm-by camera|any] [--model cv|imm] [--spin 0.5] [--report-lost] [scenario ...]
 
 Targets (crossing_10, default noise): MOTA >= 0.90 and IDF1 >= 0.85.
 """
@@ -31,7 +31,8 @@ from robots.profile import load_profile  # noqa: E402
 from robots.sim.devices import SimLaser  # noqa: E402
 from robots.sim.raycast import cast_rays  # noqa: E402
 from robots.sim.simulation import Simulation  # noqa: E402
-from skills.people import PeopleTracker, TrackerParams, detect_legs, robot_to_world  # noqa: E402
+from skills.people import (LegParams, PeopleTracker, TrackerParams,  # noqa: E402
+                           approach_speed, detect_legs, robot_to_world)
 from skills.people.track import LOST, TENTATIVE  # noqa: E402
 
 HERE = Path(__file__).resolve().parent / "scenarios"
@@ -45,17 +46,20 @@ SCENARIOS = {  # name: floor
 TICK = 0.1
 MATCH_DISTANCE = 0.5      # m
 DONT_CARE_DISTANCE = 0.5  # m; tracks this close to a present but unseen person are ignored
+APPROACHING = 0.1         # m/s; the threshold of the percept user.approaching
+CORROBORATION = 0.5       # m; mode "corroborated" keeps laser legs this close to a camera hit
 METRICS = ["num_frames", "num_objects", "mota", "motp", "idf1", "num_switches",
            "num_false_positives", "num_misses", "num_fragmentations"]
 
 
 @dataclass
 class Options:
-    mode: str = "both"          # which detections feed the tracker: camera, laser or both
+    mode: str = "both"          # detections fed to the tracker: camera, laser, both, corroborated
     seed: int = 0
     spin: float = 0.0           # rad/s the robot turns on the spot (ego-motion check)
-    report_lost: bool = True    # lost (coasting) tracks count as hypotheses
+    report_lost: bool = False   # lost (coasting) tracks count as hypotheses
     params: TrackerParams | None = None
+    legs: LegParams | None = None
 
 
 def visible(world, people: list[tuple[str, float, float]]) -> list[bool]:
@@ -73,17 +77,22 @@ def visible(world, people: list[tuple[str, float, float]]) -> list[bool]:
     return list((dist <= spec.range) & (np.abs(relative) <= spec.fov / 2) & (walls >= dist))
 
 
-def world_detections(sim: Simulation, laser: SimLaser | None, mode: str):
+def world_detections(sim: Simulation, laser: SimLaser | None, mode: str,
+                     legs: LegParams | None = None):
     """This tick's detections in the world frame, as the perception skill would make them."""
     world = sim.world
     pose = (world.body.x, world.body.y, world.body.th)
+    var = world.profile.people_detector.noise ** 2
+    camera = [(x, y, ((var, 0.0), (0.0, var))) for x, y in world.detect_people()]
+    legs_found = [(d.x, d.y, d.cov) for d in detect_legs(laser.read(), legs)]
+    if mode == "corroborated":   # laser legs only next to a camera detection of the same frame
+        legs_found = [leg for leg in legs_found if any(
+            math.hypot(leg[0] - c[0], leg[1] - c[1]) < CORROBORATION for c in camera)]
     found = []
-    if mode in ("camera", "both"):
-        var = world.profile.people_detector.noise ** 2
-        found += [robot_to_world(x, y, ((var, 0.0), (0.0, var)), pose)
-                  for x, y in world.detect_people()]
-    if mode in ("laser", "both") and laser is not None:
-        found += [robot_to_world(d.x, d.y, d.cov, pose) for d in detect_legs(laser.read())]
+    if mode != "laser":
+        found += [(*robot_to_world(*c, pose), "camera") for c in camera]
+    if mode != "camera":
+        found += [(*robot_to_world(*leg, pose), "laser") for leg in legs_found]
     return found
 
 
@@ -96,11 +105,12 @@ def run(scenario: Path, floor, options: Options) -> mm.MOTAccumulator:
         sim.world.body.set_command(0.0, options.spin)
     names: dict[str, int] = {}
     acc = mm.MOTAccumulator(auto_id=True)
+    velocity = {"standing": [], "walking": [], "standing_approaching": 0}
     steps = int(round(sim.scenario.duration / TICK))
     for k in range(1, steps + 1):
         t = k * TICK
         sim.advance(t)
-        tracks = tracker.update(t, world_detections(sim, laser, options.mode))
+        tracks = tracker.update(t, world_detections(sim, laser, options.mode, options.legs))
         reported = [tr for tr in tracks if tr.status != TENTATIVE
                     and (options.report_lost or tr.status != LOST)]
         truth = sim.world.ground_truth()
@@ -113,8 +123,33 @@ def run(scenario: Path, floor, options: Options) -> mm.MOTAccumulator:
         hyp_xy = np.array([(tr.x, tr.y) for tr in reported]).reshape(-1, 2)
         dist = mm.distances.norm2squared_matrix(gt_xy, hyp_xy, max_d2=MATCH_DISTANCE ** 2)
         acc.update(gt_ids, [tr.id for tr in reported], dist)
+        _score_velocity(velocity, sim.world, {pid for pid, _, _ in shown}, reported)
     acc.person_names = {v: k for k, v in names.items()}
+    acc.velocity = velocity
     return acc
+
+
+def _score_velocity(stats: dict, world, shown: set[str], reported) -> None:
+    """Speed error of the nearest track to each visible person; for standing people also
+    whether the track says 'approaching' (the percept user.approaching, > 0.1 m/s)."""
+    if not reported:
+        return
+    hyp_xy = np.array([(tr.x, tr.y) for tr in reported])
+    robot = (world.body.x, world.body.y)
+    for person in world.present_people():
+        if person.id not in shown:
+            continue
+        gaps = np.hypot(hyp_xy[:, 0] - person.x, hyp_xy[:, 1] - person.y)
+        if gaps.min() > MATCH_DISTANCE:
+            continue
+        track = reported[int(gaps.argmin())]
+        vx, vy = person.speed * math.cos(person.heading), person.speed * math.sin(person.heading)
+        error = math.hypot(track.vx - vx, track.vy - vy)
+        if person.speed < 0.01:
+            stats["standing"].append(error)
+            stats["standing_approaching"] += approach_speed(track, robot) > APPROACHING
+        else:
+            stats["walking"].append(error)
 
 
 def _near_any(x: float, y: float, points: np.ndarray) -> bool:
@@ -148,17 +183,26 @@ def evaluate(names: list[str], options: Options, seeds: int):
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("scenarios", nargs="*", default=list(SCENARIOS))
-    parser.add_argument("--mode", choices=("both", "camera", "laser"), default="both")
+    parser.add_argument("--mode", choices=("both", "camera", "laser", "corroborated"),
+                        default="both", help="corroborated: laser legs only next to a camera "
+                        "detection of the same frame")
+    parser.add_argument("--confirm-by", default="camera",
+                        help="sources whose detections may confirm a track, comma-separated, "
+                        "or 'any' (default: camera)")
     parser.add_argument("--seeds", type=int, default=3)
     parser.add_argument("--spin", type=float, default=0.0,
                         help="turn the robot on the spot at this rate (rad/s)")
-    parser.add_argument("--confirmed-only", action="store_true",
-                        help="report only confirmed tracks, not lost (coasting) ones")
+    parser.add_argument("--report-lost", action="store_true",
+                        help="count lost (coasting) tracks as hypotheses too; by default only "
+                        "confirmed tracks are, as the perception skill reports them")
+    parser.add_argument("--model", choices=("cv", "imm"), default="cv")
     args = parser.parse_args()
-    options = Options(mode=args.mode, spin=args.spin, report_lost=not args.confirmed_only)
+    confirm_by = None if args.confirm_by == "any" else tuple(args.confirm_by.split(","))
+    options = Options(mode=args.mode, spin=args.spin, report_lost=args.report_lost,
+                      params=TrackerParams(confirming_sources=confirm_by, model=args.model))
     rows = evaluate(args.scenarios, options, args.seeds)
-    print(f"mode={args.mode} seeds={args.seeds} spin={args.spin} rad/s "
-          f"lost tracks reported={options.report_lost}")
+    print(f"model={args.model} mode={args.mode} confirm-by={args.confirm_by} seeds={args.seeds} "
+          f"spin={args.spin} rad/s lost tracks reported={options.report_lost}")
     print(f"{'scenario':<16} {'frames':>6} {'objects':>7} {'MOTA':>6} {'MOTP m':>6} {'IDF1':>6} "
           f"{'IDsw':>5} {'FP':>5} {'FN':>5} {'frag':>5}  ids/person (max)")
     for name, (row, accs) in rows.items():
@@ -171,6 +215,18 @@ def main() -> None:
               f"{mota:>6.3f} {motp:>6.3f} {idf1:>6.3f} {int(row['num_switches']):>5} "
               f"{int(row['num_false_positives']):>5} {int(row['num_misses']):>5} "
               f"{int(row['num_fragmentations']):>5}  {worst}")
+        standing = [e for acc in accs for e in acc.velocity["standing"]]
+        walking = [e for acc in accs for e in acc.velocity["walking"]]
+        falsely = sum(acc.velocity["standing_approaching"] for acc in accs)
+        if walking:
+            print(f"  {name}: speed error walking median {np.median(walking):.2f} m/s, p95 "
+                  f"{np.percentile(walking, 95):.2f}", end="")
+        if standing:
+            print(f"; standing median {np.median(standing):.2f}, p95 "
+                  f"{np.percentile(standing, 95):.2f}; standing people reported approaching "
+                  f"in {falsely}/{len(standing)} = {falsely / len(standing):.1%} of frames", end="")
+        if walking or standing:
+            print()
         if name == "crossing_10":
             pillar = [p.get("pillar") for p in per]
             print(f"  crossing_10: IDs of the person hidden behind the pillar, per seed: {pillar}; "

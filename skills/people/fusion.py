@@ -9,23 +9,27 @@ from __future__ import annotations
 import numpy as np
 
 
-def fuse_close_detections(xy: np.ndarray, cov: np.ndarray,
-                          merge_distance: float) -> tuple[np.ndarray, np.ndarray]:
+def fuse_close_detections(xy: np.ndarray, cov: np.ndarray, merge_distance: float,
+                          flags: np.ndarray | None = None
+                          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Merge detections closer than `merge_distance` (m) to each other.
 
     People's centres are at least about 0.4 m apart, so closer detections are taken as one
     person. Clusters are formed greedily by the closest pairs; each cluster is fused by the
-    information-weighted mean. Returns new (xy, cov) arrays: the detections left alone first, in
-    their order, then the fused ones.
+    information-weighted mean. `flags` (bool per detection, e.g. "may confirm a track") are
+    or-ed within a cluster. Returns new (xy, cov, flags) arrays: the detections left alone
+    first, in their order, then the fused ones.
     """
     m = len(xy)
+    if flags is None:
+        flags = np.ones(m, dtype=bool)
     if m < 2 or merge_distance <= 0.0:
-        return xy, cov
+        return xy, cov, flags
     diff = xy[:, None, :] - xy[None, :, :]
     dist = np.hypot(diff[..., 0], diff[..., 1])
     close_i, close_j = np.nonzero(np.triu(dist < merge_distance, k=1))
     if close_i.size == 0:
-        return xy, cov
+        return xy, cov, flags
     parent = {int(i): int(i) for i in np.concatenate((close_i, close_j))}
     for k in np.argsort(dist[close_i, close_j], kind="stable"):
         root_i, root_j = _root(parent, int(close_i[k])), _root(parent, int(close_j[k]))
@@ -39,7 +43,8 @@ def fuse_close_detections(xy: np.ndarray, cov: np.ndarray,
     fused = [_fuse(xy[g], cov[g]) for g in groups.values()]
     out_xy = np.vstack([xy[alone]] + [f[0][None, :] for f in fused])
     out_cov = np.concatenate([cov[alone]] + [f[1][None, :, :] for f in fused])
-    return out_xy, out_cov
+    out_flags = np.concatenate([flags[alone], [bool(flags[g].any()) for g in groups.values()]])
+    return out_xy, out_cov, out_flags
 
 
 def _root(parent: dict[int, int], i: int) -> int:

@@ -14,12 +14,13 @@ from dataclasses import dataclass
 import numpy as np
 from filterpy.kalman import KalmanFilter
 
-from skills.people import motion_model
+from skills.people import imm, motion_model
 from skills.people.association import assign, gated_cost, mahalanobis_sq
 from skills.people.fusion import fuse_close_detections
 from skills.people.track import CONFIRMED, LOST, TENTATIVE, Track
 
-WorldDetection = tuple[float, float, np.ndarray]   # x, y (m, world frame), 2x2 covariance (m^2)
+# x, y (m, world frame), 2x2 covariance (m^2), and optionally the source ("camera", "laser")
+WorldDetection = tuple[float, float, np.ndarray] | tuple[float, float, np.ndarray, str]
 
 
 @dataclass(frozen=True)
@@ -30,29 +31,38 @@ class TrackerParams:
     gate: float = 18.4                # d^2 threshold; chi-square, 2 dof: 13.8 = 99.9 %, 18.4 = 99.99 %
     merge_distance: float = 0.3       # m; same-frame detections closer than this are one person
     confirm_hits: int = 3             # detections needed before a track is believed
+    # Sources whose detections may confirm a track; None: all. With ("camera",) laser legs
+    # update tracks but cannot make a door jamb a person. Detections without a source count.
+    confirming_sources: tuple[str, ...] | None = None
+    confirming_hits: int = 2          # of the confirm_hits, how many from confirming sources
     tentative_timeout: float = 0.25   # s unseen after which a tentative track is dropped
     lost_after: float = 0.35          # s unseen after which a confirmed track is reported lost
     delete_after: float = 1.5         # s unseen after which a lost track is deleted
     max_dt: float = 1.0               # s; longer gaps are predicted in steps no longer than this
+    model: str = "cv"                 # "cv": constant velocity; "imm": walking + standing IMM
 
 
 class _TrackState:
     """A track's filter and its life-cycle counters (internal)."""
 
-    __slots__ = ("id", "kf", "hits", "born", "confirmed_at", "last_seen", "status")
+    __slots__ = ("id", "kf", "hits", "confirming_hits", "born", "confirmed_at", "last_seen",
+                 "status")
 
     def __init__(self, track_id: int, t: float, xy: np.ndarray, cov: np.ndarray,
-                 params: TrackerParams) -> None:
-        kf = KalmanFilter(dim_x=4, dim_z=2)
-        kf.x = np.array([[xy[0]], [xy[1]], [0.0], [0.0]])
-        kf.P = np.zeros((4, 4))
-        kf.P[:2, :2] = cov
-        kf.P[2, 2] = kf.P[3, 3] = params.initial_speed_sigma ** 2
-        kf.H = motion_model.H
-        kf.inv = inverse_2x2_single
+                 confirming: bool, params: TrackerParams) -> None:
+        x0 = np.array([[xy[0]], [xy[1]], [0.0], [0.0]])
+        p0 = np.zeros((4, 4))
+        p0[:2, :2] = cov
+        p0[2, 2] = p0[3, 3] = params.initial_speed_sigma ** 2
+        if params.model == "imm":
+            kf = imm.make_imm(x0, p0, inverse_2x2_single)
+        else:
+            kf = KalmanFilter(dim_x=4, dim_z=2)
+            kf.x, kf.P, kf.H, kf.inv = x0, p0, motion_model.H, inverse_2x2_single
         self.id = track_id
         self.kf = kf
         self.hits = 1
+        self.confirming_hits = int(confirming)
         self.born = t
         self.confirmed_at: float | None = None
         self.last_seen = t
@@ -84,13 +94,15 @@ class PeopleTracker:
         if self._t is not None and t < self._t:
             raise ValueError(f"frame at t={t} is older than the previous one at t={self._t}")
         self._predict(t)
-        xy, cov = _as_arrays(detections)
-        xy, cov = fuse_close_detections(xy, cov, self.params.merge_distance)
+        xy, cov, confirming = _as_arrays(detections, self.params.confirming_sources)
+        xy, cov, confirming = fuse_close_detections(xy, cov, self.params.merge_distance,
+                                                    confirming)
         pairs, _, new_dets = self._associate(xy, cov)
         for i, j in pairs:
-            self._correct(self._tracks[i], t, xy[j], cov[j])
+            self._correct(self._tracks[i], t, xy[j], cov[j], bool(confirming[j]))
         for j in new_dets:
-            self._tracks.append(_TrackState(next(self._ids), t, xy[j], cov[j], self.params))
+            self._tracks.append(_TrackState(next(self._ids), t, xy[j], cov[j],
+                                            bool(confirming[j]), self.params))
         self._age(t)
         self._t = t
         return self.tracks()
@@ -107,8 +119,12 @@ class PeopleTracker:
             dt = min(remaining, self.params.max_dt)
             f = motion_model.transition(dt)
             q = motion_model.process_noise(dt, self.params.accel_noise)
-            for state in self._tracks:
-                state.kf.predict(F=f, Q=q)
+            if self.params.model == "imm":
+                for state in self._tracks:
+                    imm.predict(state.kf, dt, f, q)
+            else:
+                for state in self._tracks:
+                    state.kf.predict(F=f, Q=q)
             remaining -= dt
 
     def _associate(self, xy: np.ndarray, cov: np.ndarray):
@@ -120,14 +136,26 @@ class PeopleTracker:
         d2, log_det = mahalanobis_sq(track_xy, track_cov, xy, cov)
         return assign(gated_cost(d2, log_det, self.params.gate))
 
-    def _correct(self, state: _TrackState, t: float, xy: np.ndarray, cov: np.ndarray) -> None:
-        state.kf.update(xy.reshape(2, 1), R=cov, H=motion_model.H)
+    def _correct(self, state: _TrackState, t: float, xy: np.ndarray, cov: np.ndarray,
+                 confirming: bool) -> None:
+        if self.params.model == "imm":
+            imm.update(state.kf, xy.reshape(2, 1), cov)
+        else:
+            state.kf.update(xy.reshape(2, 1), R=cov, H=motion_model.H)
         state.hits += 1
+        state.confirming_hits += confirming
         state.last_seen = t
-        if state.status == TENTATIVE and state.hits >= self.params.confirm_hits:
-            state.confirmed_at = t
-        if state.status != TENTATIVE or state.hits >= self.params.confirm_hits:
+        if state.status == TENTATIVE:
+            if self._may_confirm(state):
+                state.status, state.confirmed_at = CONFIRMED, t
+        else:
             state.status = CONFIRMED
+
+    def _may_confirm(self, state: _TrackState) -> bool:
+        p = self.params
+        needed = p.confirming_hits if p.confirming_sources is not None else 0
+        return state.hits >= p.confirm_hits and state.confirming_hits >= min(needed,
+                                                                             p.confirm_hits)
 
     def _age(self, t: float) -> None:
         p = self.params
@@ -153,9 +181,14 @@ def inverse_2x2_single(m: np.ndarray) -> np.ndarray:
     return np.array([[d / det, -b / det], [-c / det, a / det]])
 
 
-def _as_arrays(detections: list[WorldDetection]) -> tuple[np.ndarray, np.ndarray]:
+def _as_arrays(detections: list[WorldDetection], confirming_sources: tuple[str, ...] | None
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Positions (m, 2), covariances (m, 2, 2) and whether each detection may confirm."""
     if not detections:
-        return np.zeros((0, 2)), np.zeros((0, 2, 2))
+        return np.zeros((0, 2)), np.zeros((0, 2, 2)), np.zeros(0, dtype=bool)
     xy = np.array([(d[0], d[1]) for d in detections], dtype=float)
     cov = np.array([np.asarray(d[2], dtype=float) for d in detections])
-    return xy, cov
+    if confirming_sources is None:
+        return xy, cov, np.ones(len(detections), dtype=bool)
+    confirming = np.array([len(d) < 4 or d[3] in confirming_sources for d in detections])
+    return xy, cov, confirming
