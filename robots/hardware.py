@@ -79,12 +79,16 @@ def _driver_class(profile: RobotProfile) -> type[Base] | None:
 
 
 def _open_real(profile: RobotProfile, clock, port: str) -> Hardware:
+    """A real base at `port`; a driver may configure itself from the profile (`for_profile`)."""
     driver = _driver_class(profile)
     if driver is None:
         known = ", ".join(sorted(base_classes()))
         raise RobotError(f"robot '{profile.name}' needs base driver '{profile.base.driver}', "
                          f"which is not installed (installed: {known})")
-    base = driver(profile.limits, port, clock=clock, **profile.base.options)
+    if hasattr(driver, "for_profile"):
+        base = driver.for_profile(profile, port, clock=clock)
+    else:
+        base = driver(profile.limits, port, clock=clock, **profile.base.options)
     try:
         base.open()
     except LinkError:

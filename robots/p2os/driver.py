@@ -127,7 +127,14 @@ class P2OSBase(Base):
         self._next_attempt = 0.0
         self.last_error = ""
 
-    # -- simulation wiring -------------------------------------------------------------------------
+    # -- wiring -------------------------------------------------------------------------------------
+    @classmethod
+    def for_profile(cls, profile, url: str, clock=None) -> "P2OSBase":
+        """A driver for a real Pioneer at `url`, configured from the robot profile."""
+        max_range = profile.sonar.max_range if profile.sonar is not None else None
+        return cls(profile.limits, url, subclass_hint=profile.base.options.get("subclass"),
+                   clock=clock, sonar_max_range=max_range, baud=profile.base.baud)
+
     @classmethod
     def for_simulation(cls, profile, simulation, clock) -> "P2OSBase":
         """Start the firmware emulator on a pty around `simulation.world`; a driver for that pty."""
