@@ -43,26 +43,29 @@ def detect_legs(scan: LaserScan, params: LegParams | None = None) -> list[Detect
 
 
 def _isolated_runs(scan: LaserScan, points: np.ndarray, p: LegParams):
-    """Runs of at most two adjacent leg-sized segments that stand out from both neighbours.
+    """Legs of each run of at most three adjacent small segments that stands out from both
+    neighbours.
 
-    Two adjacent segments are one leg partly behind the other. A longer run of short segments
-    is a wall seen at a grazing angle, whose range grows in steps from beam to beam."""
-    runs: list[list] = []
+    Adjacent segments are one leg partly behind the other, possibly with a sliver (a leg edge
+    too narrow to count on its own). A longer run of small segments is a wall seen at a
+    grazing angle, whose range grows in steps from beam to beam."""
+    runs: list[list] = []          # [start, end, legs, pieces]
     last_end = -1
     for start, end in _segments(scan.ranges, p):
-        found = _leg(points, scan, (start, end), p)
-        if found is None or _is_hole(scan.ranges, start, end, p.jump):
+        centre, width = _centre_and_width(points, scan, (start, end), p)
+        if width > p.max_both_width or _is_hole(scan.ranges, start, end, p.jump):
             last_end = -1
             continue
-        if start == last_end:
-            runs[-1][1].append(found)
-            runs[-1][0][1] = end
-        else:
-            runs.append(([start, end], [found]))
+        if start != last_end:
+            runs.append([start, end, [], 0])
+        run = runs[-1]
+        run[1], run[3] = end, run[3] + 1
+        if width >= p.min_width:
+            run[2].append((centre, width))
         last_end = end
-    for (start, end), members in runs:
-        if len(members) <= 2 and _stands_out(scan.ranges, start, end, p.contrast):
-            yield members
+    for start, end, legs, pieces in runs:
+        if legs and pieces <= 3 and _stands_out(scan.ranges, start, end, p.contrast):
+            yield legs
 
 
 def _scan_points(scan: LaserScan) -> np.ndarray:
@@ -88,16 +91,14 @@ def _segments(ranges: np.ndarray, p: LegParams) -> list[tuple[int, int]]:
     return segments
 
 
-def _leg(points: np.ndarray, scan: LaserScan, seg: tuple[int, int],
-         p: LegParams) -> tuple[tuple[float, float], float] | None:
-    """The centre and width of a segment as wide as one leg or two legs side by side, or None."""
+def _centre_and_width(points: np.ndarray, scan: LaserScan, seg: tuple[int, int],
+                      p: LegParams) -> tuple[tuple[float, float], float]:
+    """Where the leg would stand (behind the seen surface) and how wide the segment is."""
     start, end = seg
     first, last = points[start], points[end - 1]
     beam_step = _beam_step(scan.angles, start, end)
     mean_range = float(np.mean(scan.ranges[start:end]))
     width = float(np.hypot(*(last - first))) + mean_range * beam_step
-    if not p.min_width <= width <= p.max_both_width:
-        return None
     centre = points[start:end].mean(axis=0)
     ox, oy, _ = scan.origin
     ray = centre - (ox, oy)

@@ -5,8 +5,11 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
-from skills.people import CONFIRMED, LOST, TENTATIVE, PeopleTracker, TrackerParams
+from skills.people import (CONFIRMED, LOST, TENTATIVE, PeopleTracker, TrackerParams,
+                           robot_to_world)
 
 R = np.eye(2) * 0.05 ** 2   # the camera-like detector's noise
 
@@ -121,3 +124,76 @@ def test_frames_must_not_go_back_in_time():
     tracker.update(1.0, [])
     with pytest.raises(ValueError, match="older"):
         tracker.update(0.5, [])
+
+
+def test_a_still_person_seen_from_a_turning_and_driving_robot_stays_still():
+    """Ego-motion compensation: detections come in the robot frame and are moved to the world
+    frame with the robot's pose before tracking, so the robot's own motion cancels out."""
+    tracker = PeopleTracker()
+    rng = np.random.default_rng(3)
+    person = (3.0, 1.0)
+    for k in range(50):
+        t = k * 0.1
+        pose = (0.3 * t, 0.0, 0.8 * t)                     # drives 0.3 m/s, turns 0.8 rad/s
+        dx, dy = person[0] - pose[0], person[1] - pose[1]
+        c, s = math.cos(pose[2]), math.sin(pose[2])
+        local = (c * dx + s * dy + rng.normal(0, 0.05), -s * dx + c * dy + rng.normal(0, 0.05))
+        tracks = tracker.update(t, [robot_to_world(*local, R, pose)])
+    (track,) = tracks
+    assert math.dist((track.x, track.y), person) < 0.1
+    assert track.speed < 0.3
+
+
+def test_laser_only_candidates_update_but_never_confirm_when_the_camera_must_confirm():
+    tracker = PeopleTracker(TrackerParams(confirming_sources=("camera",)))
+    laser = np.eye(2) * 0.08 ** 2
+    for k in range(20):
+        tracks = tracker.update(k * 0.1, [(2.0, 2.0, laser, "laser"), (-1.0, 1.0, R, "camera")])
+    by_place = {round(tr.x): tr.status for tr in tracks}
+    assert by_place == {2: TENTATIVE, -1: CONFIRMED}
+
+
+def test_laser_detections_keep_a_camera_confirmed_track_alive():
+    tracker = PeopleTracker(TrackerParams(confirming_sources=("camera",)))
+    laser = np.eye(2) * 0.08 ** 2
+    for k in range(5):
+        tracker.update(k * 0.1, [(1.0, 0.0, R, "camera")])
+    for k in range(5, 40):                                  # the camera loses them for 3.5 s
+        tracks = tracker.update(k * 0.1, [(1.0, 0.0, laser, "laser")])
+    assert [tr.status for tr in tracks] == [CONFIRMED]
+
+
+def test_the_imm_knows_a_person_who_stopped_is_standing():
+    rng = np.random.default_rng(5)
+    speeds = {}
+    for model in ("cv", "imm"):
+        tracker = PeopleTracker(TrackerParams(model=model))
+        standing = []
+        for k in range(80):
+            t = k * 0.1
+            x = min(t, 4.0)                                 # walks 1 m/s for 4 s, then stands
+            tracks = tracker.update(t, [(x + rng.normal(0, 0.05), rng.normal(0, 0.05), R)])
+            if k == 39:
+                assert tracks[0].vx == pytest.approx(1.0, abs=0.35)
+            if k >= 60:
+                standing.append(tracks[0].speed)
+        speeds[model] = np.median(standing)
+    assert speeds["imm"] < 0.05 < speeds["cv"]
+
+
+@settings(max_examples=25, deadline=None)
+@given(n=st.integers(1, 8), seed=st.integers(0, 10_000))
+def test_people_standing_apart_get_one_track_each_whatever_the_detection_order(n, seed):
+    rng = np.random.default_rng(seed)
+    people = np.column_stack((np.arange(n) * 0.9, rng.uniform(-3, 3, n)))
+    tracker = PeopleTracker()
+    ids = None
+    for k in range(15):
+        points = people + rng.normal(0, 0.05, people.shape)
+        order = rng.permutation(n)
+        tracks = tracker.update(k * 0.1, [(x, y, R) for x, y in points[order]])
+        if k >= 2:
+            owner = {tr.id: int(np.argmin(np.hypot(*(people - (tr.x, tr.y)).T))) for tr in tracks}
+            ids = ids or owner
+            assert owner == ids
+    assert len(ids) == n and sorted(ids.values()) == list(range(n))
