@@ -101,7 +101,6 @@ class RFlexBase(Base):
         self._reports = 0
         self._decode_errors = 0
         self._reconnects = 0
-        self._link_up = False
 
     # -- construction for the simulated world ---------------------------------------------------
     @classmethod
