@@ -102,6 +102,12 @@ class RFlexBase(Base):
         self._decode_errors = 0
         self._reconnects = 0
 
+    # -- construction from a profile -------------------------------------------------------------
+    @classmethod
+    def for_profile(cls, profile, url: str, clock=None) -> "RFlexBase":
+        """A driver for a real B21r at `url`: baud and factors from the profile's [base] table."""
+        return cls(profile.limits, url, clock=clock, baud=profile.base.baud, **profile.base.options)
+
     # -- construction for the simulated world ---------------------------------------------------
     @classmethod
     def for_simulation(cls, profile, simulation, clock) -> "RFlexBase":

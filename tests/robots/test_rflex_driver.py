@@ -282,3 +282,9 @@ def test_perses_in_simulation_speaks_rflex_over_a_pty():
         assert hardware.base.read_state().link_up
     finally:
         hardware.close()
+
+
+def test_for_profile_takes_baud_and_factors_from_the_profile():
+    base = RFlexBase.for_profile(PERSES, "loop://")
+    assert (base.baud, base.dist_conv, base.angle_conv) == (115200, DIST_CONV, ANGLE_CONV)
+    assert base.accel == PERSES.limits.max_accel
