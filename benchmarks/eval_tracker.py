@@ -8,8 +8,9 @@ the hypotheses. Ground truth is the people the detector can see (in range, in it
 view, no wall between); a track on a person who is present but out of sight is neither
 counted right nor wrong. A hypothesis matches a person within 0.5 m.
 
-    python benchmarks/eval_tracker.py [--mode both|camera|laser|corroborated] [--seeds 3]
-        [--confirm-by camera|any] [--model cv|imm] [--spin 0.5] [--report-lost] [scenario ...]
+    python benchmarks/eval_tracker.py [--mode both|camera|laser|corroborated|sonar] [--seeds 3]
+        [--confirm-by camera|any|sonar] [--model cv|imm] [--spin 0.5] [--report-lost]
+        [--range 2.5] [scenario ...]
 
 Targets (crossing_10, default noise): MOTA >= 0.90 and IDF1 >= 0.85.
 """
@@ -33,6 +34,7 @@ from robots.sim.raycast import cast_rays  # noqa: E402
 from robots.sim.simulation import Simulation  # noqa: E402
 from skills.people import (LegParams, PeopleTracker, TrackerParams,  # noqa: E402
                            approach_speed, detect_legs, robot_to_world)
+from skills.people.sonar import sonar_candidates  # noqa: E402
 from skills.people.track import LOST, TENTATIVE  # noqa: E402
 
 HERE = Path(__file__).resolve().parent / "scenarios"
@@ -54,16 +56,19 @@ METRICS = ["num_frames", "num_objects", "mota", "motp", "idf1", "num_switches",
 
 @dataclass
 class Options:
-    mode: str = "both"          # detections fed to the tracker: camera, laser, both, corroborated
+    mode: str = "both"          # detections: camera, laser, both, corroborated or sonar
     seed: int = 0
     spin: float = 0.0           # rad/s the robot turns on the spot (ego-motion check)
     report_lost: bool = False   # lost (coasting) tracks count as hypotheses
     params: TrackerParams | None = None
     legs: LegParams | None = None
+    max_range: float = math.inf  # m; people farther from the robot are neither hit nor miss
 
 
-def visible(world, people: list[tuple[str, float, float]]) -> list[bool]:
-    """Which people the person detector can see: range, field of view, no wall in between."""
+def visible(world, people: list[tuple[str, float, float]], max_range: float = math.inf
+            ) -> list[bool]:
+    """Which people the person detector can see: range (and `max_range`), field of view, no
+    wall in between."""
     spec, body = world.profile.people_detector, world.body
     if not people:
         return []
@@ -74,14 +79,19 @@ def visible(world, people: list[tuple[str, float, float]]) -> list[bool]:
     relative = (bearing - body.th + math.pi) % (2 * math.pi) - math.pi
     origins = np.broadcast_to(np.array([[body.x, body.y]]), (len(xy), 2))
     walls = cast_rays(origins, bearing, world.floor.segments, None, spec.range)
-    return list((dist <= spec.range) & (np.abs(relative) <= spec.fov / 2) & (walls >= dist))
+    return list((dist <= min(spec.range, max_range)) & (np.abs(relative) <= spec.fov / 2)
+                & (walls >= dist))
 
 
 def world_detections(sim: Simulation, laser: SimLaser | None, mode: str,
-                     legs: LegParams | None = None):
+                     legs: LegParams | None = None, sonar_background=None):
     """This tick's detections in the world frame, as the perception skill would make them."""
     world = sim.world
     pose = (world.body.x, world.body.y, world.body.th)
+    if mode == "sonar":
+        spec = world.profile.sonar
+        return [(*robot_to_world(d.x, d.y, d.cov, pose), "sonar") for d in sonar_candidates(
+            world.t, world.sonar_ranges(), spec.poses, spec.cone, sonar_background)]
     var = world.profile.people_detector.noise ** 2
     camera = [(x, y, ((var, 0.0), (0.0, var))) for x, y in world.detect_people()]
     legs_found = [(d.x, d.y, d.cov) for d in detect_legs(laser.read(), legs)]
@@ -101,6 +111,7 @@ def run(scenario: Path, floor, options: Options) -> mm.MOTAccumulator:
     sim = Simulation(profile, scenario, seed=options.seed, floor=floor)
     laser = SimLaser(sim.world, profile)
     tracker = PeopleTracker(options.params)
+    background = sim.world.sonar_ranges()    # nobody has appeared yet: the empty scene
     if options.spin:
         sim.world.body.set_command(0.0, options.spin)
     names: dict[str, int] = {}
@@ -110,11 +121,12 @@ def run(scenario: Path, floor, options: Options) -> mm.MOTAccumulator:
     for k in range(1, steps + 1):
         t = k * TICK
         sim.advance(t)
-        tracks = tracker.update(t, world_detections(sim, laser, options.mode, options.legs))
+        tracks = tracker.update(t, world_detections(sim, laser, options.mode, options.legs,
+                                                         background))
         reported = [tr for tr in tracks if tr.status != TENTATIVE
                     and (options.report_lost or tr.status != LOST)]
         truth = sim.world.ground_truth()
-        seen = visible(sim.world, truth)
+        seen = visible(sim.world, truth, options.max_range)
         shown = [p for p, s in zip(truth, seen) if s]
         hidden = np.array([(x, y) for (_, x, y), s in zip(truth, seen) if not s]).reshape(-1, 2)
         reported = [tr for tr in reported if not _near_any(tr.x, tr.y, hidden)]
@@ -183,9 +195,10 @@ def evaluate(names: list[str], options: Options, seeds: int):
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("scenarios", nargs="*", default=list(SCENARIOS))
-    parser.add_argument("--mode", choices=("both", "camera", "laser", "corroborated"),
+    parser.add_argument("--mode", choices=("both", "camera", "laser", "corroborated", "sonar"),
                         default="both", help="corroborated: laser legs only next to a camera "
-                        "detection of the same frame")
+                        "detection of the same frame; sonar: sonar candidates against the "
+                        "empty scene's ranges (robot standing still)")
     parser.add_argument("--confirm-by", default="camera",
                         help="sources whose detections may confirm a track, comma-separated, "
                         "or 'any' (default: camera)")
@@ -196,13 +209,17 @@ def main() -> None:
                         help="count lost (coasting) tracks as hypotheses too; by default only "
                         "confirmed tracks are, as the perception skill reports them")
     parser.add_argument("--model", choices=("cv", "imm"), default="cv")
+    parser.add_argument("--range", type=float, default=math.inf, dest="max_range",
+                        help="score only people within this distance of the robot (m)")
     args = parser.parse_args()
     confirm_by = None if args.confirm_by == "any" else tuple(args.confirm_by.split(","))
     options = Options(mode=args.mode, spin=args.spin, report_lost=args.report_lost,
+                      max_range=args.max_range,
                       params=TrackerParams(confirming_sources=confirm_by, model=args.model))
     rows = evaluate(args.scenarios, options, args.seeds)
     print(f"model={args.model} mode={args.mode} confirm-by={args.confirm_by} seeds={args.seeds} "
-          f"spin={args.spin} rad/s lost tracks reported={options.report_lost}")
+          f"spin={args.spin} rad/s lost tracks reported={options.report_lost} "
+          f"scored within {args.max_range} m")
     print(f"{'scenario':<16} {'frames':>6} {'objects':>7} {'MOTA':>6} {'MOTP m':>6} {'IDF1':>6} "
           f"{'IDsw':>5} {'FP':>5} {'FN':>5} {'frag':>5}  ids/person (max)")
     for name, (row, accs) in rows.items():

@@ -60,10 +60,12 @@ def make_imm(x0: np.ndarray, p0: np.ndarray, inv) -> IMMEstimator:
                         M=np.array([[stay, switch], [switch, stay]]))
 
 
-def predict(imm: IMMEstimator, dt: float, walk_f: np.ndarray, walk_q: np.ndarray) -> None:
+def predict(imm: IMMEstimator, walk: tuple[np.ndarray, np.ndarray],
+            stand: tuple[np.ndarray, np.ndarray]) -> None:
+    """Predict with (F, Q) of the walking and of the standing model for this time step."""
     walking, standing = imm.filters
-    walking.F, walking.Q = walk_f, walk_q
-    standing.F, standing.Q = standing_transition(), standing_noise(dt)
+    walking.F, walking.Q = walk
+    standing.F, standing.Q = stand
     imm.predict()
 
 

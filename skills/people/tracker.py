@@ -120,8 +120,9 @@ class PeopleTracker:
             f = motion_model.transition(dt)
             q = motion_model.process_noise(dt, self.params.accel_noise)
             if self.params.model == "imm":
+                stand = (imm.standing_transition(), imm.standing_noise(dt))
                 for state in self._tracks:
-                    imm.predict(state.kf, dt, f, q)
+                    imm.predict(state.kf, (f, q), stand)
             else:
                 for state in self._tracks:
                     state.kf.predict(F=f, Q=q)

@@ -197,3 +197,27 @@ def test_people_standing_apart_get_one_track_each_whatever_the_detection_order(n
             ids = ids or owner
             assert owner == ids
     assert len(ids) == n and sorted(ids.values()) == list(range(n))
+
+
+def test_a_person_walking_behind_another_keeps_the_id():
+    """The robot at the origin; A stands 2 m ahead, B walks across 3.5 m ahead at 0.8 m/s and
+    is hidden by A while within A's shadow (|y| < 0.44 m: about 1.1 s)."""
+    rng = np.random.default_rng(7)
+    tracker = PeopleTracker()
+    seen_ids = {"A": set(), "B": set()}
+    hidden_frames = 0
+    for k in range(70):
+        t = k * 0.1
+        a, b = (2.0, 0.0), (3.5, -2.8 + 0.8 * t)
+        hidden = abs(b[1]) < 0.44
+        hidden_frames += hidden
+        points = [a] if hidden else [a, b]
+        tracks = tracker.update(t, [(x + rng.normal(0, 0.05), y + rng.normal(0, 0.05), R)
+                                    for x, y in points])
+        for tr in tracks:
+            if tr.status == TENTATIVE:
+                continue
+            name = "A" if math.dist((tr.x, tr.y), a) < math.dist((tr.x, tr.y), b) else "B"
+            seen_ids[name].add(tr.id)
+    assert hidden_frames >= 10
+    assert len(seen_ids["A"]) == 1 and len(seen_ids["B"]) == 1
