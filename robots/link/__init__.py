@@ -4,14 +4,16 @@
 - `watchdog`: a command watchdog that sends zero on its own when commands stop coming.
 - `backoff`: the reconnect-with-back-off policy.
 - `pty`: a raw-mode pseudo-terminal pair, so firmware emulators speak over a real tty.
+- `host`: hosting a firmware emulator on a pty or TCP port (transports, reader thread, unplug).
 - `lockstep`: byte counters that make a driver and an in-process emulator deterministic on a
   simulated clock.
 """
 from robots.link.backoff import Backoff
+from robots.link.host import EmulatorHost
 from robots.link.lockstep import ByteCounter, LockStep
 from robots.link.parser import FramedParser, ParserStats, Reject
 from robots.link.pty import PtyPair
 from robots.link.watchdog import CommandWatchdog
 
-__all__ = ["Backoff", "ByteCounter", "CommandWatchdog", "FramedParser", "LockStep",
+__all__ = ["Backoff", "ByteCounter", "CommandWatchdog", "EmulatorHost", "FramedParser", "LockStep",
            "ParserStats", "PtyPair", "Reject"]

@@ -24,17 +24,15 @@ Two ways to keep time:
 from __future__ import annotations
 
 import math
-import socket
 import termios
-import threading
 import time
 from collections import deque
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 
 from robots.exceptions import LinkError
+from robots.link.host import EmulatorHost
 from robots.link.lockstep import LockStep
 from robots.link.pty import PtyPair
 from robots.p2os import protocol as p
@@ -212,59 +210,11 @@ def _i16(value: float) -> int:
     return max(-32768, min(32767, round(value)))
 
 
-class _PtyTransport:
-    def __init__(self, pty: PtyPair, baud: int | None) -> None:
-        self.pty = pty
-        self.baud = baud
-
-    def read(self, timeout: float) -> bytes | None:
-        if self.pty.closed:
-            return None
-        try:
-            data = self.pty.read(timeout=timeout)
-        except (OSError, ValueError):
-            return None
-        if data and self.baud is not None and self.pty.line_speed() != BAUD_CONSTANTS[self.baud]:
-            return b""                          # at the wrong baud the UART sees only noise
-        return data
-
-    def write(self, data: bytes) -> None:
-        self.pty.write(data)
-
-    def close(self) -> None:
-        self.pty.close()
-
-
-class _SocketTransport:
-    def __init__(self, conn: socket.socket) -> None:
-        self.conn = conn
-        conn.settimeout(None)
-
-    def read(self, timeout: float) -> bytes | None:
-        self.conn.settimeout(timeout)
-        try:
-            data = self.conn.recv(4096)
-        except socket.timeout:
-            return b""
-        except OSError:
-            return None
-        return data if data else None          # None: the client hung up
-
-    def write(self, data: bytes) -> None:
-        try:
-            self.conn.sendall(data)
-        except OSError:
-            pass                                 # the reader notices the hang-up
-
-    def close(self) -> None:
-        try:
-            self.conn.close()
-        except OSError:
-            pass
-
-
-class P2OSEmulator:
+class P2OSEmulator(EmulatorHost):
     """The firmware on a transport, around `world.body`. See the module docstring for timing."""
+
+    name = "p2os-emulator"
+    read_timeout = 0.1
 
     def __init__(self, world, subclass: str = "p2dx", name: str = "horos",
                  sonar_max_range: float = 5.0, clock=None, lockstep: LockStep | None = None,
@@ -275,22 +225,17 @@ class P2OSEmulator:
                             f"{', '.join(sorted(p.FACTORS))}")
         if baud is not None and baud not in BAUD_CONSTANTS:
             raise LinkError(f"P2OS emulator: baud {baud} not one of {sorted(BAUD_CONSTANTS)}")
+        super().__init__(lockstep)
         self.world = world
         self.firmware = Firmware(factors, name, sonar_max_range=sonar_max_range)
         self.clock = clock
-        self.lockstep = lockstep
         self.baud = baud
         self.sips_sent = 0
         self.received: deque[tuple[float, p.Packet]] = deque(maxlen=10_000)  # (monotonic, packet)
         self.parser = p.P2OSParser()
-        self._lock = threading.RLock()
         self._snapshot = Snapshot.of(world)
         self._next_sip: float | None = None
         self._snapshot_due = 0.0
-        self._transport = None
-        self._threads: list[threading.Thread] = []
-        self._stop = threading.Event()
-        self._server: socket.socket | None = None
         self._hooked = False
 
     @classmethod
@@ -348,57 +293,17 @@ class P2OSEmulator:
                 self.tick(now)
         self._spawn(run, "p2os-emulator-clock")
 
-    # -- transports ----------------------------------------------------------------------------
-    def serve_pty(self, link: str | None = None) -> str:
-        """Serve on a new raw pty; returns the path a driver should open."""
-        pty = PtyPair(link=link)
-        self._serve(_PtyTransport(pty, self.baud))
-        return pty.path
+    # -- hosting hooks (robots.link.host) -----------------------------------------------------
+    def on_connect(self) -> None:
+        self.parser.reset()
 
-    def serve_tcp(self, host: str = "127.0.0.1", port: int = 0) -> tuple[str, int]:
-        """Listen for one client at a time; returns the bound (host, port)."""
-        server = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
-        server.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-        server.bind((host, port))
-        server.listen(1)
-        server.settimeout(0.2)
-        self._server = server
+    def on_hangup(self) -> None:
+        """A client that left leaves the robot closed and stopped, as the firmware would."""
+        self.firmware.reset()
+        self._apply()
 
-        def accept_loop() -> None:
-            while not self._stop.is_set():
-                try:
-                    conn, _ = server.accept()
-                except socket.timeout:
-                    continue
-                except OSError:
-                    return
-                conn.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-                self._serve(_SocketTransport(conn), threaded=False)
-        self._spawn(accept_loop, "p2os-emulator-accept")
-        return server.getsockname()[:2]
-
-    def _serve(self, transport, threaded: bool = True) -> None:
-        with self._lock:
-            self._transport = transport
-            self.parser.reset()
-        if threaded:
-            self._spawn(lambda: self._read_loop(transport), "p2os-emulator-reader")
-        else:
-            self._read_loop(transport)
-
-    def _read_loop(self, transport) -> None:
-        while not self._stop.is_set():
-            data = transport.read(0.1)
-            if data is None:                        # hung up: the robot is left closed
-                with self._lock:
-                    if self._transport is transport:
-                        self.firmware.reset()
-                        self._apply()
-                        self._transport = None
-                transport.close()
-                return
-            if data:
-                self.receive(data)
+    def line_ok(self, pty: PtyPair) -> bool:
+        return self.baud is None or pty.line_speed() == BAUD_CONSTANTS[self.baud]
 
     def receive(self, data: bytes) -> None:
         """Bytes from the client: act on every whole packet, answer, then count them as read."""
@@ -418,37 +323,6 @@ class P2OSEmulator:
         if self.lockstep is not None:
             self.lockstep.to_device.got(len(data))
 
-    def _send(self, data: bytes) -> None:
-        transport = self._transport
-        if transport is None:
-            return
-        if self.lockstep is not None:
-            self.lockstep.to_host.wrote(len(data))
-        transport.write(data)
-
     def _apply(self) -> None:
         self.world.body.set_command(*self.firmware.drive())
 
-    def _spawn(self, target: Callable[[], None], name: str) -> None:
-        thread = threading.Thread(target=target, name=name, daemon=True)
-        self._threads.append(thread)
-        thread.start()
-
-    def unplug(self) -> None:
-        """Drop the current connection (tests: a pulled cable). The firmware forgets the client."""
-        with self._lock:
-            transport, self._transport = self._transport, None
-            self.firmware.reset()
-            self._apply()
-        if transport is not None:
-            transport.close()
-
-    def close(self) -> None:
-        self._stop.set()
-        if self._server is not None:
-            self._server.close()
-        self.unplug()
-        for thread in self._threads:
-            if thread is not threading.current_thread():
-                thread.join(timeout=1.0)
-        self._threads.clear()

@@ -22,13 +22,11 @@ afterwards but a new SET_DIR.
 from __future__ import annotations
 
 import math
-import socket
-import threading
 from dataclasses import dataclass, replace
-from typing import Callable
 
-from robots.exceptions import LinkError, ProtocolError
-from robots.link import LockStep, PtyPair
+from robots.exceptions import ProtocolError
+from robots.link import LockStep
+from robots.link.host import EmulatorHost
 from robots.rflex import protocol as p
 
 FAILSAFE_TIMEOUT = 0.5          # s without a SET_DIR before the controller stops the axes
@@ -221,74 +219,20 @@ def _next_time(period: float, now: float) -> float:
 
 # --------------------------------------------------------------------------- transports
 
-class _PtyTransport:
-    def __init__(self, pty: PtyPair) -> None:
-        self.pty = pty
-        self.path = pty.path
-
-    def read(self, timeout: float) -> bytes | None:
-        if self.pty.closed:
-            return None
-        try:
-            return self.pty.read(4096, timeout=timeout)
-        except (OSError, ValueError):
-            return None
-
-    def write(self, data: bytes) -> None:
-        try:
-            self.pty.write(data)
-        except (LinkError, OSError, ValueError):
-            pass                                 # unplugged: the reader notices
-
-    def close(self) -> None:
-        self.pty.close()
-
-
-class _SocketTransport:
-    def __init__(self, conn: socket.socket) -> None:
-        self.conn = conn
-
-    def read(self, timeout: float) -> bytes | None:
-        self.conn.settimeout(timeout)
-        try:
-            data = self.conn.recv(4096)
-        except socket.timeout:
-            return b""
-        except OSError:
-            return None
-        return data if data else None            # None: the client hung up
-
-    def write(self, data: bytes) -> None:
-        try:
-            self.conn.sendall(data)
-        except OSError:
-            pass
-
-    def close(self) -> None:
-        try:
-            self.conn.close()
-        except OSError:
-            pass
-
-
 # --------------------------------------------------------------------------- the emulator
 
-class RFlexEmulator:
+class RFlexEmulator(EmulatorHost):
     """An `RFlexController` on a pty or TCP port, around `world` (see the module docstring)."""
+
+    name = "rflex-emulator"
 
     def __init__(self, world, *, dist_conv: float = DIST_CONV, angle_conv: float = ANGLE_CONV,
                  clock=None, lockstep: LockStep | None = None, failsafe: float = FAILSAFE_TIMEOUT,
                  start_counts: tuple[int, int] = (0, 0)) -> None:
+        super().__init__(lockstep)
         self.world = world
         self.clock = clock
-        self.lockstep = lockstep
         self.controller = RFlexController(world, dist_conv, angle_conv, failsafe, start_counts)
-        self.muted = False                  # tests: a controller that stops reporting
-        self._lock = threading.RLock()
-        self._transport = None
-        self._server: socket.socket | None = None
-        self._threads: list[threading.Thread] = []
-        self._stop = threading.Event()
         self._hooked = False
 
     @classmethod
@@ -319,55 +263,9 @@ class RFlexEmulator:
                 simulation.advance(self.clock.now())
         self._spawn(run, "rflex-emulator-clock")
 
-    # -- transports -----------------------------------------------------------------------------
-    def serve_pty(self, link: str | None = None) -> str:
-        """Serve on a new raw pty; returns the path a driver should open."""
-        transport = _PtyTransport(PtyPair(link=link))
-        self._serve(transport)
-        return transport.path
-
-    def serve_tcp(self, host: str = "127.0.0.1", port: int = 0) -> tuple[str, int]:
-        """Listen for one client at a time; returns the bound (host, port)."""
-        server = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
-        server.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-        server.bind((host, port))
-        server.listen(1)
-        server.settimeout(0.2)
-        self._server = server
-
-        def accept_loop() -> None:
-            while not self._stop.is_set():
-                try:
-                    conn, _ = server.accept()
-                except socket.timeout:
-                    continue
-                except OSError:
-                    return
-                conn.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-                self._serve(_SocketTransport(conn), threaded=False)
-        self._spawn(accept_loop, "rflex-emulator-accept")
-        return server.getsockname()[:2]
-
-    def _serve(self, transport, threaded: bool = True) -> None:
-        with self._lock:
-            self._transport = transport
-            self.controller.parser.reset()
-        if threaded:
-            self._spawn(lambda: self._read_loop(transport), "rflex-emulator-reader")
-        else:
-            self._read_loop(transport)
-
-    def _read_loop(self, transport) -> None:
-        while not self._stop.is_set():
-            data = transport.read(0.05)
-            if data is None:
-                with self._lock:
-                    if self._transport is transport:
-                        self._transport = None
-                transport.close()
-                return
-            if data:
-                self.receive(data)
+    # -- hosting hooks (robots.link.host) -----------------------------------------------------
+    def on_connect(self) -> None:
+        self.controller.parser.reset()
 
     def receive(self, data: bytes) -> None:
         """Bytes from the driver: apply, answer, then count them as read (lock-step)."""
@@ -375,34 +273,3 @@ class RFlexEmulator:
             self._send(self.controller.receive(data, float(self.world.t)))
         if self.lockstep is not None:
             self.lockstep.to_device.got(len(data))
-
-    def _send(self, data: bytes) -> None:
-        transport = self._transport
-        if not data or transport is None or self.muted:
-            return
-        if self.lockstep is not None:
-            self.lockstep.to_host.wrote(len(data))
-        transport.write(data)
-
-    def _spawn(self, target: Callable[[], None], name: str) -> None:
-        thread = threading.Thread(target=target, name=name, daemon=True)
-        self._threads.append(thread)
-        thread.start()
-
-    def unplug(self) -> None:
-        """Pull the cable: the link closes; the controller keeps running (its failsafe stops
-        the body 0.5 s after the last SET_DIR)."""
-        with self._lock:
-            transport, self._transport = self._transport, None
-        if transport is not None:
-            transport.close()
-
-    def close(self) -> None:
-        self._stop.set()
-        if self._server is not None:
-            self._server.close()
-        self.unplug()
-        for thread in self._threads:
-            if thread is not threading.current_thread():
-                thread.join(timeout=1.0)
-        self._threads.clear()
