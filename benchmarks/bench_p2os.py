@@ -23,17 +23,12 @@ import statistics
 import threading
 import time
 
-import serial
 
+from ptybench import bench_echo, percentile, report
 from robots.link import PtyPair
 from robots.p2os import protocol as p
 from robots.p2os.driver import P2OSBase
 from robots.profile import load_profile
-
-
-def percentile(values: list[float], q: float) -> float:
-    ordered = sorted(values)
-    return ordered[min(len(ordered) - 1, int(round(q / 100 * (len(ordered) - 1))))]
 
 
 # -- decode throughput --------------------------------------------------------------------------
@@ -174,38 +169,6 @@ def bench_latency(cycles: int) -> list[float]:
     return latencies
 
 
-def bench_echo(cycles: int) -> list[float]:
-    pty = PtyPair()
-    port = serial.Serial(pty.path, 9600, timeout=0.2)
-    stop = threading.Event()
-
-    def echo() -> None:
-        while not stop.is_set():
-            data = port.read(max(1, port.in_waiting))
-            if data:
-                port.write(data[:1])
-    thread = threading.Thread(target=echo, daemon=True)
-    thread.start()
-    latencies = []
-    for _ in range(cycles):
-        pty.write(b"\x55")
-        sent = time.perf_counter()
-        if select.select([pty.master_fd], [], [], 1.0)[0]:
-            latencies.append(time.perf_counter() - sent)
-            os.read(pty.master_fd, 64)
-        time.sleep(0.002)
-    stop.set()
-    thread.join(1)
-    port.close()
-    pty.close()
-    return latencies
-
-
-def report(name: str, values: list[float]) -> None:
-    print(f"  {name}: n={len(values)} median {statistics.median(values) * 1e3:.3f} ms  "
-          f"p99 {percentile(values, 99) * 1e3:.3f} ms  max {max(values) * 1e3:.3f} ms")
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cycles", type=int, default=1000)
@@ -214,7 +177,7 @@ def main() -> None:
     bench_decode(args.sips)
     print(f"Latency over a pty, SIP last byte in -> first command byte out ({args.cycles} cycles):")
     driver = bench_latency(args.cycles)
-    echo = bench_echo(args.cycles)
+    echo = bench_echo(args.cycles, 9600)
     report("driver + tick thread", driver)
     report("bare pty echo (baseline)", echo)
     p99 = percentile(driver, 99)

@@ -24,17 +24,12 @@ import statistics
 import threading
 import time
 
-import serial
 
+from ptybench import bench_echo, percentile, report
 from robots.link import PtyPair
 from robots.profile import load_profile
 from robots.rflex import protocol as p
 from robots.rflex.driver import RFlexBase
-
-
-def percentile(values: list[float], q: float) -> float:
-    ordered = sorted(values)
-    return ordered[min(len(ordered) - 1, int(round(q / 100 * (len(ordered) - 1))))]
 
 
 # -- decode throughput --------------------------------------------------------------------------
@@ -166,38 +161,6 @@ def bench_latency(cycles: int) -> list[float]:
     return latencies
 
 
-def bench_echo(cycles: int) -> list[float]:
-    pty = PtyPair()
-    port = serial.Serial(pty.path, 115200, timeout=0.2)
-    stop = threading.Event()
-
-    def echo() -> None:
-        while not stop.is_set():
-            data = port.read(max(1, port.in_waiting))
-            if data:
-                port.write(data[:1])
-    thread = threading.Thread(target=echo, daemon=True)
-    thread.start()
-    latencies = []
-    for _ in range(cycles):
-        pty.write(b"\x55")
-        sent = time.perf_counter()
-        if select.select([pty.master_fd], [], [], 1.0)[0]:
-            latencies.append(time.perf_counter() - sent)
-            os.read(pty.master_fd, 64)
-        time.sleep(0.002)
-    stop.set()
-    thread.join(1)
-    port.close()
-    pty.close()
-    return latencies
-
-
-def report(name: str, values: list[float]) -> None:
-    print(f"  {name}: n={len(values)} median {statistics.median(values) * 1e3:.3f} ms  "
-          f"p99 {percentile(values, 99) * 1e3:.3f} ms  max {max(values) * 1e3:.3f} ms")
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cycles", type=int, default=1000)
@@ -208,7 +171,7 @@ def main() -> None:
     bench_decode(args.frames // 4, kinds=(2,), label="48-sonar reports only")
     print(f"Latency over a pty, motor reports in -> driver's new SET_DIR out ({args.cycles} cycles):")
     driver = bench_latency(args.cycles)
-    echo = bench_echo(args.cycles)
+    echo = bench_echo(args.cycles, 115200)
     report("driver + tick thread", driver)
     report("bare pty echo (baseline)", echo)
     print(f"  ratio driver/echo: median {statistics.median(driver) / statistics.median(echo):.1f}x"
