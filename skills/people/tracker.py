@@ -80,6 +80,9 @@ class PeopleTracker:
 
     def __init__(self, params: TrackerParams | None = None) -> None:
         self.params = params or TrackerParams()
+        if self.params.model not in ("cv", "imm"):
+            raise ValueError(f"TrackerParams.model = {self.params.model!r}; "
+                             "allowed: 'cv' (constant velocity), 'imm' (walking + standing)")
         self._tracks: list[_TrackState] = []
         self._ids = itertools.count(1)
         self._t: float | None = None

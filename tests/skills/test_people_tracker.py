@@ -221,3 +221,8 @@ def test_a_person_walking_behind_another_keeps_the_id():
             seen_ids[name].add(tr.id)
     assert hidden_frames >= 10
     assert len(seen_ids["A"]) == 1 and len(seen_ids["B"]) == 1
+
+
+def test_an_unknown_motion_model_is_refused_with_the_allowed_ones():
+    with pytest.raises(ValueError, match="'cv'.*'imm'"):
+        PeopleTracker(TrackerParams(model="ca"))
