@@ -15,7 +15,8 @@ from .typed import TIME_IN_STATE, Typed, variables
 class CompiledCondition:
     """A condition ready to evaluate each tick. Equal when the text is equal."""
 
-    __slots__ = ("text", "syntax", "tree", "names", "uses_time", "location", "_evaluate")
+    __slots__ = ("text", "syntax", "tree", "names", "uses_time", "location", "_evaluate",
+                 "derived")
 
     def __init__(self, text: str, syntax: Node, tree: Typed, location: Any | None) -> None:
         self.text = text
@@ -26,6 +27,15 @@ class CompiledCondition:
         self.uses_time: bool = TIME_IN_STATE in read
         self.location = location
         self._evaluate = compile_tree(tree)
+        self.derived: dict[str, Any] = {}     # computed once, shared by relocated twins
+
+    def relocated(self, location: Any | None) -> "CompiledCondition":
+        """The same compiled condition, written somewhere else (shares the compiled code)."""
+        twin = object.__new__(CompiledCondition)
+        for slot in self.__slots__:
+            object.__setattr__(twin, slot, getattr(self, slot))
+        twin.location = location
+        return twin
 
     def evaluate(self, values: Mapping[str, Any], time_in_state: float) -> bool:
         """True when the condition holds; `values` maps percept names to values, None = absent."""

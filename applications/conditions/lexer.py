@@ -6,7 +6,7 @@ Only what the grammar needs is a token; anything else (`.` after a string, `[`, 
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
+from typing import NamedTuple
 
 from ..exceptions import ConditionError
 
@@ -17,52 +17,52 @@ COMPARISONS = ("<=", ">=", "==", "!=", "<", ">")
 _HINTS = {"&&": "and", "||": "or", "!": "not", "=": "==", "<>": "!=", "&": "and", "|": "or"}
 
 
-@dataclass(frozen=True)
-class Token:
+class Token(NamedTuple):
     kind: str      # NUMBER, STRING, NAME, KEYWORD, OP, LPAREN, RPAREN, END
     text: str      # the source text of the token (the decoded value for STRING)
     offset: int    # 0-based index into the condition text
     end: int       # index just past the token
 
 
-_NUMBER = re.compile(r"(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?")
 _NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*(?:\.[A-Za-z][A-Za-z0-9_]*)*")
-_SPACE = re.compile(r"\s+")
+
+
+_MASTER = re.compile(r"""
+    (?P<space>\s+)
+  | (?P<number>(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?)
+  | (?P<name>[A-Za-z][A-Za-z0-9_]*(?:\.[A-Za-z][A-Za-z0-9_]*)*)
+  | (?P<op><=|>=|==|!=|<(?!>)|>)
+  | (?P<lparen>\()
+  | (?P<rparen>\))
+""", re.VERBOSE)
+_KINDS = {"number": "NUMBER", "op": "OP", "lparen": "LPAREN", "rparen": "RPAREN"}
 
 
 def tokenize(text: str) -> list[Token]:
     """The tokens of `text`, ending with an END token; ConditionError on the first stray character."""
     tokens: list[Token] = []
-    position = 0
-    while True:
-        match = _SPACE.match(text, position)
-        if match:
-            position = match.end()
-        if position >= len(text):
-            tokens.append(Token("END", "", position, position))
-            return tokens
-        token = _next_token(text, position)
-        tokens.append(token)
-        position = token.end
-
-
-def _next_token(text: str, position: int) -> Token:
-    char = text[position]
-    if char.isdigit() or (char == "." and text[position + 1:position + 2].isdigit()):
-        match = _NUMBER.match(text, position)
-        return Token("NUMBER", match.group(), position, match.end())
-    if char.isalpha():
-        return _name_token(text, position)
-    if char in "\"'":
-        return _string_token(text, position)
-    if char == "(":
-        return Token("LPAREN", char, position, position + 1)
-    if char == ")":
-        return Token("RPAREN", char, position, position + 1)
-    for op in COMPARISONS:
-        if text.startswith(op, position):
-            return Token("OP", op, position, position + len(op))
-    raise ConditionError(_stray_message(text, position), position, text)
+    position, length = 0, len(text)
+    match_at = _MASTER.match
+    while position < length:
+        match = match_at(text, position)
+        if match is None:
+            if text[position] in "\"'":
+                token = _string_token(text, position)
+                tokens.append(token)
+                position = token.end
+                continue
+            raise ConditionError(_stray_message(text, position), position, text)
+        kind, end = match.lastgroup, match.end()
+        if kind == "name":
+            if end < length and text[end] in "_.":
+                _name_token(text, position)          # raises with the explanation
+            word = match.group()
+            tokens.append(Token("KEYWORD" if word in KEYWORDS else "NAME", word, position, end))
+        elif kind != "space":
+            tokens.append(Token(_KINDS[kind], match.group(), position, end))
+        position = end
+    tokens.append(Token("END", "", length, length))
+    return tokens
 
 
 def _name_token(text: str, position: int) -> Token:

@@ -27,6 +27,7 @@ ATTRIBUTES = {"application": ("name", "initial", "robot"),
 REQUIRED = {"application": ("name", "initial"), "state": ("name", "behavior"),
             "transition": ("to",)}
 ALWAYS = "true"     # the condition of a transition written without `when`
+NO_FOREIGN = Foreign()
 
 
 @dataclass
@@ -85,6 +86,7 @@ class _Reader:
         self.source = source
         self.declarations = declarations
         self.diagnostics: list[Diagnostic] = []
+        self.compiled: dict[str, CompiledCondition] = {}   # text -> condition, compiled once
 
     def report(self, message: str, location: Location, code: str) -> None:
         self.diagnostics.append(error(message, location, code))
@@ -212,21 +214,27 @@ class _Reader:
         return int(text)
 
     def condition(self, element: etree._Element, when: str) -> CompiledCondition | None:
+        location = self.source.value(element, "when")
+        if when in self.compiled:
+            return self.compiled[when].relocated(location)
         try:
-            return compile_condition(when, self.source.value(element, "when"), self.declarations)
+            self.compiled[when] = compile_condition(when, location, self.declarations)
+            return self.compiled[when]
         except ConditionError as problem:
             self.report(f"in condition: {problem.reason}",
                         self.source.value(element, "when", problem.offset), "condition")
             return None
 
     def foreign(self, element: etree._Element) -> Foreign:
-        attributes = tuple((k, v) for k, v in element.attrib.items() if _is_foreign(k))
-        elements = tuple(_serialize(child)
-                         for child in element
-                         if isinstance(child.tag, str) and _is_foreign(child.tag))
-        namespaces = tuple((prefix, uri) for prefix, uri in element.nsmap.items()
-                           if prefix and (element.getparent() is None
-                                          or element.getparent().nsmap.get(prefix) != uri))
+        """Markup in other namespaces on and under `element`, kept for round trips."""
+        attributes = tuple((k, v) for k, v in element.attrib.items() if k[0] == "{")
+        elements = tuple(_serialize(child) for child in element
+                         if isinstance(child.tag, str) and child.tag[0] == "{")
+        namespaces = ()
+        if element.getparent() is None:
+            namespaces = tuple((p, u) for p, u in element.nsmap.items() if p)
+        if not (attributes or elements or namespaces):
+            return NO_FOREIGN
         return Foreign(attributes, elements, namespaces)
 
 

@@ -4,6 +4,7 @@ and attribute value to `line:col`, including the column of a character inside a 
 source spells it as an entity (`&lt;`)."""
 from __future__ import annotations
 
+import bisect
 import re
 from dataclasses import dataclass
 
@@ -39,7 +40,7 @@ class SourceMap:
             self._by_element[element] = spans
 
     def location(self, offset: int) -> Location:
-        line = _bisect(self._line_starts, offset)
+        line = bisect.bisect_right(self._line_starts, offset) - 1
         return Location(self.filename, line + 1, offset - self._line_starts[line] + 1)
 
     def element(self, element: etree._Element) -> Location:
@@ -109,14 +110,3 @@ def _raw_offset(text: str, value_start: int, index: int) -> int:
         else:
             position += 1
     return position
-
-
-def _bisect(starts: list[int], offset: int) -> int:
-    low, high = 0, len(starts) - 1
-    while low < high:
-        middle = (low + high + 1) // 2
-        if starts[middle] <= offset:
-            low = middle
-        else:
-            high = middle - 1
-    return low
