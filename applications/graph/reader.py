@@ -186,12 +186,10 @@ class _Reader:
 
     def transition(self, element: etree._Element) -> DraftTransition | None:
         complete = self.check_attributes(element)
-        for _ in self.children(element):
-            pass
+        self.children(element)          # a transition has none: this reports any there are
         priority = self.priority(element)
         when = element.get("when")
-        condition = self.condition(element, when) if when is not None else \
-            compile_condition(ALWAYS, declarations=self.declarations)
+        condition = self.condition(element, when if when is not None else ALWAYS)
         if condition is None and not complete:
             return None
         return DraftTransition(target=(element.get("to") or "").strip(),

@@ -8,7 +8,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from applications.conditions import ConditionError, compile_condition
-from applications.conditions.analysis import EXCLUSIVE, OVERLAP, can_be_true, can_both_be_true
+from applications.conditions.analysis import (EXCLUSIVE, OVERLAP, UNDECIDED, can_be_true,
+                                              can_both_be_true)
 from applications.conditions.nodes import unparse
 from applications.conditions.parser import parse
 
@@ -121,12 +122,29 @@ def test_any_text_either_compiles_or_raises_condition_error(text) -> None:
     assert isinstance(condition.evaluate({}, 0.0), bool)
 
 
-@settings(max_examples=200, deadline=None)
-@given(expressions, expressions, st.lists(st.tuples(percept_values, times), min_size=20,
-                                          max_size=20))
+near_constants = st.sampled_from([0.0, 0.005, 0.0075, 0.01, 0.02, 0.03, 0.15, 0.3, 0.5, 0.75,
+                                  1.0, 1.5, 2.0, 2.5, 3.0, 15.0, 29.0, 30.0])
+boundary_values = st.fixed_dictionaries({
+    "user.distance": st.one_of(st.none(), near_constants,
+                               near_constants.map(lambda v: min(30.0, v + 1e-9))),
+    "people.count": st.one_of(st.none(), st.sampled_from([0, 1, 2, 3, 4, 15, 16, 30, 99, 100,
+                                                          101, 1000])),
+    "user.present": st.one_of(st.none(), st.booleans()),
+    "survey.done": st.one_of(st.none(), st.booleans()),
+    "user.left": st.one_of(st.none(), st.booleans()),
+})
+boundary_times = st.sampled_from([0.0, 0.001, 0.5, 0.75, 1.0, 2.0, 3.0, 15.0, 15.001, 30.0,
+                                  45.0, 60.0, 100.0, 180.0, 1800.0, 6000.0])
+
+
+@settings(max_examples=300, deadline=None)
+@given(expressions, expressions,
+       st.lists(st.tuples(st.one_of(percept_values, boundary_values),
+                          st.one_of(times, boundary_times)), min_size=30, max_size=30))
 def test_overlap_verdicts_are_sound(first, second, samples) -> None:
     a, b = compile_condition(render(first)), compile_condition(render(second))
     verdict = can_both_be_true(a, b)
+    assert verdict.status != UNDECIDED     # every percept here has a range: always decidable
     if verdict.status == OVERLAP:
         witness = dict(verdict.witness)
         t = witness.pop("time_in_state", 0.0)

@@ -126,3 +126,26 @@ def test_real_registry_knows_the_survey_behaviors() -> None:
         pytest.skip("behavior registry not available")
     assert {"Idle", "FaceUser", "Survey", "CallBack"} <= set(catalog.behaviors)
     assert check_application("survey", robot="perses")[1] == []
+
+
+def test_a_transition_without_when_is_always_taken_and_checked_as_such(tmp_path: Path) -> None:
+    folder = write_app(tmp_path, """<application name="w" initial="A">
+  <state name="A" behavior="Idle">
+    <transition to="B"/>
+    <transition to="A" when="survey.done"/>
+  </state>
+  <state name="B" behavior="Idle" final="true"/>
+</application>""")
+    _, diagnostics = check_application(folder)
+    assert [(d.location.line, d.code) for d in diagnostics] == [(4, "overlap")]
+    assert "e.g. when survey.done = true" in diagnostics[0].message
+
+
+def test_foreign_namespace_markup_is_allowed_and_kept(tmp_path: Path) -> None:
+    folder = write_app(tmp_path, SURVEY_GRAPH.replace(
+        '<state name="Done"', '<x:note xmlns:x="urn:x">hi</x:note><state x:pos="1,2" '
+        'xmlns:x="urn:x" name="Done"'))
+    application, diagnostics = check_application(folder)
+    assert diagnostics == []
+    assert application.foreign.elements[0].startswith("<x:note")
+    assert application.states["Done"].foreign.attributes == (("{urn:x}pos", "1,2"),)

@@ -107,3 +107,16 @@ def test_export_and_import_commands(tmp_path: Path, capsys) -> None:
     assert load_application(target) == load_application("survey")
     assert main(["import", str(chart), "-o", str(target)]) == 2      # no silent overwrite
     assert main(["import", str(chart), "-o", str(target), "--force"]) == 0
+
+
+def test_a_final_state_with_transitions_round_trips(tmp_path: Path) -> None:
+    folder = tmp_path / "app"
+    folder.mkdir()
+    (folder / "graph.xml").write_text(
+        '<application name="f" initial="A"><state name="A" behavior="Idle" final="true">'
+        '<transition to="A" when="survey.done"/></state></application>')
+    original = load_application(folder)
+    chart = tmp_path / "f.scxml"
+    chart.write_text(export_scxml(original))
+    assert 'interbot:final="true"' in chart.read_text()
+    assert import_scxml(chart) == original
