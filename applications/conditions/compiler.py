@@ -6,7 +6,7 @@ import operator
 from collections.abc import Callable, Mapping
 from typing import Any
 
-from .typed import TIME_IN_STATE, All, AnyOf, Cmp, Const, Flag, Neg, Typed, Value, Var
+from .typed import TIME_IN_STATE, All, Cmp, Const, Flag, Neg, Typed, Value, Var
 
 Evaluator = Callable[[Mapping[str, Any], float], bool]
 

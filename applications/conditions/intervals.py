@@ -144,7 +144,3 @@ class Constraint:
             return ABSENT
         return value
 
-
-def solve_numeric(var: Var, literals) -> object:
-    """A value of `var` that makes every (op, constant, positive) literal hold, or NO_SOLUTION."""
-    return Constraint.of(var, literals).solve()

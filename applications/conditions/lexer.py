@@ -11,7 +11,6 @@ from typing import NamedTuple
 from ..exceptions import ConditionError
 
 KEYWORDS = frozenset({"and", "or", "not", "true", "false"})
-COMPARISONS = ("<=", ">=", "==", "!=", "<", ">")
 
 # What people from other languages type, and what to write instead.
 _HINTS = {"&&": "and", "||": "or", "!": "not", "=": "==", "<>": "!=", "&": "and", "|": "or"}

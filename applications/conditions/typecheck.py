@@ -9,7 +9,7 @@ from typing import Any
 from ..exceptions import ConditionError
 from ..graph.diagnostics import did_you_mean
 from .nodes import And, Compare, Literal, Name, Node, Not, Or
-from .typed import (TIME_IN_STATE, All, AnyOf, Cmp, Const, Flag, Neg, Typed, Value, Var)
+from .typed import All, AnyOf, Cmp, Const, Flag, Neg, Typed, Value, Var
 from .units import DIMENSION_WORDS, UNITS, convert, dimension
 
 NUMERIC = frozenset({"int", "float"})

@@ -46,11 +46,15 @@ class State:
     location: Location = field(compare=False)
     foreign: Foreign = field(default=Foreign(), compare=False, repr=False)
 
-    def ordered_transitions(self) -> tuple[Transition, ...]:
-        """Prioritised transitions first (lowest number first), then the others in file order."""
+    def __post_init__(self) -> None:
         ranked = sorted((t for t in self.transitions if t.priority is not None),
                         key=lambda t: t.priority)
-        return tuple(ranked) + tuple(t for t in self.transitions if t.priority is None)
+        ordered = tuple(ranked) + tuple(t for t in self.transitions if t.priority is None)
+        object.__setattr__(self, "_ordered", ordered)    # the interpreter asks every tick
+
+    def ordered_transitions(self) -> tuple[Transition, ...]:
+        """Prioritised transitions first (lowest number first), then the others in file order."""
+        return self._ordered
 
 
 @dataclass(frozen=True)

@@ -12,10 +12,10 @@ from pathlib import Path
 
 from lxml import etree
 
+from ..conditions import ConditionError, compile_condition
 from ..exceptions import ApplicationError
 from .diagnostics import Diagnostic, error
-from .location import Location
-from .model import Application, Foreign
+from .model import Application, Foreign, State, Transition
 from .source import SourceMap
 from .xmlsafe import parse_xml_bytes
 
@@ -93,7 +93,6 @@ class _Importer:
         self.diagnostics.append(error(message, self.source.element(element), "scxml"))
 
     def application(self, root: etree._Element, default_name: str, path: Path) -> Application:
-        from .model import Application as App
         if root.tag != _S + "scxml":
             self.report(f"not an SCXML document: the root must be <scxml xmlns=\"{SCXML}\">", root)
             return None
@@ -108,7 +107,7 @@ class _Importer:
             else:
                 self.unsupported(child)
         first = next(iter(states), "")
-        return App(name=root.get("name") or default_name, initial=root.get("initial") or first,
+        return Application(name=root.get("name") or default_name, initial=root.get("initial") or first,
                    robot=root.get(_I + "robot"), states=states, folder=path.parent,
                    graph_file=path, foreign=_foreign_of(root))
 
@@ -119,7 +118,6 @@ class _Importer:
                     "or move it into a foreign namespace", element)
 
     def state(self, element: etree._Element):
-        from .model import State
         name = element.get("id")
         if not name:
             self.report("a state without an id: give it id=\"…\"", element)
@@ -159,8 +157,6 @@ class _Importer:
         return ours[0].get("event")
 
     def transition(self, element: etree._Element):
-        from .model import Transition
-        from ..conditions import ConditionError, compile_condition
         target = element.get("target")
         if not target or " " in target.strip():
             self.report("a transition needs exactly one target state (target=\"…\")", element)
