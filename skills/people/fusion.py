@@ -15,10 +15,10 @@ def fuse_close_detections(xy: np.ndarray, cov: np.ndarray, merge_distance: float
     """Merge detections closer than `merge_distance` (m) to each other.
 
     People's centres are at least about 0.4 m apart, so closer detections are taken as one
-    person. Clusters are formed greedily by the closest pairs; each cluster is fused by the
+    person. Clusters are formed by linking close pairs; each cluster is fused by the
     information-weighted mean. `flags` (bool per detection, e.g. "may confirm a track") are
-    or-ed within a cluster. Returns new (xy, cov, flags) arrays: the detections left alone
-    first, in their order, then the fused ones.
+    or-ed within a cluster. Returns (xy, cov, flags), one row per cluster, in the order of
+    each cluster's first detection; the inputs themselves when nothing merges.
     """
     m = len(xy)
     if flags is None:
@@ -26,35 +26,50 @@ def fuse_close_detections(xy: np.ndarray, cov: np.ndarray, merge_distance: float
     if m < 2 or merge_distance <= 0.0:
         return xy, cov, flags
     diff = xy[:, None, :] - xy[None, :, :]
-    dist = np.hypot(diff[..., 0], diff[..., 1])
-    close_i, close_j = np.nonzero(np.triu(dist < merge_distance, k=1))
-    if close_i.size == 0:
+    dist_sq = diff[..., 0] ** 2 + diff[..., 1] ** 2
+    close_i, close_j = np.nonzero(dist_sq < merge_distance ** 2)
+    upper = close_i < close_j
+    if not upper.any():
         return xy, cov, flags
-    parent = {int(i): int(i) for i in np.concatenate((close_i, close_j))}
-    for k in np.argsort(dist[close_i, close_j], kind="stable"):
-        root_i, root_j = _root(parent, int(close_i[k])), _root(parent, int(close_j[k]))
+    cluster = _clusters(m, close_i[upper].tolist(), close_j[upper].tolist())
+    return _fuse_clusters(xy, cov, flags, cluster)
+
+
+def _clusters(m: int, firsts: list[int], seconds: list[int]) -> np.ndarray:
+    """Cluster number (0, 1, ... in order of first member) of each detection, by union-find
+    over the linked pairs."""
+    parent = list(range(m))
+    for i, j in zip(firsts, seconds):
+        root_i, root_j = _root(parent, i), _root(parent, j)
         if root_i != root_j:
-            parent[root_j] = root_i
-    groups: dict[int, list[int]] = {}
-    for index in sorted(parent):
-        groups.setdefault(_root(parent, index), []).append(index)
-    alone = np.ones(m, dtype=bool)
-    alone[list(parent)] = False
-    fused = [_fuse(xy[g], cov[g]) for g in groups.values()]
-    out_xy = np.vstack([xy[alone]] + [f[0][None, :] for f in fused])
-    out_cov = np.concatenate([cov[alone]] + [f[1][None, :, :] for f in fused])
-    out_flags = np.concatenate([flags[alone], [bool(flags[g].any()) for g in groups.values()]])
-    return out_xy, out_cov, out_flags
+            parent[max(root_i, root_j)] = min(root_i, root_j)
+    numbers: dict[int, int] = {}
+    return np.array([numbers.setdefault(_root(parent, i), len(numbers)) for i in range(m)])
 
 
-def _root(parent: dict[int, int], i: int) -> int:
+def _root(parent: list[int], i: int) -> int:
     while parent[i] != i:
+        parent[i] = parent[parent[i]]
         i = parent[i]
     return i
 
 
-def _fuse(xy: np.ndarray, cov: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    info = np.linalg.inv(cov)
-    fused_cov = np.linalg.inv(info.sum(axis=0))
-    fused_xy = fused_cov @ np.einsum("kij,kj->i", info, xy)
-    return fused_xy, fused_cov
+def _fuse_clusters(xy: np.ndarray, cov: np.ndarray, flags: np.ndarray,
+                   cluster: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Information-weighted mean per cluster: C = (sum C_i^-1)^-1, x = C sum C_i^-1 x_i."""
+    k = int(cluster.max()) + 1
+    a, b, c = cov[:, 0, 0], cov[:, 0, 1], cov[:, 1, 1]
+    det = a * c - b * b
+    ia, ib, ic = c / det, -b / det, a / det               # information of each detection
+    wx, wy = ia * xy[:, 0] + ib * xy[:, 1], ib * xy[:, 0] + ic * xy[:, 1]
+    sa, sb, sc, swx, swy = (np.bincount(cluster, weights=w, minlength=k)
+                            for w in (ia, ib, ic, wx, wy))
+    det = sa * sc - sb * sb
+    fa, fb, fc = sc / det, -sb / det, sa / det
+    fused_xy = np.empty((k, 2))
+    fused_xy[:, 0], fused_xy[:, 1] = fa * swx + fb * swy, fb * swx + fc * swy
+    fused_cov = np.empty((k, 2, 2))
+    fused_cov[:, 0, 0], fused_cov[:, 0, 1], fused_cov[:, 1, 0], fused_cov[:, 1, 1] = fa, fb, fb, fc
+    fused_flags = np.zeros(k, dtype=bool)
+    fused_flags[cluster[flags]] = True
+    return fused_xy, fused_cov, fused_flags

@@ -17,11 +17,23 @@ def test_camera_and_laser_detections_fuse_by_information():
     xy = np.array([[1.0, 0.0], [1.1, 0.0], [3.0, 0.0]])
     cov = np.array([np.eye(2) * 0.05 ** 2, np.eye(2) * 0.1 ** 2, np.eye(2) * 0.05 ** 2])
     fused_xy, fused_cov, flags = fuse_close_detections(xy, cov, 0.3, np.array([True, False, True]))
-    # Alone first (the far one), then the fused pair: weights 1/0.0025 = 400 and 1/0.01 = 100,
-    # so x = (400 * 1.0 + 100 * 1.1) / 500 = 1.02 and the variance is 1 / 500 = 0.002.
-    assert fused_xy == pytest.approx(np.array([[3.0, 0.0], [1.02, 0.0]]))
-    assert fused_cov[1] == pytest.approx(np.eye(2) * 0.002)
+    # The fused pair first (it holds the first detection), then the far one: weights
+    # 1/0.0025 = 400 and 1/0.01 = 100, so x = (400 * 1.0 + 100 * 1.1) / 500 = 1.02 and the
+    # variance is 1 / 500 = 0.002.
+    assert fused_xy == pytest.approx(np.array([[1.02, 0.0], [3.0, 0.0]]))
+    assert fused_cov[0] == pytest.approx(np.eye(2) * 0.002)
+    assert fused_cov[1] == pytest.approx(np.eye(2) * 0.0025)
     assert flags.tolist() == [True, True]
+
+
+def test_a_chain_of_close_detections_is_one_cluster_and_order_is_kept():
+    xy = np.array([[5.0, 5.0], [0.0, 0.0], [0.2, 0.0], [0.4, 0.0], [9.0, 9.0]])
+    cov = np.array([np.eye(2) * 0.01] * 5)
+    fused_xy, fused_cov, flags = fuse_close_detections(xy, cov, 0.3,
+                                                       np.array([False, False, True, False, False]))
+    assert fused_xy == pytest.approx(np.array([[5.0, 5.0], [0.2, 0.0], [9.0, 9.0]]))
+    assert fused_cov[1] == pytest.approx(np.eye(2) * 0.01 / 3)
+    assert flags.tolist() == [False, True, False]
 
 
 def test_detections_farther_apart_than_the_merge_distance_stay_apart():
