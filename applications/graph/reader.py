@@ -134,6 +134,10 @@ class _Reader:
     @staticmethod
     def unknown_element_message(child: etree._Element, parent: etree._Element,
                                 allowed: tuple[str, ...]) -> str:
+        homes = [tag for tag, children in ELEMENTS.items() if child.tag in children]
+        if homes:
+            return (f"<{child.tag}> cannot stand inside <{parent.tag}>: it belongs inside "
+                    f"<{homes[0]}>")
         inside = (f"; <{parent.tag}> may contain only <{allowed[0]}>" if allowed
                   else f"; <{parent.tag}> has no child elements")
         return (f"unknown element <{child.tag}> inside <{parent.tag}>"

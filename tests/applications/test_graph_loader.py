@@ -149,3 +149,39 @@ def test_foreign_namespace_markup_is_allowed_and_kept(tmp_path: Path) -> None:
     assert diagnostics == []
     assert application.foreign.elements[0].startswith("<x:note")
     assert application.states["Done"].foreign.attributes == (("{urn:x}pos", "1,2"),)
+
+
+def test_misplaced_elements_say_where_they_belong(tmp_path: Path) -> None:
+    folder = write_app(tmp_path, """<application name="w" initial="A">
+  <transition to="A" when="survey.done"/>
+  <state name="A" behavior="Idle" final="true"><state name="B" behavior="Idle"/></state>
+</application>""")
+    _, diagnostics = check_application(folder)
+    assert [(d.location.line, d.location.column, d.message) for d in diagnostics] == [
+        (2, 3, "<transition> cannot stand inside <application>: it belongs inside <state>"),
+        (3, 48, "<state> cannot stand inside <state>: it belongs inside <application>")]
+
+
+def test_condition_errors_on_a_later_line_of_a_multi_line_attribute(tmp_path: Path) -> None:
+    folder = write_app(tmp_path, """<application name="w" initial="A">
+  <state name="A" behavior="Idle">
+    <transition to="A" when="survey.done and
+        user.distnce &lt; 1m"/>
+  </state>
+</application>""")
+    _, diagnostics = check_application(folder)
+    assert diagnostics[0].location.line == 4 and diagnostics[0].location.column == 9
+    assert "unknown percept 'user.distnce'" in diagnostics[0].message
+
+
+def test_the_schema_is_shipped_and_backs_up_the_reader(tmp_path: Path) -> None:
+    from applications.graph.schema import SCHEMA_FILE, schema_problems
+    from applications.graph.xmlsafe import parse_xml
+    assert SCHEMA_FILE.is_file()
+    assert schema_problems(parse_xml(find_application("survey") / "graph.xml")) == []
+    folder = write_app(tmp_path, """<application name="w" initial="A">
+  <state name="A" behavior="Idle" final="true">stray words</state>
+</application>""")
+    _, diagnostics = check_application(folder)
+    assert [(d.location.line, d.code) for d in diagnostics] == [(2, "schema")]
+    assert "graph.xml schema" in diagnostics[0].message
