@@ -120,6 +120,7 @@ class _Reader:
     def children(self, parent: etree._Element) -> list[etree._Element]:
         """Our child elements; unknown ones in no namespace are reported, foreign ones skipped."""
         allowed = ELEMENTS[parent.tag]
+        self.check_text(parent)
         kept = []
         for child in parent:
             if not isinstance(child.tag, str) or _is_foreign(child.tag):
@@ -130,6 +131,15 @@ class _Reader:
             self.report(self.unknown_element_message(child, parent, allowed),
                         self.source.element(child), "unknown-element")
         return kept
+
+    def check_text(self, element: etree._Element) -> None:
+        """Words between our elements are a slip (a lost comment, a pasted note)."""
+        pieces = [element.text] + [child.tail for child in element]
+        stray = " ".join(p.strip() for p in pieces if p and p.strip())
+        if stray:
+            shown = stray if len(stray) <= 40 else stray[:37] + "..."
+            self.report(f"stray text {shown!r} inside <{element.tag}>: delete it, or keep it as "
+                        "a comment <!-- … -->", self.source.element(element), "stray-text")
 
     @staticmethod
     def unknown_element_message(child: etree._Element, parent: etree._Element,

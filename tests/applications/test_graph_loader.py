@@ -183,5 +183,7 @@ def test_the_schema_is_shipped_and_backs_up_the_reader(tmp_path: Path) -> None:
   <state name="A" behavior="Idle" final="true">stray words</state>
 </application>""")
     _, diagnostics = check_application(folder)
-    assert [(d.location.line, d.code) for d in diagnostics] == [(2, "schema")]
-    assert "graph.xml schema" in diagnostics[0].message
+    assert [(d.location.line, d.code) for d in diagnostics] == [(2, "stray-text")]
+    assert "stray text 'stray words' inside <state>" in diagnostics[0].message
+    problems = schema_problems(parse_xml(folder / "graph.xml"))
+    assert problems and problems[0][0] == 2      # the schema agrees, with a vaguer message
