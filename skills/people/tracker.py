@@ -40,6 +40,7 @@ class TrackerParams:
     delete_after: float = 1.5         # s unseen after which a lost track is deleted
     max_dt: float = 1.0               # s; longer gaps are predicted in steps no longer than this
     model: str = "cv"                 # "cv": constant velocity; "imm": walking + standing IMM
+    min_variance: float = 1e-4        # m^2 (1 cm); added to detection covariances below it
 
 
 class _TrackState:
@@ -93,11 +94,15 @@ class PeopleTracker:
         return self._t
 
     def update(self, t: float, detections: list[WorldDetection]) -> list[Track]:
-        """Process the frame at time `t` and return the tracks that are not deleted."""
+        """Process the frame at time `t` and return the tracks that are not deleted.
+
+        A ValueError (a frame older than the last, a non-finite detection) leaves the tracker
+        as it was."""
         if self._t is not None and t < self._t:
             raise ValueError(f"frame at t={t} is older than the previous one at t={self._t}")
-        self._predict(t)
         xy, cov, confirming = _as_arrays(detections, self.params.confirming_sources)
+        cov = _with_variance_floor(cov, self.params.min_variance)
+        self._predict(t)
         xy, cov, confirming = fuse_close_detections(xy, cov, self.params.merge_distance,
                                                     confirming)
         pairs, _, new_dets = self._associate(xy, cov)
@@ -177,6 +182,17 @@ class PeopleTracker:
         self._tracks = kept
 
 
+def _with_variance_floor(cov: np.ndarray, floor: float) -> np.ndarray:
+    """Covariances too small to invert safely (a noise-free simulated detector, a rounding
+    to zero) get `floor` added to the diagonal; the others are left as they are."""
+    det = cov[:, 0, 0] * cov[:, 1, 1] - cov[:, 0, 1] * cov[:, 1, 0]
+    small = (cov[:, 0, 0] < floor) | (cov[:, 1, 1] < floor) | (det < floor * floor)
+    if small.any():
+        cov = cov.copy()
+        cov[small] += np.eye(2) * floor
+    return cov
+
+
 def inverse_2x2_single(m: np.ndarray) -> np.ndarray:
     """Closed-form inverse of the 2x2 innovation covariance, for filterpy's `inv` hook:
     a third of numpy.linalg.inv's cost on matrices this small."""
@@ -192,6 +208,13 @@ def _as_arrays(detections: list[WorldDetection], confirming_sources: tuple[str, 
         return np.zeros((0, 2)), np.zeros((0, 2, 2)), np.zeros(0, dtype=bool)
     xy = np.array([(d[0], d[1]) for d in detections], dtype=float)
     cov = np.array([np.asarray(d[2], dtype=float) for d in detections])
+    if cov.shape[1:] != (2, 2):
+        raise ValueError(f"detection covariances must be 2x2; got shape {cov.shape[1:]}")
+    broken = ~(np.isfinite(xy).all(axis=1) & np.isfinite(cov).all(axis=(1, 2)))
+    if broken.any():
+        index = int(np.flatnonzero(broken)[0])
+        raise ValueError(f"detection {index} of this frame is not finite: {detections[index]!r}; "
+                         "a detector must leave out what it did not measure")
     if confirming_sources is None:
         return xy, cov, np.ones(len(detections), dtype=bool)
     confirming = np.array([len(d) < 4 or d[3] in confirming_sources for d in detections])

@@ -226,3 +226,19 @@ def test_a_person_walking_behind_another_keeps_the_id():
 def test_an_unknown_motion_model_is_refused_with_the_allowed_ones():
     with pytest.raises(ValueError, match="'cv'.*'imm'"):
         PeopleTracker(TrackerParams(model="ca"))
+
+
+def test_noise_free_detections_are_tracked_and_broken_ones_refused():
+    tracker = PeopleTracker()
+    for k in range(5):
+        tracks = tracker.update(k * 0.1, [(1.0, 2.0, np.zeros((2, 2)))])
+    assert [(tr.x, tr.y, tr.status) for tr in tracks] == [(1.0, 2.0, CONFIRMED)]
+    assert np.isfinite(tracks[0].cov).all()
+    before = tracker.tracks()
+    with pytest.raises(ValueError, match="detection 1 of this frame is not finite"):
+        tracker.update(1.0, [(1.0, 2.0, R), (math.nan, 0.0, R)])
+    with pytest.raises(ValueError, match="2x2"):
+        tracker.update(1.0, [(1.0, 2.0, np.eye(3))])
+    after = tracker.tracks()                                 # the bad frames changed nothing
+    assert [(a.x, a.vx, a.cov.tolist()) for a in after] == [
+        (b.x, b.vx, b.cov.tolist()) for b in before]
