@@ -17,7 +17,7 @@ from .checks import check_draft
 from .diagnostics import Diagnostic, has_errors, sort_diagnostics
 from .model import Application, State, Transition
 from .reader import Draft, read_graph
-from .xmlsafe import parse_xml_bytes
+from .xmlsafe import parse_xml_bytes, source_text
 
 BUNDLED = Path(__file__).resolve().parent.parent / "bundled"
 GRAPH_FILE = "graph.xml"
@@ -118,7 +118,7 @@ def _inspect(data: bytes, filename: str, folder: Path, graph_file: Path, robot: 
         tree = parse_xml_bytes(data, filename)
     except ApplicationError as problem:
         return None, None, list(problem.diagnostics)
-    text = data.decode(tree.docinfo.encoding or "utf-8", errors="replace")
+    text = source_text(data, tree)
     draft, diagnostics = read_graph(tree, text, filename, declarations)
     if draft is None:
         return None, None, sort_diagnostics(diagnostics)

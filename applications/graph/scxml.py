@@ -17,7 +17,7 @@ from ..exceptions import ApplicationError
 from .diagnostics import Diagnostic, error
 from .model import Application, Foreign, State, Transition
 from .source import SourceMap
-from .xmlsafe import parse_xml_bytes
+from .xmlsafe import parse_xml_bytes, source_text
 
 SCXML = "http://www.w3.org/2005/07/scxml"
 INTERBOT = "urn:interbot:graph"
@@ -74,7 +74,7 @@ def import_scxml(path: str | Path, name: str | None = None) -> Application:
     path = Path(path)
     data = path.read_bytes()
     tree = parse_xml_bytes(data, str(path))
-    source = SourceMap(data.decode(tree.docinfo.encoding or "utf-8", "replace"), str(path))
+    source = SourceMap(source_text(data, tree), str(path))
     source.bind(tree.getroot())
     importer = _Importer(source)
     application = importer.application(tree.getroot(), name or path.stem, path)

@@ -82,3 +82,11 @@ def _syntax_message(problem: etree.XMLSyntaxError) -> str:
     if "xmlParseEntityRef" in text or "EntityRef" in text:
         return f"malformed XML: {text} — write &amp; for a literal &"
     return f"malformed XML: {text}"
+
+
+def source_text(data: bytes, tree: etree._ElementTree) -> str:
+    """The document as text, for mapping offsets to columns (a UTF-8 BOM is not a column)."""
+    encoding = (tree.docinfo.encoding or "utf-8").lower()
+    if encoding in ("utf-8", "utf8"):
+        encoding = "utf-8-sig"
+    return data.decode(encoding, errors="replace")

@@ -187,3 +187,13 @@ def test_the_schema_is_shipped_and_backs_up_the_reader(tmp_path: Path) -> None:
     assert "stray text 'stray words' inside <state>" in diagnostics[0].message
     problems = schema_problems(parse_xml(folder / "graph.xml"))
     assert problems and problems[0][0] == 2      # the schema agrees, with a vaguer message
+
+
+def test_columns_ignore_a_byte_order_mark_and_count_characters(tmp_path: Path) -> None:
+    folder = tmp_path / "bom"
+    folder.mkdir()
+    text = ('<application name="é" initial="Wiat"><state name="Wait" behavior="Idle" '
+            'final="true"/></application>')
+    (folder / "graph.xml").write_bytes(b"\xef\xbb\xbf" + text.encode("utf-8"))
+    _, diagnostics = check_application(folder)
+    assert (diagnostics[0].location.line, diagnostics[0].location.column) == (1, 32)
