@@ -50,6 +50,7 @@ MATCH_DISTANCE = 0.5      # m
 DONT_CARE_DISTANCE = 0.5  # m; tracks this close to a present but unseen person are ignored
 APPROACHING = 0.1         # m/s; the threshold of the percept user.approaching
 CORROBORATION = 0.5       # m; mode "corroborated" keeps laser legs this close to a camera hit
+DEFAULT_PARAMS = TrackerParams(confirming_sources=("camera",))   # laser legs never confirm
 METRICS = ["num_frames", "num_objects", "mota", "motp", "idf1", "num_switches",
            "num_false_positives", "num_misses", "num_fragmentations"]
 
@@ -60,7 +61,7 @@ class Options:
     seed: int = 0
     spin: float = 0.0           # rad/s the robot turns on the spot (ego-motion check)
     report_lost: bool = False   # lost (coasting) tracks count as hypotheses
-    params: TrackerParams | None = None
+    params: TrackerParams = DEFAULT_PARAMS
     legs: LegParams | None = None
     max_range: float = math.inf  # m; people farther from the robot are neither hit nor miss
 

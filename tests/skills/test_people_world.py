@@ -1,0 +1,33 @@
+"""The tracker in the simulated world, scored by benchmarks/eval_tracker.py (one seed each)."""
+from __future__ import annotations
+
+import importlib.util
+import sys
+from pathlib import Path
+
+import pytest
+
+EVAL = Path(__file__).resolve().parents[2] / "benchmarks" / "eval_tracker.py"
+
+
+@pytest.fixture(scope="module")
+def evaluation():
+    spec = importlib.util.spec_from_file_location("eval_tracker", EVAL)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["eval_tracker"] = module          # its dataclasses look themselves up there
+    spec.loader.exec_module(module)
+    yield module
+    sys.modules.pop("eval_tracker", None)
+
+
+def test_ten_people_crossing_meet_the_targets_and_the_hidden_one_keeps_the_id(evaluation):
+    rows = evaluation.evaluate(["crossing_10"], evaluation.Options(), seeds=1)
+    summary, (acc,) = rows["crossing_10"]
+    assert summary["mota"] >= 0.90 and summary["idf1"] >= 0.85
+    assert evaluation.ids_per_person(acc)["pillar"] == 1
+
+
+def test_the_empty_hallway_stays_empty_even_while_the_robot_turns(evaluation):
+    options = evaluation.Options(spin=0.5)
+    acc = evaluation.run(evaluation.HERE / "empty_hallway.toml", "office", options)
+    assert acc.mot_events.empty or (acc.mot_events.Type != "FP").all()
