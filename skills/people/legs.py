@@ -19,7 +19,7 @@ from robots.devices import Detection, LaserScan
 @dataclass(frozen=True)
 class LegParams:
     jump: float = 0.12          # m; a range step larger than this starts a new segment
-    contrast: float = 0.3       # m; a leg stands at least this far in front of both neighbours
+    contrast: float = 0.3       # m; a leg is this much nearer than a neighbour (see _stands_out)
     min_width: float = 0.05     # m; leg-sized segments
     max_width: float = 0.25
     max_both_width: float = 0.5  # m; both legs seen as one segment (one behind the other)

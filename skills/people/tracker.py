@@ -28,7 +28,7 @@ class TrackerParams:
     """Tuning of the tracker; times are in seconds so the tick rate can change."""
     accel_noise: float = 0.5          # q of the white-noise acceleration model, m^2/s^3
     initial_speed_sigma: float = 1.0  # m/s, velocity prior of a new track (walking pace)
-    gate: float = 18.4                # d^2 threshold; chi-square, 2 dof: 13.8 = 99.9 %, 18.4 = 99.99 %
+    gate: float = 18.4                # d^2 limit; chi-square 2 dof: 13.8 = 99.9 %, 18.4 = 99.99 %
     merge_distance: float = 0.3       # m; same-frame detections closer than this are one person
     confirm_hits: int = 3             # detections needed before a track is believed
     # Sources whose detections may confirm a track; None: all. With ("camera",) laser legs
