@@ -349,8 +349,8 @@ def _verdict(solution: dict, percepts: _Percepts) -> Verdict:
     if unbounded:
         plural = "s" if len(unbounded) == 1 else ""
         return Verdict(UNDECIDED, witness,
-                       f"{', '.join(unbounded)} declare{plural} no range, so whether the values "
-                       "that make both true can occur is unknown", percepts.units)
+                       f"{', '.join(unbounded)} declare{plural} no range, so whether such "
+                       "values can occur is unknown", percepts.units)
     return Verdict(OVERLAP, witness, units=percepts.units)
 
 

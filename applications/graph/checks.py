@@ -150,6 +150,8 @@ def _overlap(state: DraftState, first: DraftTransition,
     pair = (f"transitions of state '{state.name}' to '{first.target}' (line "
             f"{first.location.line}) and to '{second.target}' (line {second.location.line})")
     fix = "give them distinct priorities (priority=\"1\" is tried first) or make the conditions exclusive"
+    if first.priority is not None and first.priority == second.priority:
+        pair += f", both with priority {first.priority},"
     if verdict.status == OVERLAP:
         return [error(f"{pair} can both be true, e.g. when {verdict.describe_witness()}; {fix}",
                       second.location, "overlap")]
