@@ -1,5 +1,6 @@
 """People perception, the pure part: leg detection in laser scans, sonar candidates, same-frame
-fusion of detections, a multi-person Kalman tracker (filterpy) and the choice of the interaction partner.
+fusion of detections, a multi-person Kalman tracker (filterpy) and the choice of the
+interaction partner.
 
 Nothing here touches the blackboard or a device; `skills.perception` feeds these functions every
 tick and writes what they return. See docs/tracking.md for the model and its figures.

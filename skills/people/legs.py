@@ -148,7 +148,8 @@ def _people(legs: list[tuple[float, float]], t: float, p: LegParams) -> list[Det
         mid = ((legs[i][0] + legs[j][0]) / 2, (legs[i][1] + legs[j][1]) / 2)
         people.append(_detection(t, mid, p.pair_sigma))
     if p.single_legs:
-        people += [_detection(t, leg, p.single_sigma) for k, leg in enumerate(legs) if k not in used]
+        people += [_detection(t, leg, p.single_sigma)
+                   for k, leg in enumerate(legs) if k not in used]
     return people
 
 

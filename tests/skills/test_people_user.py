@@ -59,7 +59,8 @@ def test_a_clearly_better_challenger_takes_over_only_after_switch_time():
 def test_a_briefly_lost_user_stays_the_user_and_a_deleted_one_does_not():
     selector = UserSelector()
     assert selector.select([track(1, 1.0, 0.0), track(2, 1.5, 0.0)], ROBOT, 0.0).id == 1
-    assert selector.select([track(1, 1.0, 0.0, status=LOST), track(2, 1.5, 0.0)], ROBOT, 0.1).id == 1
+    hidden = track(1, 1.0, 0.0, status=LOST)
+    assert selector.select([hidden, track(2, 1.5, 0.0)], ROBOT, 0.1).id == 1
     assert selector.select([track(2, 1.5, 0.0)], ROBOT, 0.2).id == 2
     selector.reset()
     assert selector.user_id is None
