@@ -17,7 +17,7 @@ from .checks import check_draft
 from .diagnostics import Diagnostic, has_errors, sort_diagnostics
 from .model import Application, State, Transition
 from .reader import Draft, read_graph
-from .xmlsafe import parse_xml_bytes, source_text
+from .xmlsafe import parse_xml_bytes, read_bytes, source_text
 
 BUNDLED = Path(__file__).resolve().parent.parent / "bundled"
 GRAPH_FILE = "graph.xml"
@@ -63,7 +63,7 @@ def check_application(name_or_path: str | Path, robot: str | None = None,
     replaces what L2 reports, for tests."""
     folder = find_application(name_or_path)
     graph_file = graph_path(folder, name_or_path)
-    data = graph_file.read_bytes()
+    data = read_bytes(graph_file)
     return check_graph_bytes(data, str(_shown(graph_file)), folder, graph_file, robot,
                              catalog, declarations)
 
@@ -85,7 +85,7 @@ def inspect_application(name_or_path: str | Path, robot: str | None = None,
     """Like `check_application`, also returning the draft (drawable even when it has errors)."""
     folder = find_application(name_or_path)
     graph_file = graph_path(folder, name_or_path)
-    return inspect_graph_bytes(graph_file.read_bytes(), str(_shown(graph_file)), folder,
+    return inspect_graph_bytes(read_bytes(graph_file), str(_shown(graph_file)), folder,
                                graph_file, robot, catalog)
 
 

@@ -17,7 +17,7 @@ from ..exceptions import ApplicationError
 from .diagnostics import Diagnostic, error
 from .model import Application, Foreign, State, Transition
 from .source import SourceMap
-from .xmlsafe import parse_xml_bytes, source_text
+from .xmlsafe import parse_xml_bytes, read_bytes, source_text
 
 SCXML = "http://www.w3.org/2005/07/scxml"
 INTERBOT = "urn:interbot:graph"
@@ -72,7 +72,7 @@ class ScxmlImportError(ApplicationError):
 def import_scxml(path: str | Path, name: str | None = None) -> Application:
     """The application an SCXML file describes (not yet checked: write it and check it)."""
     path = Path(path)
-    data = path.read_bytes()
+    data = read_bytes(path)
     tree = parse_xml_bytes(data, str(path))
     source = SourceMap(source_text(data, tree), str(path))
     source.bind(tree.getroot())

@@ -8,7 +8,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .diagnostics import Diagnostic
+from ..exceptions import ApplicationError
+from .diagnostics import Diagnostic, error
+from .location import Location
 from .loader import GRAPH_FILE, check_application, find_application
 from .model import Application
 
@@ -45,11 +47,13 @@ class ApplicationWatcher:
         if not self.changed():
             return None
         if not (self.folder / GRAPH_FILE).is_file():
-            from .diagnostics import error
-            from .location import Location
             return [error(f"{GRAPH_FILE} was removed; put it back",
                           Location(str(self.folder / GRAPH_FILE), 1, 1), "unreadable")]
-        application, diagnostics = check_application(self.folder, self.robot)
+        try:
+            application, diagnostics = check_application(self.folder, self.robot)
+        except ApplicationError as problem:      # e.g. the file vanished mid-save
+            return list(problem.diagnostics) or [error(str(problem), Location(
+                str(self.folder / GRAPH_FILE), 1, 1), "unreadable")]
         if application is None:
             return [d for d in diagnostics if d.is_error] or diagnostics
         return application

@@ -26,14 +26,19 @@ def safe_parser() -> etree.XMLParser:
 
 def parse_xml(path: str | Path) -> etree._ElementTree:
     """The parsed document at `path`; ApplicationError (one diagnostic) when unsafe or malformed."""
+    return parse_xml_bytes(read_bytes(path), str(path))
+
+
+def read_bytes(path: str | Path) -> bytes:
+    """The file's bytes; ApplicationError naming the file when it cannot be read."""
     path = Path(path)
     try:
-        data = path.read_bytes()
+        return path.read_bytes()
     except OSError as problem:
-        raise ApplicationError(f"{path}: cannot read: {problem.strerror}",
-                               [error(f"cannot read: {problem.strerror}",
-                                      Location(str(path), 1, 1), "unreadable")]) from None
-    return parse_xml_bytes(data, str(path))
+        reason = problem.strerror or str(problem)
+        raise ApplicationError(f"{path}: cannot read: {reason}",
+                               [error(f"cannot read: {reason}", Location(str(path), 1, 1),
+                                      "unreadable")]) from None
 
 
 def parse_xml_bytes(data: bytes, filename: str) -> etree._ElementTree:
