@@ -33,7 +33,7 @@ from robots.sim.devices import SimLaser  # noqa: E402
 from robots.sim.raycast import cast_rays  # noqa: E402
 from robots.sim.simulation import Simulation  # noqa: E402
 from skills.people import (LegParams, PeopleTracker, TrackerParams,  # noqa: E402
-                           approach_speed, detect_legs, robot_to_world)
+                           UserSelector, approach_speed, detect_legs, robot_to_world)
 from skills.people.sonar import sonar_candidates  # noqa: E402
 from skills.people.track import LOST, TENTATIVE  # noqa: E402
 
@@ -118,6 +118,7 @@ def run(scenario: Path, floor, options: Options) -> mm.MOTAccumulator:
     names: dict[str, int] = {}
     acc = mm.MOTAccumulator(auto_id=True)
     velocity = {"standing": [], "walking": [], "standing_approaching": 0}
+    selector, users = UserSelector(), []
     steps = int(round(sim.scenario.duration / TICK))
     for k in range(1, steps + 1):
         t = k * TICK
@@ -137,9 +138,39 @@ def run(scenario: Path, floor, options: Options) -> mm.MOTAccumulator:
         dist = mm.distances.norm2squared_matrix(gt_xy, hyp_xy, max_d2=MATCH_DISTANCE ** 2)
         acc.update(gt_ids, [tr.id for tr in reported], dist)
         _score_velocity(velocity, sim.world, {pid for pid, _, _ in shown}, reported)
+        user = selector.select(tracks, (sim.world.body.x, sim.world.body.y), t)
+        users.append((t, _who(user, truth)))
     acc.person_names = {v: k for k, v in names.items()}
     acc.velocity = velocity
+    acc.users = users
     return acc
+
+
+def _who(track, truth) -> str | None:
+    """The person a track is on (nearest within the match distance), or None."""
+    if track is None:
+        return None
+    near = [(math.hypot(x - track.x, y - track.y), pid) for pid, x, y in truth]
+    gap, pid = min(near, default=(math.inf, None))
+    return pid if gap <= MATCH_DISTANCE else "(nobody)"
+
+
+def user_changes(users: list[tuple[float, str | None]], flip_window: float = 2.0
+                 ) -> tuple[int, int]:
+    """How often the user became a different person, and how many of those changes went back
+    to the previous user within `flip_window` s (a flip: what the hysteresis should prevent)."""
+    changes, flips, history = 0, 0, []           # history: (t, person) at each change
+    current = None
+    for t, person in users:
+        if person is None or person == current:
+            continue
+        if current is not None:
+            changes += 1
+            if len(history) >= 2 and history[-2][1] == person and t - history[-1][0] <= flip_window:
+                flips += 1
+        history.append((t, person))
+        current = person
+    return changes, flips
 
 
 def _score_velocity(stats: dict, world, shown: set[str], reported) -> None:
@@ -245,6 +276,9 @@ def main() -> None:
                   f"in {falsely}/{len(standing)} = {falsely / len(standing):.1%} of frames", end="")
         if walking or standing:
             print()
+        changes = [user_changes(acc.users) for acc in accs]
+        print(f"  {name}: user changed person {sum(c for c, _ in changes)} times, flipped back "
+              f"within 2 s {sum(f for _, f in changes)} times (all seeds)")
         if name == "crossing_10":
             pillar = [p.get("pillar") for p in per]
             print(f"  crossing_10: IDs of the person hidden behind the pillar, per seed: {pillar}; "
