@@ -4,25 +4,22 @@ Detections arrive in the robot frame; they are moved to the world frame with the
 before tracking (`skills.people.frames`), which is how the robot's own motion is compensated;
 the tracker fuses a camera and a laser detection of the same person in one frame.
 
-Laser leg pairs only *refine* people the camera also sees: a laser-only candidate is dropped,
-because door jambs and wall ends look like legs to a scan and, without a map, would become
-permanent phantom people. On a robot without a person detector every leg pair is used.
-The user (the interaction partner) is chosen by `skills.people.user.UserSelector`.
+Laser leg pairs keep tracks alive and sharpen them, but only the camera may *confirm* a track
+(`TrackerParams.confirming_sources`): door jambs and wall ends look like legs to a scan and,
+without a map, would become permanent phantom people. On a robot without a person detector
+every leg pair may confirm. The user (the interaction partner) is chosen by
+`skills.people.user.UserSelector`.
 """
 from __future__ import annotations
-
-import math
 
 from robots.devices import Detection, Laser, PersonDetector
 from skills.localization import Localization
 from skills.people.frames import robot_to_world
 from skills.people.legs import detect_legs
-from skills.people.tracker import PeopleTracker
+from skills.people.tracker import PeopleTracker, TrackerParams
 from skills.people.user import UserSelector, approach_speed, distance
 from skills.skill import Skill
 from skills.status import RUNNING, failed
-
-CORROBORATION = 0.5     # m: a laser candidate this close to a camera detection is kept
 
 
 class PeoplePerception(Skill):
@@ -35,7 +32,8 @@ class PeoplePerception(Skill):
         self.localization = localization
         self.detector = detector
         self.laser = laser
-        self.tracker = PeopleTracker()
+        confirming = ("camera",) if detector is not None else None
+        self.tracker = PeopleTracker(TrackerParams(confirming_sources=confirming))
         self.selector = UserSelector(max_range=user_range)
         self.tracks: tuple = ()
         self.user = None
@@ -49,7 +47,7 @@ class PeoplePerception(Skill):
             return
         detections = self._detections()
         pose = (state.x, state.y, state.th)
-        world = [robot_to_world(d.x, d.y, d.cov, pose) for d in detections]
+        world = [(*robot_to_world(d.x, d.y, d.cov, pose), d.source) for d in detections]
         tracks = self.tracker.update(now, world)
         self.tracks = tuple(t for t in tracks if t.status == "confirmed")
         robot_xy = (state.x, state.y)
@@ -69,10 +67,4 @@ class PeoplePerception(Skill):
             scan = self.laser.read()
             if scan is not None:
                 laser = detect_legs(scan)
-        if self.detector is None:
-            return laser
-        return camera + [leg for leg in laser if _near_any(leg, camera)]
-
-
-def _near_any(candidate: Detection, others: list[Detection]) -> bool:
-    return any(math.hypot(candidate.x - o.x, candidate.y - o.y) < CORROBORATION for o in others)
+        return camera + laser
