@@ -51,8 +51,10 @@ def _isolated_runs(scan: LaserScan, points: np.ndarray, p: LegParams):
     grazing angle, whose range grows in steps from beam to beam."""
     runs: list[list] = []          # [start, end, legs, pieces]
     last_end = -1
-    for start, end in _segments(scan.ranges, p):
-        centre, width = _centre_and_width(points, scan, (start, end), p)
+    starts, ends = _segments(scan.ranges, p)
+    centres, widths = _segment_geometry(points, scan, starts, ends, p)
+    for start, end, centre, width in zip(starts.tolist(), ends.tolist(), centres.tolist(),
+                                         widths.tolist()):
         if width > p.max_both_width or _is_hole(scan.ranges, start, end, p.jump):
             last_end = -1
             continue
@@ -61,7 +63,7 @@ def _isolated_runs(scan: LaserScan, points: np.ndarray, p: LegParams):
         run = runs[-1]
         run[1], run[3] = end, run[3] + 1
         if width >= p.min_width:
-            run[2].append((centre, width))
+            run[2].append(((centre[0], centre[1]), width))
         last_end = end
     for start, end, legs, pieces in runs:
         if legs and pieces <= 3 and _stands_out(scan.ranges, start, end, p.contrast):
@@ -74,7 +76,7 @@ def _scan_points(scan: LaserScan) -> np.ndarray:
     return np.column_stack((ox + ranges * np.cos(scan.angles), oy + ranges * np.sin(scan.angles)))
 
 
-def _segments(ranges: np.ndarray, p: LegParams) -> list[tuple[int, int]]:
+def _segments(ranges: np.ndarray, p: LegParams) -> tuple[np.ndarray, np.ndarray]:
     """Index ranges [start, end) of consecutive beams with hits and no range jump."""
     valid = np.isfinite(ranges) & (ranges <= p.max_range)
     cut = np.ones(len(ranges) + 1, dtype=bool)
@@ -82,30 +84,37 @@ def _segments(ranges: np.ndarray, p: LegParams) -> list[tuple[int, int]]:
         step = np.abs(np.diff(np.where(valid, ranges, 0.0)))
         cut[1:-1] = (step > p.jump) | ~valid[1:] | ~valid[:-1]
     starts = np.flatnonzero(cut[:-1] & valid)
-    segments = []
-    for start in starts:
-        end = start + 1
-        while end < len(ranges) and not cut[end]:
-            end += 1
-        segments.append((int(start), int(end)))
-    return segments
+    cuts = np.flatnonzero(cut)                  # a segment ends at the first cut after its start
+    return starts, cuts[np.searchsorted(cuts, starts, side="right")]
 
 
-def _centre_and_width(points: np.ndarray, scan: LaserScan, seg: tuple[int, int],
-                      p: LegParams) -> tuple[tuple[float, float], float]:
-    """Where the leg would stand (behind the seen surface) and how wide the segment is."""
-    start, end = seg
-    first, last = points[start], points[end - 1]
-    beam_step = _beam_step(scan.angles, start, end)
-    mean_range = float(np.mean(scan.ranges[start:end]))
-    width = float(np.hypot(*(last - first))) + mean_range * beam_step
-    centre = points[start:end].mean(axis=0)
-    ox, oy, _ = scan.origin
-    ray = centre - (ox, oy)
-    norm = float(np.hypot(*ray))
-    if norm > 1e-9:
-        centre = centre + ray / norm * p.leg_radius
-    return (float(centre[0]), float(centre[1])), width
+def _segment_geometry(points: np.ndarray, scan: LaserScan, starts: np.ndarray, ends: np.ndarray,
+                      p: LegParams) -> tuple[np.ndarray, np.ndarray]:
+    """Per segment: where the leg would stand (behind the seen surface) and how wide it is.
+
+    Sums over each segment come from cumulative sums, so every segment costs the same few
+    array operations at once (a scan has dozens of segments, most of them walls)."""
+    if len(starts) == 0:
+        return np.zeros((0, 2)), np.zeros(0)
+    counts = (ends - starts).astype(float)
+    finite = np.isfinite(scan.ranges)
+    ranges_sum = np.concatenate(([0.0], np.cumsum(np.where(finite, scan.ranges, 0.0))))
+    points_sum = np.vstack((np.zeros((1, 2)), np.cumsum(np.nan_to_num(points), axis=0)))
+    mean_range = (ranges_sum[ends] - ranges_sum[starts]) / counts
+    n = len(scan.angles)
+    if n >= 2:
+        i = np.clip(starts, 1, n - 1)
+        beam_step = np.abs(scan.angles[i] - scan.angles[i - 1])
+    else:
+        beam_step = np.zeros(len(starts))
+    span = points[ends - 1] - points[starts]
+    widths = np.hypot(span[:, 0], span[:, 1]) + mean_range * beam_step
+    centres = (points_sum[ends] - points_sum[starts]) / counts[:, None]
+    ray = centres - np.asarray(scan.origin[:2], dtype=float)
+    norm = np.hypot(ray[:, 0], ray[:, 1])
+    away = norm > 1e-9
+    centres[away] += ray[away] / norm[away, None] * p.leg_radius
+    return centres, widths
 
 
 def _is_hole(ranges: np.ndarray, start: int, end: int, jump: float) -> bool:
@@ -126,13 +135,6 @@ def _stands_out(ranges: np.ndarray, start: int, end: int, contrast: float) -> bo
     in_front = [side < own - contrast
                 for side, own in ((left, ranges[start]), (right, ranges[end - 1]))]
     return any(behind) and all(b or f for b, f in zip(behind, in_front))
-
-
-def _beam_step(angles: np.ndarray, start: int, end: int) -> float:
-    if len(angles) < 2:
-        return 0.0
-    i = min(max(start, 1), len(angles) - 1)
-    return abs(float(angles[i] - angles[i - 1]))
 
 
 def _people(legs: list[tuple[float, float]], t: float, p: LegParams) -> list[Detection]:
