@@ -15,13 +15,14 @@ state holds — replaces it. The content and rules live in the application's `di
 """
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from applications.conditions import CompiledCondition, compile_condition
 from applications.exceptions import ApplicationError, ConditionError
+from applications.graph.diagnostics import Diagnostic, did_you_mean, error, warning
 from applications.graph.location import Location
 from applications.graph.xmlsafe import parse_xml
 
@@ -64,76 +65,111 @@ class Dialog:
         return [q for params in self.content.values() for q in params.get("questions", ())]
 
 
-def load_dialog(path: Path) -> Dialog:
-    """Read `dialog.xml`; a missing file means no content and no overrides."""
-    if not path.exists():
-        return Dialog()
-    root = parse_xml(path).getroot()
-    if root.tag != "dialog":
-        raise ApplicationError(f"{path}:{root.sourceline}: the root element must be <dialog>, "
-                               f"not <{root.tag}>")
-    dialog = Dialog()
-    problems: list[str] = []
-    overrides = []
-    for element in root:
-        if not isinstance(element.tag, str):
-            continue   # comments
-        if element.tag == "behavior":
-            dialog.content[_required(element, "name", path, problems)] = _content(element, path, problems)
-        elif element.tag == "override":
-            rule = _override(element, path, problems)
-            if rule is not None:
-                overrides.append(rule)
-        else:
-            problems.append(f"{path}:{element.sourceline}: unknown element <{element.tag}>; "
-                            "allowed here: <behavior>, <override>")
-    dialog.overrides = tuple(overrides)
-    if problems:
-        raise ApplicationError("\n".join(problems), problems)
+def load_dialog(path: Path, states: Iterable[str] | None = None,
+                behaviors: Iterable[str] | None = None) -> Dialog:
+    """Read `dialog.xml` (a missing file: no content, no overrides); raise on any error."""
+    dialog, diagnostics = check_dialog(path, states, behaviors)
+    errors = [d for d in diagnostics if d.is_error]
+    if errors:
+        raise ApplicationError("\n".join(str(d) for d in errors), errors)
     return dialog
 
 
-def _required(element, name: str, path: Path, problems: list[str]) -> str:
-    value = element.get(name)
-    if not value:
-        problems.append(f"{path}:{element.sourceline}: <{element.tag}> needs a {name}=\"…\" attribute")
-        return ""
-    return value
-
-
-def _content(element, path: Path, problems: list[str]) -> dict[str, Any]:
-    content: dict[str, Any] = {}
-    questions = []
-    for child in element:
-        if not isinstance(child.tag, str):
-            continue
-        if child.tag in ("say", "closing"):
-            content[child.tag] = " ".join((child.text or "").split())
-        elif child.tag == "question":
-            buttons = [" ".join((a.text or "").split()) for a in child if a.tag == "answer"]
-            if not buttons:
-                problems.append(f"{path}:{child.sourceline}: <question> needs at least one <answer>")
-            questions.append({"id": _required(child, "id", path, problems),
-                              "text": _required(child, "text", path, problems),
-                              "buttons": buttons})
-        else:
-            problems.append(f"{path}:{child.sourceline}: unknown element <{child.tag}> in <behavior>; "
-                            "allowed: <say>, <question>, <closing>")
-    if questions:
-        content["questions"] = questions
-    return content
-
-
-def _override(element, path: Path, problems: list[str]) -> Override | None:
-    state = _required(element, "state", path, problems)
-    behavior = _required(element, "behavior", path, problems)
-    when = _required(element, "when", path, problems)
-    if not (state and behavior and when):
-        return None
-    location = Location(str(path), element.sourceline or 0, 1)
+def check_dialog(path: Path, states: Iterable[str] | None = None,
+                 behaviors: Iterable[str] | None = None) -> tuple[Dialog, list[Diagnostic]]:
+    """Every problem of `dialog.xml` in one pass; `states` and `behaviors`, when given, are the
+    names an override may use (the graph's states, the registered behaviors)."""
+    if not path.exists():
+        return Dialog(), []
     try:
-        condition = compile_condition(when, location)
-    except ConditionError as exc:
-        problems.append(f"{path}:{element.sourceline}: {exc.reason} in when={when!r}")
-        return None
-    return Override(state, condition, behavior, location)
+        root = parse_xml(path).getroot()
+    except ApplicationError as exc:
+        return Dialog(), list(exc.diagnostics) or [error(str(exc), Location(str(path), 1, 1))]
+    reader = _DialogReader(path, set(states) if states is not None else None,
+                           set(behaviors) if behaviors is not None else None)
+    return reader.dialog(root), reader.problems
+
+
+class _DialogReader:
+    def __init__(self, path: Path, states: set[str] | None, behaviors: set[str] | None) -> None:
+        self.path = path
+        self.states = states
+        self.behaviors = behaviors
+        self.problems: list[Diagnostic] = []
+
+    def at(self, element) -> Location:
+        return Location(str(self.path), element.sourceline or 0, 1)
+
+    def report(self, element, message: str, code: str, severe: bool = True) -> None:
+        self.problems.append((error if severe else warning)(message, self.at(element), code))
+
+    def dialog(self, root) -> Dialog:
+        dialog = Dialog()
+        if root.tag != "dialog":
+            self.report(root, f"the root element must be <dialog>, not <{root.tag}>", "dialog-root")
+            return dialog
+        overrides = []
+        for element in root:
+            if not isinstance(element.tag, str):
+                continue   # comments
+            if element.tag == "behavior":
+                name = self.required(element, "name")
+                self.known_behavior(element, name, severe=False)
+                dialog.content[name] = self.content(element)
+            elif element.tag == "override":
+                rule = self.override(element)
+                if rule is not None:
+                    overrides.append(rule)
+            else:
+                self.report(element, f"unknown element <{element.tag}>; allowed here: <behavior>, "
+                                     "<override>", "dialog-element")
+        dialog.overrides = tuple(overrides)
+        return dialog
+
+    def required(self, element, name: str) -> str:
+        value = element.get(name)
+        if not value:
+            self.report(element, f"<{element.tag}> needs a {name}=\"…\" attribute", "dialog-attribute")
+            return ""
+        return value
+
+    def known_behavior(self, element, name: str, severe: bool) -> None:
+        if name and self.behaviors is not None and name not in self.behaviors:
+            self.report(element, f"unknown behavior '{name}'{did_you_mean(name, self.behaviors)}",
+                        "dialog-behavior", severe)
+
+    def content(self, element) -> dict[str, Any]:
+        content: dict[str, Any] = {}
+        questions = []
+        for child in element:
+            if not isinstance(child.tag, str):
+                continue
+            if child.tag in ("say", "closing"):
+                content[child.tag] = " ".join((child.text or "").split())
+            elif child.tag == "question":
+                buttons = [" ".join((a.text or "").split()) for a in child if a.tag == "answer"]
+                if not buttons:
+                    self.report(child, "<question> needs at least one <answer>", "dialog-question")
+                questions.append({"id": self.required(child, "id"),
+                                  "text": self.required(child, "text"), "buttons": buttons})
+            else:
+                self.report(child, f"unknown element <{child.tag}> in <behavior>; allowed: <say>, "
+                                   "<question>, <closing>", "dialog-element")
+        if questions:
+            content["questions"] = questions
+        return content
+
+    def override(self, element) -> Override | None:
+        state, behavior, when = (self.required(element, k) for k in ("state", "behavior", "when"))
+        if state and self.states is not None and state not in self.states:
+            self.report(element, f"override for unknown state '{state}'"
+                                 f"{did_you_mean(state, self.states)}", "dialog-state")
+        self.known_behavior(element, behavior, severe=True)
+        if not (state and behavior and when):
+            return None
+        try:
+            condition = compile_condition(when, self.at(element))
+        except ConditionError as exc:
+            self.report(element, f"{exc.reason} in when={when!r}", "dialog-condition")
+            return None
+        return Override(state, condition, behavior, self.at(element))

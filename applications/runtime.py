@@ -58,13 +58,14 @@ class RunSummary:
 class Run:
     """One run of an application on an opened robot."""
 
-    def __init__(self, app: Application, robot: Robot, *, duration: float | None = None,
+    def __init__(self, app: Application, robot: Robot, *, dialog: Dialog | None = None,
+                 duration: float | None = None,
                  trace: TraceWriter | None = None, database: AnswerDatabase | None = None,
                  echo: Callable[[str], None] | None = print,
                  reload: Callable[[], Application | list | None] | None = None) -> None:
         self.app = app
         self.robot = robot
-        self.dialog: Dialog = load_dialog(app.folder / "dialog.xml")
+        self.dialog: Dialog = dialog or load_dialog(app.folder / "dialog.xml", app.states)
         self.duration = duration or robot.scenario_duration or DEFAULT_DURATION
         self.trace = trace or TraceWriter(None)
         self.database = database
@@ -132,7 +133,7 @@ class Run:
                 self._say_line(f"  {problem}")
             return
         try:
-            dialog = load_dialog(result.folder / "dialog.xml")
+            dialog = load_dialog(result.folder / "dialog.xml", result.states)
         except ApplicationError as exc:
             self._say_line("the edited dialog has errors; carrying on with the running one:")
             self._say_line(f"  {exc}")

@@ -4,13 +4,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from applications.database import AnswerDatabase
 from applications.exceptions import UnknownScenarioError
 from applications.graph.loader import find_application, load_application
-from applications.runtime import Run, default_data_dir
-from applications.trace import TraceWriter
-from behaviors import robot_capabilities
-from behaviors.robot import open_robot
 
 DEFAULT_ROBOT = "horos"
 
@@ -39,24 +34,37 @@ class RunCommand:
         parser.add_argument("--quiet", action="store_true", help="print only the summary")
 
     def run(self, args) -> int:
+        # Imported here, not at the top: they pull in the whole robot stack, which the other
+        # subcommands (check, show, …) do not need to start.
+        from applications.database import AnswerDatabase
+        from applications.dialog import load_dialog
+        from applications.graph.catalog import load_catalog
+        from applications.runtime import Run, default_data_dir
+        from applications.trace import TraceWriter
+        from behaviors import robot_capabilities
+        from behaviors.robot import open_robot
+
         folder = find_application(args.app)
         if args.robot:
             robot_capabilities(args.robot)        # an unknown robot: one line naming the known ones
         app = load_application(folder, robot=args.robot)   # refuses an application with errors
         robot_name = args.robot or app.robot or DEFAULT_ROBOT
+        dialog = load_dialog(folder / "dialog.xml", app.states,
+                             load_catalog(robot_name).behaviors)   # refuses dialog errors too
         scenario = None if args.port else resolve_scenario(folder, args.scenario)
+        robot = open_robot(robot_name, port=args.port, scenario=scenario, fast=args.fast,
+                           seed=args.seed)
         data_dir = args.data or default_data_dir()
         database = AnswerDatabase(data_dir / f"{app.name}.sqlite", folder / "database.sql")
         trace = TraceWriter(args.trace)
-        robot = open_robot(robot_name, port=args.port, scenario=scenario, fast=args.fast,
-                           seed=args.seed)
         echo = None if args.quiet else print
         where = f"port {args.port}" if args.port else f"simulation ({scenario.stem if scenario else 'nobody'})"
         print(f"interbot: running '{app.name}' on {robot_name}, {where}"
               f"{', fast' if args.fast else ''}; answers go to {database.path}")
         try:
-            summary = Run(app, robot, duration=args.duration, trace=trace, database=database,
-                          echo=echo, reload=_watcher(folder, robot_name) if args.watch else None).run()
+            reload = _watcher(folder, robot_name) if args.watch else None
+            summary = Run(app, robot, dialog=dialog, duration=args.duration, trace=trace,
+                          database=database, echo=echo, reload=reload).run()
         finally:
             robot.close()
             trace.close()

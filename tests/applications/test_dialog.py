@@ -26,10 +26,11 @@ def test_bad_dialog_reports_every_problem_with_file_and_line(tmp_path):
     with pytest.raises(ApplicationError) as caught:
         load_dialog(path)
     message = str(caught.value)
-    assert f"{path}:3: <question> needs at least one <answer>" in message
-    assert f"{path}:3: <question> needs a text=" in message
-    assert f"{path}:5:" in message
-    assert f"{path}:6: unknown element <oops>" in message
+    assert f"{path}:3:1: error: <question> needs at least one <answer>" in message
+    assert f"{path}:3:1: error: <question> needs a text=" in message
+    assert f"{path}:5:1: error:" in message
+    assert f"{path}:6:1: error: unknown element <oops>" in message
+    assert len(caught.value.diagnostics) == 4
 
 
 def test_dialog_with_a_doctype_is_refused(tmp_path):
@@ -37,3 +38,22 @@ def test_dialog_with_a_doctype_is_refused(tmp_path):
     path.write_text('<?xml version="1.0"?>\n<!DOCTYPE d [<!ENTITY x "boom">]>\n<dialog>&x;</dialog>\n')
     with pytest.raises(ApplicationError):
         load_dialog(path)
+
+
+def test_overrides_are_checked_against_the_graph_and_the_registry(tmp_path, capsys):
+    import shutil
+
+    from applications.cli import main
+
+    folder = tmp_path / "survey"
+    shutil.copytree(find_application("survey"), folder)
+    dialog = folder / "dialog.xml"
+    dialog.write_text(dialog.read_text().replace(
+        '<override state="CreateAttention" when="user.distance > 2.5m" behavior="AttractAttention"/>',
+        '<override state="CreateAtention" when="user.distance > 2.5m" behavior="AtractAttention"/>'))
+    assert main(["check", str(folder)]) == 1
+    out = capsys.readouterr().out
+    assert "unknown state 'CreateAtention' (did you mean 'CreateAttention'?)" in out
+    assert "unknown behavior 'AtractAttention' (did you mean 'AttractAttention'?)" in out
+    assert f"{dialog}:" in out
+    assert main(["run", str(folder), "--fast", "--duration", "1", "--data", str(tmp_path)]) == 1
