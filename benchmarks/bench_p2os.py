@@ -24,7 +24,7 @@ import threading
 import time
 
 
-from ptybench import bench_echo, percentile, report
+from ptybench import bench_echo, drain, percentile, report
 from robots.link import PtyPair
 from robots.p2os import protocol as p
 from robots.p2os.driver import P2OSBase
@@ -119,12 +119,6 @@ class ScriptedFirmware:
                 elif packet.kind == p.Cmd.SONAR:      # the last packet of the driver's open
                     self.pty.write(p.encode_sip(p.SIP(flags=3)))
                     self.ready.set()
-
-
-def drain(fd: int, timeout: float) -> None:
-    while select.select([fd], [], [], timeout)[0]:
-        if not os.read(fd, 4096):
-            return
 
 
 def bench_latency(cycles: int) -> list[float]:

@@ -25,7 +25,7 @@ import threading
 import time
 
 
-from ptybench import bench_echo, percentile, report
+from ptybench import bench_echo, drain, percentile, report
 from robots.link import PtyPair
 from robots.profile import load_profile
 from robots.rflex import protocol as p
@@ -112,12 +112,6 @@ def bench_decode(frames: int, repeats: int = 7, kinds=(0, 1, 2, 3), label="contr
 
 
 # -- latency over a pty ---------------------------------------------------------------------------
-def drain(fd: int, timeout: float) -> None:
-    while select.select([fd], [], [], timeout)[0]:
-        if not os.read(fd, 4096):
-            return
-
-
 def bench_latency(cycles: int) -> list[float]:
     profile = load_profile("perses")
     pty = PtyPair()

@@ -26,6 +26,13 @@ def report(name: str, values: list[float]) -> None:
           f"p99 {percentile(values, 99) * 1e3:.3f} ms  max {max(values) * 1e3:.3f} ms")
 
 
+def drain(fd: int, timeout: float) -> None:
+    """Read and drop whatever arrives on `fd` until it stays quiet for `timeout` s."""
+    while select.select([fd], [], [], timeout)[0]:
+        if not os.read(fd, 4096):
+            return
+
+
 def bench_echo(cycles: int, baud: int) -> list[float]:
     """Round trips of one byte through a pty to a pyserial echo thread, in seconds."""
     pty = PtyPair()
