@@ -17,7 +17,6 @@ writes back), the floor any reaction over this pty can reach.
 from __future__ import annotations
 
 import argparse
-import os
 import select
 import statistics
 import threading

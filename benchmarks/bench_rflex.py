@@ -18,8 +18,6 @@ reads the slave and writes one byte back), the floor any reaction over this pty 
 from __future__ import annotations
 
 import argparse
-import os
-import select
 import statistics
 import threading
 import time
