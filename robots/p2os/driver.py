@@ -315,7 +315,7 @@ class P2OSBase(Base):
         """The reply of type `kind`, STILL_OPEN if a SIP came instead, or what came otherwise."""
         deadline = time.monotonic() + self.reply_timeout
         others = []
-        while (remaining := deadline - time.monotonic()) > 0:
+        while time.monotonic() < deadline:
             for packet in parser.feed(port.read(READ_QUANTUM)):
                 if packet.kind == kind:
                     return packet

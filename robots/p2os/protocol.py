@@ -197,7 +197,7 @@ def decode_argument(data: bytes) -> int | bytes | None:
         return value if kind == ARGINT else -value
     if kind == ARGSTR:
         if len(data) < 2 or len(data) < 2 + data[1]:
-            raise ProtocolError(f"string argument shorter than its length byte says")
+            raise ProtocolError("string argument shorter than its length byte says")
         return bytes(data[2:2 + data[1]])
     raise ProtocolError(f"unknown argument type {kind:#04x} (expected 3B, 1B or 2B)")
 

@@ -4,7 +4,6 @@ from __future__ import annotations
 import os
 import termios
 import threading
-import time
 
 import pytest
 import serial
