@@ -47,3 +47,7 @@ class ConditionError(ApplicationError):
 
 class UnknownScenarioError(UnknownApplicationError):
     """No scenario of that name in the application, and no such file."""
+
+
+class UnsupportedOnRobotError(UnknownApplicationError):
+    """The opened robot lacks a device some behavior of the application needs."""

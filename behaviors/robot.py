@@ -12,10 +12,10 @@ from pathlib import Path
 from typing import Any
 
 from behaviors.active import ActiveBehavior
-from behaviors.exceptions import BehaviorFault, RobotOpenError
+from behaviors.exceptions import BehaviorError, BehaviorFault, RobotOpenError
 from behaviors.percept_view import PerceptTracker
 from behaviors.percepts import PerceptView
-from behaviors.registry import BehaviorContext
+from behaviors.registry import BehaviorContext, get_behavior
 from skills.exceptions import SkillError
 from skills.skillset import SkillSet, open_skills
 
@@ -51,6 +51,16 @@ class Robot:
 
     def wait_until(self, t: float) -> None:
         self.skills.wait_until(t)
+
+    def cannot_run(self, behaviors: set[str]) -> dict[str, str]:
+        """Of `behaviors`, those this robot as opened cannot realize, with the reason."""
+        problems = {}
+        for name in sorted(behaviors):
+            try:
+                get_behavior(name).realization_for(self.capabilities)
+            except BehaviorError as exc:
+                problems[name] = str(exc)
+        return problems
 
     def sense(self) -> PerceptView:
         now = self.skills.sense()

@@ -31,6 +31,21 @@ class Hardware:
     simulation: object | None = None     # robots.sim.simulation.Simulation in simulation
     closed: bool = field(default=False, init=False)
 
+    @property
+    def capabilities(self) -> frozenset[str]:
+        """What this robot can do as opened: the profile's devices that are actually present.
+
+        On a real robot only the base (and its sonar) is driven so far, so a profile's laser,
+        camera, head or touch screen count only when a device object stands behind them."""
+        present = {"base", "speech_out"} if self.speaker is not None else {"base"}
+        if self.profile.sonar is not None:
+            present.add("sonar")
+        for capability, device in (("laser", self.laser), ("people_detector", self.people_detector),
+                                   ("pan_tilt", self.head), ("touch_screen", self.screen)):
+            if device is not None:
+                present.add(capability)
+        return frozenset(present & self.profile.capabilities | {"base"})
+
     def sense(self) -> float:
         """Bring the world (if simulated) and the base up to now; returns robot time."""
         now = self.clock.now()

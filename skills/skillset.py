@@ -64,7 +64,7 @@ class SkillSet:
 
     @property
     def capabilities(self) -> frozenset[str]:
-        return self.profile.capabilities
+        return self.hardware.capabilities
 
     def now(self) -> float:
         return self.hardware.clock.now()

@@ -4,7 +4,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from applications.exceptions import UnknownScenarioError
+from applications.exceptions import UnknownScenarioError, UnsupportedOnRobotError
 from applications.graph.loader import find_application, load_application
 
 DEFAULT_ROBOT = "horos"
@@ -54,6 +54,15 @@ class RunCommand:
         scenario = None if args.port else resolve_scenario(folder, args.scenario)
         robot = open_robot(robot_name, port=args.port, scenario=scenario, fast=args.fast,
                            seed=args.seed)
+        needed = {state.behavior for state in app.states.values()}
+        needed |= {rule.behavior for rule in dialog.overrides}
+        missing = robot.cannot_run(needed)
+        if missing:
+            robot.close()
+            raise UnsupportedOnRobotError(
+                f"'{app.name}' cannot run on {robot_name} as opened "
+                f"({'port ' + args.port if args.port else 'simulation'}): "
+                + "; ".join(missing.values()))
         data_dir = args.data or default_data_dir()
         database = AnswerDatabase(data_dir / f"{app.name}.sqlite", folder / "database.sql")
         trace = TraceWriter(args.trace)

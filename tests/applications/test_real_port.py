@@ -1,30 +1,56 @@
 """`interbot run --port URL` drives whatever is at the URL: here the P2OS emulator started by hand,
-as a user without a Pioneer would do (`interbot emulate p2os --tcp 0`)."""
+as a user without a Pioneer would do (`interbot emulate p2os --tcp 0`). On a real robot only the
+base is driven so far, so an application needing the touch screen is refused before it moves."""
 from __future__ import annotations
 
 import re
 import subprocess
 import sys
 
+import pytest
+
 from applications.cli import main
 from applications.trace import read_trace
 
+BASE_ONLY_APP = """<application name="pause" initial="Wait" robot="horos">
+  <state name="Wait" behavior="Idle">
+    <transition to="Done" when="time_in_state > 1s"/>
+  </state>
+  <state name="Done" behavior="Idle" final="true"/>
+</application>
+"""
 
-def test_run_over_a_tcp_port_to_a_separately_started_emulator(tmp_path, capsys):
+
+@pytest.fixture
+def emulator_url():
     emulator = subprocess.Popen([sys.executable, "-m", "applications.cli", "emulate", "p2os",
                                  "--tcp", "0"], stdout=subprocess.PIPE, text=True)
     try:
-        first_line = emulator.stdout.readline()
-        url = re.search(r"socket://127\.0\.0\.1:\d+", first_line).group(0)
-        trace = tmp_path / "port.jsonl"
-        code = main(["run", "survey", "--robot", "horos", "--port", url, "--duration", "1.5",
-                     "--trace", str(trace), "--data", str(tmp_path), "--quiet"])
+        yield re.search(r"socket://127\.0\.0\.1:\d+", emulator.stdout.readline()).group(0)
     finally:
         emulator.terminate()
         emulator.wait(timeout=10)
+
+
+def test_run_over_a_tcp_port_to_a_separately_started_emulator(tmp_path, capsys, emulator_url):
+    app = tmp_path / "pause"
+    app.mkdir()
+    (app / "graph.xml").write_text(BASE_ONLY_APP)
+    trace = tmp_path / "port.jsonl"
+    code = main(["run", str(app), "--robot", "horos", "--port", emulator_url, "--duration", "5",
+                 "--trace", str(trace), "--data", str(tmp_path), "--quiet"])
     out = capsys.readouterr().out
     assert code == 0
-    assert f"port {url}" in out and "in 15 ticks" in out
+    assert f"port {emulator_url}" in out
     events = read_trace(trace)
-    assert [e["to"] for e in events if e["kind"] == "transition"] == ["Wait"]
+    assert [e["to"] for e in events if e["kind"] == "transition"] == ["Wait", "Done"]
     assert not any(e["kind"] == "fault" for e in events)
+
+
+def test_the_survey_is_refused_before_moving_when_the_screen_is_not_driven(tmp_path, capsys,
+                                                                           emulator_url):
+    code = main(["run", "survey", "--robot", "horos", "--port", emulator_url, "--duration", "1",
+                 "--data", str(tmp_path)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1
+    assert "'Survey' cannot run" in err[0] and "touch_screen" in err[0]
