@@ -1,1 +1,27 @@
-"""Shared test set-up: every test runs with the repository's packages importable."""
+"""Shared test set-up."""
+from __future__ import annotations
+
+import pytest
+
+STANDING_PERSON = """
+[scenario]
+name = "standing"
+duration = 60.0
+robot = "robot_home"
+[[person]]
+id = "sam"
+appear = 0.0
+at = [{x}, {y}]
+speed = 1.0
+steps = [ {{ pause = 100.0 }} ]
+"""
+
+
+@pytest.fixture
+def standing_person(tmp_path):
+    """A scenario file with one person standing at (x, y) from the start (robot at robot_home)."""
+    def write(x: float, y: float):
+        path = tmp_path / f"standing_{x}_{y}.toml"
+        path.write_text(STANDING_PERSON.format(x=x, y=y))
+        return path
+    return write

@@ -7,23 +7,8 @@ import pytest
 
 from behaviors.robot import open_robot
 
-SCENARIO = """
-[scenario]
-name = "standing"
-duration = 30.0
-robot = "robot_home"
-[[person]]
-id = "sam"
-appear = 0.0
-at = [2.0, 0.5]
-speed = 1.0
-steps = [ { pause = 100.0 } ]
-"""
 
-
-def run_face_user(robot_name: str, tmp_path, seconds: float = 6.0):
-    scenario = tmp_path / "standing.toml"
-    scenario.write_text(SCENARIO)
+def run_face_user(robot_name: str, scenario, seconds: float = 6.0):
     robot = open_robot(robot_name, fast=True, scenario=scenario, seed=3)
     try:
         for _ in range(10):                      # let the tracker confirm the person
@@ -41,14 +26,14 @@ def bearing_to_person() -> float:
     return math.atan2(0.5 - (-0.75), 2.0 - 0.0)     # from robot_home (0, -0.75)
 
 
-def test_horos_turns_its_head_not_its_body(tmp_path):
-    heading, pan_tilt, events = run_face_user("horos", tmp_path)
+def test_horos_turns_its_head_not_its_body(standing_person):
+    heading, pan_tilt, events = run_face_user("horos", standing_person(2.0, 0.5))
     assert heading == pytest.approx(math.pi / 2, abs=math.radians(2))
     assert pan_tilt[0] == pytest.approx(bearing_to_person() - math.pi / 2, abs=math.radians(8))
     assert [e["text"] for e in events if e["kind"] == "say"] == ["Hello!"]
 
 
-def test_perses_turns_its_whole_body(tmp_path):
-    heading, pan_tilt, _ = run_face_user("perses", tmp_path)
+def test_perses_turns_its_whole_body(standing_person):
+    heading, pan_tilt, _ = run_face_user("perses", standing_person(2.0, 0.5))
     assert pan_tilt is None                          # no pan-tilt head on a B21r
     assert heading == pytest.approx(bearing_to_person(), abs=math.radians(8))

@@ -6,24 +6,8 @@ import math
 from skills.motion import Goal
 from skills.skillset import open_skills
 
-SCENARIO = """
-[scenario]
-name = "standing"
-duration = 60.0
-robot = "robot_home"
-[[person]]
-id = "sam"
-appear = 0.0
-at = [0.0, 0.9]
-speed = 1.0
-steps = [ { pause = 100.0 } ]
-"""
-
-
-def test_keep_distance_approaches_the_user_and_slows_down_near_people(tmp_path):
-    scenario = tmp_path / "standing.toml"
-    scenario.write_text(SCENARIO)
-    skills = open_skills("perses", scenario=scenario, fast=True, seed=5)
+def test_keep_distance_approaches_the_user_and_slows_down_near_people(standing_person):
+    skills = open_skills("perses", scenario=standing_person(0.0, 0.9), fast=True, seed=5)
     clock = skills.hardware.clock
     try:
         for _ in range(10):                                   # confirm the person
