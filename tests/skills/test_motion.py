@@ -6,6 +6,7 @@ import math
 from skills.motion import Goal
 from skills.skillset import open_skills
 
+
 def test_keep_distance_approaches_the_user_and_slows_down_near_people(standing_person):
     skills = open_skills("perses", scenario=standing_person(0.0, 0.9), fast=True, seed=5)
     clock = skills.hardware.clock
