@@ -44,7 +44,7 @@ class Hardware:
                                    ("pan_tilt", self.head), ("touch_screen", self.screen)):
             if device is not None:
                 present.add(capability)
-        return frozenset(present & self.profile.capabilities | {"base"})
+        return frozenset(present & self.profile.capabilities)
 
     def sense(self) -> float:
         """Bring the world (if simulated) and the base up to now; returns robot time."""

@@ -7,13 +7,13 @@ that fit the sensors, L2 picks behavior realizations by the capabilities listed 
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from robots.exceptions import ProfileError, UnknownRobotError
+from robots.tomlfile import read_toml
 
 PROFILE_DIR = Path(__file__).with_name("profiles")
 
@@ -123,12 +123,7 @@ def load_profile(name_or_path: str | Path) -> RobotProfile:
         if not path.exists():
             raise UnknownRobotError(
                 f"unknown robot '{name_or_path}'; known robots: {', '.join(available_robots())}")
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise ProfileError(f"{path}: no such robot profile") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise ProfileError(f"{path}: not valid TOML: {exc}") from None
+    data, _ = read_toml(path, ProfileError, "robot profile")
     return _ProfileReader(path, data).profile()
 
 

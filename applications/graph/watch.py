@@ -58,8 +58,3 @@ class ApplicationWatcher:
             return [d for d in diagnostics if d.is_error] or diagnostics
         return application
 
-
-def state_after_reload(application: Application, current: str) -> str:
-    """The state to continue in after a swap: the current one when it still exists, else the
-    new application's initial state (the runtime then halts the active behavior first)."""
-    return current if current in application.states else application.initial

@@ -14,13 +14,13 @@ Places are stored with the heading in radians. Every error names the file and th
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from robots.exceptions import FloorError
+from robots.tomlfile import read_toml
 
 FLOOR_DIR = Path(__file__).resolve().parent.parent / "floors"
 
@@ -56,12 +56,7 @@ def load_floor(name_or_path: str | Path = "office") -> Floor:
         if not path.exists():
             raise FloorError(f"unknown floor '{name_or_path}'; known floors: "
                              f"{', '.join(available_floors())}")
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise FloorError(f"{path}: no such floor file") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise FloorError(f"{path}: not valid TOML: {exc}") from None
+    data, _ = read_toml(path, FloorError, "floor file")
     return parse_floor(data, path)
 
 

@@ -9,12 +9,12 @@ from __future__ import annotations
 
 import math
 import re
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Union
 
 from robots.exceptions import ScenarioError
+from robots.tomlfile import read_toml
 
 Point = Union[str, tuple[float, float]]          # a place name or (x, y) in metres
 Pose = Union[str, tuple[float, float, float]]    # a place name or (x, y, heading rad)
@@ -88,16 +88,7 @@ class Scenario:
 def load_scenario(path: str | Path) -> Scenario:
     """Read and check a scenario file; a ScenarioError names the file, line and field."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ScenarioError(f"{path}: no such scenario file") from None
-    except OSError as exc:
-        raise ScenarioError(f"{path}: cannot read: {exc}") from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ScenarioError(f"{path}: not valid TOML: {exc}") from None
+    data, text = read_toml(path, ScenarioError, "scenario file")
     return parse_scenario(data, path, _person_lines(text))
 
 

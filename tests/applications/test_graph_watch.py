@@ -2,10 +2,12 @@
 from __future__ import annotations
 
 import os
+from types import SimpleNamespace
 from pathlib import Path
 
 from applications.graph.model import Application
-from applications.graph.watch import ApplicationWatcher, state_after_reload
+from applications.graph.watch import ApplicationWatcher
+from applications.statemachine import StateMachine
 
 GRAPH = """<application name="w" initial="A">
   <state name="A" behavior="Idle"><transition to="B" when="people.count >= 1"/></state>
@@ -28,8 +30,10 @@ def test_watcher_reports_nothing_until_a_file_changes(tmp_path: Path) -> None:
     reloaded = watcher.poll()
     assert isinstance(reloaded, Application) and set(reloaded.states) == {"A", "C"}
     assert watcher.poll() is None
-    assert state_after_reload(reloaded, "A") == "A"
-    assert state_after_reload(reloaded, "B") == "A"
+    in_a, in_b = StateMachine(reloaded, 0.0), StateMachine(reloaded, 0.0)
+    in_b.state = SimpleNamespace(name="B")          # a state the new version no longer has
+    assert in_a.replace(reloaded, 1.0) is False and in_a.state.name == "A"
+    assert in_b.replace(reloaded, 1.0) is True and in_b.state.name == "A"
 
 
 def test_an_edit_with_errors_returns_its_errors_once(tmp_path: Path) -> None:
