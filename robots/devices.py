@@ -51,17 +51,29 @@ class PanTiltHead(ABC):
 
 
 class TouchScreen(ABC):
+    """A touch screen: one prompt at a time (a question with answer buttons, optionally a text
+    field), an information screen (text and an optional picture), and captions of speech."""
+
     @abstractmethod
-    def show(self, prompt_id: str, text: str, buttons: tuple[str, ...]) -> None:
-        """Show a text with answer buttons; a new call replaces the old prompt."""
+    def show(self, prompt_id: str, text: str, buttons: tuple[str, ...],
+             typed: bool = False) -> None:
+        """Show a question with answer buttons (and a text field when `typed`); a new call
+        replaces the old prompt. A press comes back from `take_press` as (prompt_id, value)."""
 
     @abstractmethod
     def clear(self) -> None:
-        """Show nothing."""
+        """Show nothing (the idle screen)."""
 
     @abstractmethod
     def take_press(self) -> tuple[str, str] | None:
-        """The (prompt_id, button) pressed since the last call, or None."""
+        """The (prompt_id, button or typed text) given since the last call, or None."""
+
+    def display(self, text: str, picture: str | None = None) -> None:
+        """Show information without answers: a text and optionally a picture (a file path).
+        Replaces any prompt. Screens that cannot show pictures show the text only."""
+
+    def caption(self, text: str) -> None:
+        """Show what the robot is saying as a caption (for people who cannot hear it)."""
 
 
 class Speaker(ABC):

@@ -84,8 +84,15 @@ class SimTouchScreen(TouchScreen):
     def __init__(self, world: World) -> None:
         self.world = world
 
-    def show(self, prompt_id: str, text: str, buttons: tuple[str, ...]) -> None:
-        self.world.screen.show(prompt_id, text, tuple(buttons), self.world.t)
+    def show(self, prompt_id: str, text: str, buttons: tuple[str, ...],
+             typed: bool = False) -> None:
+        self.world.screen.show(prompt_id, text, tuple(buttons), self.world.t, typed)
+
+    def display(self, text: str, picture: str | None = None) -> None:
+        self.world.screen.display(text, picture)
+
+    def caption(self, text: str) -> None:
+        self.world.screen.caption = text
 
     def clear(self) -> None:
         self.world.screen.clear()

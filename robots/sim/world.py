@@ -31,17 +31,28 @@ class ScreenState:
     """What the touch screen shows and the presses not yet taken by the robot."""
     prompt: tuple[str, str, tuple[str, ...]] | None = None   # (prompt_id, text, buttons)
     shown_at: float = 0.0
+    typed: bool = False                                     # the prompt takes typed text too
+    info: tuple[str, str | None] | None = None             # (text, picture) without answers
+    caption: str = ""                                       # what the robot says, as text
     presses: deque = field(default_factory=deque)           # of (prompt_id, button)
 
-    def show(self, prompt_id: str, text: str, buttons: tuple[str, ...], t: float) -> None:
+    def show(self, prompt_id: str, text: str, buttons: tuple[str, ...], t: float,
+             typed: bool = False) -> None:
         """Show a prompt; showing the same prompt again keeps its original time."""
         prompt = (str(prompt_id), str(text), tuple(str(b) for b in buttons))
+        self.info = None
+        self.typed = bool(typed)
         if prompt != self.prompt:
             self.prompt = prompt
             self.shown_at = t
 
+    def display(self, text: str, picture: str | None = None) -> None:
+        self.prompt = None
+        self.info = (str(text), picture)
+
     def clear(self) -> None:
         self.prompt = None
+        self.info = None
 
     def press(self, prompt_id: str, button: str) -> None:
         self.presses.append((prompt_id, button))

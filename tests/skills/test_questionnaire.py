@@ -11,7 +11,7 @@ class FakeScreen(TouchScreen):
         self.shown = None
         self.presses = []
 
-    def show(self, prompt_id, text, buttons):
+    def show(self, prompt_id, text, buttons, typed=False):
         self.shown = (prompt_id, text, buttons)
 
     def clear(self):
