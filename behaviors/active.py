@@ -27,10 +27,18 @@ class ActiveBehavior:
         return realization.name
 
     def tick(self) -> Status | None:
+        """Tick the tree once; a tree that has finished (SUCCESS or FAILURE) is not ticked again,
+        so a finite activity (say a text) happens once per state entry."""
         if self.root is None:
             return None
-        self.root.tick_once()
+        if self.root.status not in (Status.SUCCESS, Status.FAILURE):
+            self.root.tick_once()
         return self.root.status
+
+    @property
+    def status(self) -> str | None:
+        """The tree's status name (RUNNING, SUCCESS, FAILURE, INVALID), None without a tree."""
+        return self.root.status.name if self.root is not None else None
 
     def halt(self) -> None:
         if self.root is not None and self.root.status != Status.INVALID:

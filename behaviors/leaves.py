@@ -90,6 +90,33 @@ class StandStill(SkillLeaf):
         return Status.RUNNING
 
 
+class HoldStill(SkillLeaf):
+    """Stop the base (drop any motion goal) and succeed at once: the start of a finite activity."""
+
+    def __init__(self, ctx: BehaviorContext) -> None:
+        super().__init__("HoldStill", ctx)
+
+    def update(self) -> Status:
+        self.skills.motion.cancel(self.now)
+        return Status.SUCCESS
+
+
+class ShowInfo(SkillLeaf):
+    """Put a text (and a picture) on the touch screen; it stays until the behavior ends."""
+
+    def __init__(self, ctx: BehaviorContext, text: str, picture: str | None) -> None:
+        super().__init__(f"Show '{text[:24]}'", ctx)
+        self.text, self.picture = text, picture
+
+    def update(self) -> Status:
+        self.skills.require("questionnaire").screen.display(self.text, self.picture)
+        return Status.SUCCESS
+
+    def finish(self, new_status: Status) -> None:
+        if new_status == Status.INVALID:
+            self.skills.questionnaire.screen.clear()
+
+
 class LookAtUser(SkillLeaf):
     """Keep the pan-tilt head on the user; never finishes."""
 
@@ -135,14 +162,17 @@ class ResetSurvey(SkillLeaf):
 
 
 class LoadQuestions(SkillLeaf):
-    """Hand the dialog's questions to the questionnaire (a new set starts a new session)."""
+    """Hand the dialog's questions to the questionnaire; `fresh` asks them again even when this
+    person answered them before (a survey resumes instead)."""
 
-    def __init__(self, ctx: BehaviorContext, questions: tuple[Question, ...]) -> None:
+    def __init__(self, ctx: BehaviorContext, questions: tuple[Question, ...],
+                 fresh: bool = False) -> None:
         super().__init__(f"LoadQuestions ({len(questions)})", ctx)
         self.questions = questions
+        self.fresh = fresh
 
     def update(self) -> Status:
-        self.skills.require("questionnaire").load(self.questions, self.now)
+        self.skills.require("questionnaire").load(self.questions, self.now, self.fresh)
         return Status.SUCCESS
 
 

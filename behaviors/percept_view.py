@@ -1,14 +1,14 @@
-"""Builds the read-only percept view L3 conditions read, from the skills' blackboard entries.
+"""Builds the read-only percept view L3 conditions read, from every percept provider.
 
 Stale entries count as absent. `people.new` and `user.left` are relative to the moment the
-active macro-behavior started, i.e. to when the current state was entered.
+active macro-behavior started, i.e. to when the current state was entered. A provider whose
+`needs` the robot lacks contributes nothing (its percepts read as absent).
 """
 from __future__ import annotations
 
-from behaviors.percepts import PerceptView
+from behaviors.percepts import PerceptContext, PerceptView, percept_catalog
 
 STALE_AFTER = 0.5          # s: older blackboard entries are treated as absent
-APPROACHING = 0.1          # m/s towards the robot
 
 
 class PerceptTracker:
@@ -22,31 +22,16 @@ class PerceptTracker:
         self.since = now
         self.users_seen = set()
 
-    def view(self, skills, now: float) -> PerceptView:
-        bb = skills.blackboard
-
-        def fresh(key, default=None):
-            return bb.value(key, default, now=now, max_age=STALE_AFTER)
-
-        tracks = fresh("people/tracks", ())
-        user = fresh("people/user")
-        if user is not None:
-            self.users_seen.add(user.id)
-        ids = {t.id for t in tracks}
-        approach = fresh("people/user_approach")
-        progress = bb.value("survey/progress")
-        motion = bb.value("skills/motion/status")
-        values = {
-            "people.count": len(tracks),
-            "people.new": sum(1 for t in tracks if (t.confirmed_at or t.born) >= self.since),
-            "user.present": user is not None,
-            "user.distance": fresh("people/user_distance"),
-            "user.approaching": approach is not None and approach > APPROACHING,
-            "user.left": bool(self.users_seen - ids),
-            "survey.done": bool(progress and progress.closed),
-            "survey.answered": progress.answered if progress else 0,
-            "speech.busy": bool(fresh("speech/busy", False)),
-            "motion.failed": bool(motion and motion.failed),
-            "robot.fault": not fresh("robot/link", False),
-        }
+    def view(self, skills, now: float, behavior_status: str | None = None) -> PerceptView:
+        ctx = PerceptContext(skills, now, self.since, self.users_seen, STALE_AFTER,
+                             behavior_status)
+        values = {}
+        capabilities = skills.capabilities
+        for provider in percept_catalog().providers:
+            names = {s.name for s in provider.specs}
+            if provider.needs <= capabilities:
+                read = provider.read(ctx)
+                values.update(read)
+                names -= set(read)
+            values.update(dict.fromkeys(names))
         return PerceptView(values, now)

@@ -1,15 +1,24 @@
-"""The percepts and skill-status names that application conditions may read, with type, unit and range.
+"""The percepts application conditions may read: declared with type, unit and range by plugins.
 
-L3 never reads the blackboard: it reads a `PerceptView`, a read-only mapping from these names to
-values, built by L2 each tick. The declarations let the application checker reject an unknown
-name, a type mismatch or a unit mismatch before the robot moves. A value of `None` means
-*absent* (no user, stale data): a comparison with an absent value is false.
+L3 never reads the blackboard: it reads a `PerceptView`, a read-only mapping from percept names
+to values, built by L2 each tick. Percepts come from *providers*, registered by entry point in
+the group `interbot.percepts` (the bundled ones in `behaviors/providers/`); a skill or behavior
+package of one's own adds percepts the same way. The declarations let the application checker
+reject an unknown name, a type, unit or value mismatch before the robot moves. A value of `None`
+means *absent* (no user, stale data): a comparison with an absent value is false.
 """
 from __future__ import annotations
 
+import logging
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any, Iterator
+from functools import cache
+from importlib.metadata import entry_points
+from typing import Any, Callable, Iterator
+
+log = logging.getLogger("interbot.percepts")
+
+GROUP = "interbot.percepts"
 
 
 @dataclass(frozen=True)
@@ -19,33 +28,85 @@ class PerceptSpec:
     unit: str | None = None                    # "m", "s", "rad" or None for a plain number
     range: tuple[float, float] | None = None   # inclusive; None when unbounded or unknown
     doc: str = ""
+    values: tuple[str, ...] | None = None      # a str percept's possible values (None: any)
+    provider: str = ""                         # the plugin that declares it
 
 
-def _spec(name: str, type_: str, unit: str | None = None,
-          range_: tuple[float, float] | None = None, doc: str = "") -> PerceptSpec:
-    return PerceptSpec(name, type_, unit, range_, doc)
+def spec(name: str, type_: str, unit: str | None = None,
+         range_: tuple[float, float] | None = None, doc: str = "",
+         values: tuple[str, ...] | None = None) -> PerceptSpec:
+    return PerceptSpec(name, type_, unit, range_, doc, values)
 
 
-PERCEPTS: dict[str, PerceptSpec] = {spec.name: spec for spec in (
-    _spec("people.count", "int", None, (0, 1000), "people tracked around the robot now"),
-    _spec("people.new", "int", None, (0, 1000),
-          "people tracked now whose track was confirmed after the active macro-behavior started, "
-          "i.e. since the current state was entered"),
-    _spec("user.present", "bool", doc="an interaction partner is selected among the tracked people"),
-    _spec("user.distance", "float", "m", (0.0, 30.0),
-          "distance from the robot's centre to the user; absent when there is no user"),
-    _spec("user.approaching", "bool", doc="the user's speed towards the robot exceeds 0.1 m/s"),
-    _spec("user.left", "bool",
-          doc="the user selected during the active macro-behavior is no longer tracked"),
-    _spec("survey.done", "bool", doc="every survey question has an answer"),
-    _spec("survey.answered", "int", None, (0, 1000), "survey questions answered so far"),
-    _spec("speech.busy", "bool", doc="the robot is still speaking"),
-    _spec("motion.failed", "bool", doc="the motion skill reported failure"),
-    _spec("robot.fault", "bool", doc="the base reported a fault (link down, stale sensors, stall)"),
-)}
+@dataclass(frozen=True)
+class PerceptProvider:
+    """A plugin's percepts: their declarations and the function that reads them each tick.
+
+    `read(ctx)` returns name -> value for (a subset of) `specs`; names it leaves out are absent.
+    `needs` are the robot capabilities without which the percepts are always absent."""
+    name: str
+    specs: tuple[PerceptSpec, ...]
+    read: Callable[["PerceptContext"], Mapping[str, Any]]
+    needs: frozenset[str] = frozenset()
+
+
+@dataclass
+class PerceptContext:
+    """What a provider reads from: the robot's skills, the time, and the moment the active
+    macro-behavior started (the state's entry) with the users seen since then."""
+    skills: Any
+    now: float
+    since: float
+    users_seen: set
+    stale_after: float
+    behavior_status: str | None = None    # the active tree's last status: RUNNING/SUCCESS/…
+
+    def fresh(self, key: str, default: Any = None) -> Any:
+        """A blackboard value not older than `stale_after`, else `default` (stale = absent)."""
+        return self.skills.blackboard.value(key, default, now=self.now, max_age=self.stale_after)
+
 
 TIME_IN_STATE = PerceptSpec("time_in_state", "float", "s", (0.0, 1e9),
-                            "seconds since the current state was entered (provided by L3)")
+                            "seconds since the current state was entered (provided by L3)",
+                            provider="runtime")
+
+
+@dataclass(frozen=True)
+class PerceptCatalog:
+    providers: tuple[PerceptProvider, ...]
+    specs: dict[str, PerceptSpec]
+    problems: dict[str, str]               # plugin name -> why it did not load
+
+
+@cache
+def percept_catalog() -> PerceptCatalog:
+    """Every percept provider by entry point; one that fails to load is reported, not fatal."""
+    providers, problems = [], {}
+    for ep in sorted(entry_points(group=GROUP), key=lambda e: e.name):
+        try:
+            provider = ep.load()
+            if not isinstance(provider, PerceptProvider):
+                raise TypeError(f"{ep.value} is a {type(provider).__name__}, not a PerceptProvider")
+        except Exception as exc:   # a broken plugin disables only its own percepts
+            problems[ep.name] = f"{type(exc).__name__}: {exc}"
+            log.warning("percept plugin '%s' (%s) failed to load: %s", ep.name, ep.value, exc)
+            continue
+        providers.append(provider)
+    specs: dict[str, PerceptSpec] = {}
+    for provider in providers:
+        for item in provider.specs:
+            if item.name in specs:
+                problems[provider.name] = (f"declares '{item.name}', already declared by "
+                                           f"'{specs[item.name].provider}'")
+                continue
+            specs[item.name] = PerceptSpec(item.name, item.type, item.unit, item.range, item.doc,
+                                           item.values, provider.name)
+    return PerceptCatalog(tuple(providers), specs, problems)
+
+
+def percept_specs() -> dict[str, PerceptSpec]:
+    """Every declared percept by name (time_in_state excluded: L3 provides it)."""
+    return dict(percept_catalog().specs)
 
 
 class PerceptView(Mapping[str, Any]):

@@ -6,6 +6,7 @@ capabilities it needs; the first realization whose needs the robot meets is the 
 """
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass, field
 from functools import cache
 from importlib.metadata import entry_points
@@ -14,6 +15,9 @@ from typing import Any, Callable
 import py_trees
 
 from behaviors.exceptions import BehaviorError, UnknownBehaviorError, UnsupportedBehaviorError
+from behaviors.parameters import ParameterSpec
+
+log = logging.getLogger("interbot.behaviors")
 
 GROUP = "interbot.behaviors"
 
@@ -30,7 +34,8 @@ class BehaviorSpec:
     name: str
     description: str
     realizations: tuple[Realization, ...]
-    parameters: dict[str, str] = field(default_factory=dict)   # dialog parameter → meaning
+    parameters: dict[str, ParameterSpec] = field(default_factory=dict)
+    records_answers: bool = False       # asks questions whose answers the application stores
 
     @property
     def requires(self) -> frozenset[str]:
@@ -53,32 +58,48 @@ class BehaviorSpec:
 
 @dataclass
 class BehaviorContext:
-    """What a subtree factory gets: the robot's skills (None when only drawing) and dialog params."""
+    """What a subtree factory gets: the robot's skills (None when only drawing) and the
+    parameters the application gave (checked against the behavior's declaration beforehand)."""
     skills: Any
     params: dict[str, Any]
 
     def param(self, key: str, default: Any) -> Any:
+        """The application's value for `key`, or `default` when it gave none."""
         value = self.params.get(key)
-        return default if value in (None, "", [], ()) else value
+        return default if value is None else value
 
 
 @cache
-def behavior_specs() -> dict[str, BehaviorSpec]:
-    """Every registered macro-behavior by name."""
-    specs = {}
+def _load() -> tuple[dict[str, BehaviorSpec], dict[str, str]]:
+    specs, problems = {}, {}
     for ep in entry_points(group=GROUP):
         try:
             spec = ep.load()
-        except Exception as exc:
-            raise BehaviorError(f"behavior plugin '{ep.name}' ({ep.value}) failed to load: {exc}") from exc
-        if not isinstance(spec, BehaviorSpec):
-            raise BehaviorError(f"behavior plugin '{ep.name}' ({ep.value}) is not a BehaviorSpec")
+            if not isinstance(spec, BehaviorSpec):
+                raise TypeError(f"{ep.value} is a {type(spec).__name__}, not a BehaviorSpec")
+        except Exception as exc:   # a broken plugin disables only its own behavior
+            problems[ep.name] = f"{type(exc).__name__}: {exc}"
+            log.warning("behavior plugin '%s' (%s) failed to load: %s", ep.name, ep.value, exc)
+            continue
         specs[ep.name] = spec
-    return specs
+    return specs, problems
+
+
+def behavior_specs() -> dict[str, BehaviorSpec]:
+    """Every registered macro-behavior that loaded, by name."""
+    return dict(_load()[0])
+
+
+def behavior_problems() -> dict[str, str]:
+    """Behavior plugins that failed to load: name -> why."""
+    return dict(_load()[1])
 
 
 def get_behavior(name: str) -> BehaviorSpec:
-    specs = behavior_specs()
+    specs, problems = _load()
+    if name in problems:
+        raise UnknownBehaviorError(f"behavior '{name}' is not available: its plugin failed to "
+                                   f"load ({problems[name]})")
     if name not in specs:
         raise UnknownBehaviorError(f"unknown behavior '{name}'; registered behaviors: "
                                    f"{', '.join(sorted(specs))}")

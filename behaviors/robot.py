@@ -64,7 +64,7 @@ class Robot:
 
     def sense(self) -> PerceptView:
         now = self.skills.sense()
-        return self.percepts.view(self.skills, now)
+        return self.percepts.view(self.skills, now, self.active.status)
 
     def activate(self, behavior: str, params: dict[str, Any] | None = None) -> str:
         """Make `behavior` the active one (halting the old tree first); returns the realization."""

@@ -14,9 +14,22 @@ from skills.status import IDLE, RUNNING, SUCCEEDED
 
 @dataclass(frozen=True)
 class Question:
+    """A question: its id, text, the button labels, the value each button records (the label
+    itself where no value is given) and whether typed text is also an answer."""
     id: str
     text: str
     buttons: tuple[str, ...]
+    values: tuple[str, ...] = ()
+    typed: bool = False
+
+    def value_of(self, given: str) -> str | None:
+        """The answer a press or typed text means, or None when it is no answer to this question."""
+        if given in self.buttons:
+            index = self.buttons.index(given)
+            return self.values[index] if index < len(self.values) and self.values[index] else given
+        if self.typed and given.strip():
+            return " ".join(given.split())
+        return None
 
 
 @dataclass(frozen=True)
@@ -25,6 +38,8 @@ class SurveyProgress:
     total: int
     asking: str | None = None
     closed: bool = False                   # the session was closed (thanks said) after the last answer
+    last: tuple[str, str] | None = None    # the newest (question id, answer) of the session
+    pending: int = 0                       # questions of the current set still unanswered
 
     @property
     def answered(self) -> int:
@@ -32,7 +47,7 @@ class SurveyProgress:
 
     @property
     def done(self) -> bool:
-        return self.total > 0 and len(self.answers) >= self.total
+        return self.total > 0 and self.pending == 0
 
 
 class Questionnaire(Skill):
@@ -45,16 +60,26 @@ class Questionnaire(Skill):
         self.answers: dict[str, str] = {}
         self.asking: Question | None = None
         self.closed = False
+        self.last: tuple[str, str] | None = None
         self.session = 0
 
-    def load(self, questions: tuple[Question, ...], now: float) -> None:
-        """Use these questions; a different set starts a new session."""
+    def load(self, questions: tuple[Question, ...], now: float, fresh: bool = False) -> None:
+        """Ask these questions next. Answers of the session are kept (a called-back user
+        resumes, a later state can read an earlier answer); `fresh` forgets the answers to
+        these questions, so they are asked again."""
         if questions != self.questions:
             self.questions = questions
-            self.reset(now)
+            self.closed = False
+        if fresh:
+            for question in questions:
+                self.answers.pop(question.id, None)
+            self.closed = False
+        self.cancel(now)
 
     def reset(self, now: float) -> None:
+        """A new person: forget every answer and start a new session."""
         self.answers = {}
+        self.last = None
         self.closed = False
         self.session += 1
         self.cancel(now)
@@ -73,7 +98,7 @@ class Questionnaire(Skill):
             self.set_status(SUCCEEDED, now)
             return None
         self.asking = question
-        self.screen.show(question.id, question.text, question.buttons)
+        self.screen.show(question.id, question.text, question.buttons, question.typed)
         self.events.emit(now, "ask", question=question.id, text=question.text,
                          buttons=list(question.buttons))
         self.set_status(RUNNING, now)
@@ -93,18 +118,23 @@ class Questionnaire(Skill):
         self._publish(now)
 
     def _record(self, press: tuple[str, str], now: float) -> None:
-        prompt_id, button = press
-        if self.asking is None or prompt_id != self.asking.id or button not in self.asking.buttons:
+        prompt_id, given = press
+        if self.asking is None or prompt_id != self.asking.id:
             return   # a stale press, or one for a prompt no longer shown: ignore it
-        self.answers[prompt_id] = button
-        self.events.emit(now, "answer", question=prompt_id, answer=button, session=self.session)
+        answer = self.asking.value_of(given)
+        if answer is None:
+            return   # not one of the answers on the screen
+        self.answers[prompt_id] = answer
+        self.last = (prompt_id, answer)
+        self.events.emit(now, "answer", question=prompt_id, answer=answer, session=self.session)
         self.asking = None
         self.screen.clear()
         self.set_status(SUCCEEDED, now)
 
     def progress(self) -> SurveyProgress:
         return SurveyProgress(tuple(self.answers.items()), len(self.questions),
-                              self.asking.id if self.asking else None, self.closed)
+                              self.asking.id if self.asking else None, self.closed, self.last,
+                              sum(1 for q in self.questions if q.id not in self.answers))
 
     def _publish(self, now: float) -> None:
         self.write("survey/progress", self.progress(), now)

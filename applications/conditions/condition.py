@@ -54,9 +54,10 @@ class CompiledCondition:
 
 
 def default_declarations() -> dict[str, Any]:
-    """The percepts L2 declares, plus time_in_state."""
-    from behaviors.percepts import PERCEPTS, TIME_IN_STATE as TIME_SPEC
-    return {**PERCEPTS, TIME_IN_STATE: TIME_SPEC}
+    """The percepts L2's plugins declare, plus time_in_state."""
+    from behaviors.percepts import TIME_IN_STATE as TIME_SPEC
+    from behaviors.percepts import percept_specs
+    return {**percept_specs(), TIME_IN_STATE: TIME_SPEC}
 
 
 def compile_condition(text: str, location: Any | None = None,

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from behaviors.leaves import StandStill
 from behaviors.library.common import repeated_call, together
+from behaviors.parameters import ParameterSpec
 from behaviors.registry import BehaviorContext, BehaviorSpec, Realization
 
 CALL = "Please come back, the survey is not finished yet!"
@@ -17,5 +18,5 @@ CALL_BACK = BehaviorSpec(
     name="CallBack",
     description="Call the user back to finish the survey.",
     realizations=(Realization("default", frozenset({"speech_out"}), build),),
-    parameters={"say": "the call"},
+    parameters={"say": ParameterSpec("text", "the call, repeated every 8 s")},
 )

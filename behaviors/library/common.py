@@ -5,7 +5,10 @@ import py_trees
 from py_trees.common import ParallelPolicy
 
 from behaviors.leaves import LookAtUser, Pause, Say, StandStill, TurnToUser
+from behaviors.parameters import ParameterSpec
 from behaviors.registry import BehaviorContext, Realization
+
+SAY = ParameterSpec("text", "what the robot says")
 
 HEAD = frozenset({"pan_tilt"})
 BODY = frozenset()
@@ -23,6 +26,16 @@ def while_facing_user(name: str, ctx: BehaviorContext, with_head: bool,
     if with_head:
         children.append(StandStill(ctx))
     return together(name, *children)
+
+
+def facing_user_until_done(name: str, ctx: BehaviorContext, with_head: bool,
+                           activity: py_trees.behaviour.Behaviour) -> py_trees.composites.Parallel:
+    """Run `activity` while facing the user; done when the activity is (facing then stops)."""
+    children = [activity, orient(ctx, with_head)]
+    if with_head:
+        children.append(StandStill(ctx))
+    return py_trees.composites.Parallel(
+        name, ParallelPolicy.SuccessOnSelected(children=[activity], synchronise=True), children)
 
 
 def together(name: str, *children: py_trees.behaviour.Behaviour) -> py_trees.composites.Parallel:

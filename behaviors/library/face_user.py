@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from behaviors.leaves import Say
 from behaviors.library.common import head_and_body, while_facing_user
+from behaviors.parameters import ParameterSpec
 from behaviors.registry import BehaviorContext, BehaviorSpec
 
 GREETING = "Hello! Please come closer."
@@ -16,5 +17,5 @@ FACE_USER = BehaviorSpec(
     name="FaceUser",
     description="Greet the user and keep facing them.",
     realizations=head_and_body(frozenset({"speech_out"}), build),
-    parameters={"say": "the greeting"},
+    parameters={"say": ParameterSpec("text", "the greeting")},
 )

@@ -9,6 +9,7 @@ import py_trees
 
 from behaviors.leaves import AskQuestions, CloseSurvey, LoadQuestions, OnlyIf, Say
 from behaviors.library.common import head_and_body, while_facing_user
+from behaviors.parameters import ParameterSpec
 from behaviors.registry import BehaviorContext, BehaviorSpec
 from skills.questionnaire import Question
 
@@ -17,7 +18,9 @@ THANKS = "Thank you very much. Have a nice day!"
 
 
 def questions_from(params: dict) -> tuple[Question, ...]:
-    return tuple(Question(str(q["id"]), str(q["text"]), tuple(str(b) for b in q["buttons"]))
+    """The questions of the `questions` parameter (dicts as the application's dialog gives them)."""
+    return tuple(Question(str(q["id"]), str(q["text"]), tuple(str(b) for b in q["buttons"]),
+                          tuple(str(v) for v in q.get("values", ())), bool(q.get("typed")))
                  for q in params.get("questions", ()))
 
 
@@ -44,6 +47,9 @@ SURVEY = BehaviorSpec(
     name="Survey",
     description="Ask the survey questions on the touch screen while facing the user.",
     realizations=head_and_body(frozenset({"touch_screen", "speech_out"}), build),
-    parameters={"say": "the introduction", "questions": "the questions with their buttons",
-                "closing": "the thanks at the end"},
+    parameters={"say": ParameterSpec("text", "the introduction, said once to a new user"),
+                "questions": ParameterSpec("questions", "the questions with their answers",
+                                           required=True),
+                "closing": ParameterSpec("text", "the thanks at the end")},
+    records_answers=True,
 )

@@ -7,7 +7,7 @@ import pytest
 from applications.conditions import compile_condition
 from applications.conditions.analysis import (EXCLUSIVE, OVERLAP, UNDECIDED, can_be_true,
                                               can_both_be_true)
-from behaviors.percepts import PERCEPTS, TIME_IN_STATE, PerceptSpec
+from behaviors.percepts import TIME_IN_STATE, PerceptSpec, percept_specs
 
 OVERLAPPING = [
     ("user.distance < 0.75m", "not user.present or time_in_state > 15s"),
@@ -57,7 +57,7 @@ def test_the_design_example_witness_reads_like_the_paper() -> None:
 
 
 def test_a_percept_without_a_range_cannot_be_decided() -> None:
-    declarations = {**PERCEPTS, "time_in_state": TIME_IN_STATE,
+    declarations = {**percept_specs(), "time_in_state": TIME_IN_STATE,
                     "crowd.noise": PerceptSpec("crowd.noise", "float", None, None)}
     a = compile_condition("crowd.noise > 10", declarations=declarations)
     b = compile_condition("crowd.noise < 20", declarations=declarations)
@@ -69,7 +69,7 @@ def test_a_percept_without_a_range_cannot_be_decided() -> None:
 
 
 def test_two_percepts_compared_with_each_other_cannot_be_proved_exclusive() -> None:
-    declarations = {**PERCEPTS, "time_in_state": TIME_IN_STATE,
+    declarations = {**percept_specs(), "time_in_state": TIME_IN_STATE,
                     "people.left": PerceptSpec("people.left", "int", None, (0, 1000))}
     a = compile_condition("people.count > people.left", declarations=declarations)
     b = compile_condition("people.count < people.left", declarations=declarations)

@@ -26,7 +26,7 @@ def perceive(writer, t: float, tracks: tuple, user: Track | None) -> None:
 
 def test_stale_perception_reads_as_absent():
     bb = Blackboard("test")
-    skills = SimpleNamespace(blackboard=bb)
+    skills = SimpleNamespace(blackboard=bb, capabilities=frozenset({"touch_screen"}))
     writer = bb.writer("perception")
     alice = track(1, 0.0, 0.3)
     perceive(writer, 10.0, (alice,), alice)
@@ -41,7 +41,7 @@ def test_stale_perception_reads_as_absent():
 
 def test_new_people_and_left_user_count_from_the_state_entry():
     bb = Blackboard("test")
-    skills = SimpleNamespace(blackboard=bb)
+    skills = SimpleNamespace(blackboard=bb, capabilities=frozenset({"touch_screen"}))
     writer = bb.writer("perception")
     early, late = track(1, 0.0, 0.3), track(2, 5.0, 5.3)
     tracker = PerceptTracker()

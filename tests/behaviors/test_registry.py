@@ -2,7 +2,7 @@ import pytest
 
 from behaviors import robot_capabilities
 from behaviors.exceptions import UnknownBehaviorError, UnsupportedBehaviorError
-from behaviors.percepts import PERCEPTS
+from behaviors.percepts import percept_specs
 from behaviors.percept_view import PerceptTracker
 from behaviors.registry import behavior_specs, get_behavior
 from behaviors.drawing import render_tree
@@ -38,6 +38,6 @@ def test_the_percept_view_offers_exactly_the_declared_percepts(tmp_path):
         view = PerceptTracker().view(robot.skills, robot.now())
     finally:
         robot.close()
-    assert set(view) == set(PERCEPTS)
+    assert set(view) == set(percept_specs())
     with pytest.raises(TypeError):
         view["people.count"] = 3      # read-only

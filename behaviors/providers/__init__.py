@@ -1,0 +1,1 @@
+"""The bundled percept providers (entry-point group `interbot.percepts`), one module each."""
