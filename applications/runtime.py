@@ -17,8 +17,8 @@ from typing import Any, Callable
 
 from applications.database import AnswerDatabase
 from applications.dialog import Dialog, load_dialog
-from applications.exceptions import ApplicationError
 from applications.graph.model import Application
+from applications.params import state_params
 from applications.statemachine import StateMachine
 from applications.trace import TraceWriter
 from behaviors.robot import Robot
@@ -62,7 +62,7 @@ class Run:
                  duration: float | None = None,
                  trace: TraceWriter | None = None, database: AnswerDatabase | None = None,
                  echo: Callable[[str], None] | None = print,
-                 reload: Callable[[], Application | list | None] | None = None) -> None:
+                 reload: Callable[[], Any] | None = None) -> None:
         self.app = app
         self.robot = robot
         self.dialog: Dialog = dialog or load_dialog(app.folder / "dialog.xml", app.states)
@@ -89,8 +89,12 @@ class Run:
             self._hot_reload(machine, percepts, now)
             fired = machine.step(percepts, now)
             if fired is not None:
-                self._emit({"t": round(now, 3), "kind": "transition", "from": fired.source,
-                            "to": fired.target, "when": fired.transition.when})
+                event = {"t": round(now, 3), "kind": "transition", "from": fired.source,
+                         "to": fired.target, "when": fired.transition.when}
+                part = fired.transition.condition.fired_part(percepts, fired.elapsed)
+                if part is not None:
+                    event["because"] = part
+                self._emit(event)
                 self.summary.transitions.append((now, fired.source, fired.target))
                 self._activate(machine, percepts)
             robot.act()
@@ -111,8 +115,16 @@ class Run:
         state = machine.state
         choice = self.dialog.choose(state.name, state.behavior, percepts)
         if choice.overridden:
-            self._say_line(f"dialog manager: {choice.behavior} instead of {choice.suggested}")
-        self.robot.activate(choice.behavior, choice.params)
+            rule = choice.rule
+            self._say_line(f"dialog manager: {choice.behavior} instead of {choice.suggested} "
+                           f"(rule at {rule.location.file.rsplit('/', 1)[-1]}:"
+                           f"{rule.location.line}: {rule.condition.text})")
+        lookup = self.database.lookup if self.database is not None else None
+        params, notes = state_params(state, choice.behavior, choice.params, percepts,
+                                     self.app.folder, lookup)
+        for note in notes:
+            self._say_line(f"  note: {note}")
+        self.robot.activate(choice.behavior, params)
 
     def _keep_time(self, next_tick: float) -> None:
         behind = self.robot.now() - next_tick
@@ -132,15 +144,9 @@ class Run:
             for problem in result:
                 self._say_line(f"  {problem}")
             return
-        try:
-            dialog = load_dialog(result.folder / "dialog.xml", result.states)
-        except ApplicationError as exc:
-            self._say_line("the edited dialog has errors; carrying on with the running one:")
-            self._say_line(f"  {exc}")
-            return
         old_state = machine.state.name
-        self.app, self.dialog = result, dialog
-        moved = machine.replace(result, now)
+        self.app, self.dialog = result.app, result.dialog
+        moved = machine.replace(result.app, now)
         self._emit({"t": round(now, 3), "kind": "reload", "state": machine.state.name})
         if moved:
             self._emit({"t": round(now, 3), "kind": "transition", "from": old_state,
@@ -179,7 +185,8 @@ def _describe(event: dict[str, Any], robot: str) -> str | None:
     if kind == "transition":
         if event["from"] is None:
             return f"{t} start in {event['to']}"
-        return f"{t} {event['from']} -> {event['to']}   ({event['when']})"
+        because = f"; this part held: {event['because']}" if event.get("because") else ""
+        return f"{t} {event['from']} -> {event['to']}   ({event['when']}{because})"
     if kind == "behavior":
         return f"{t}   behavior {event['name']} ({event['realization']})"
     if kind == "say":

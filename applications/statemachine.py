@@ -19,6 +19,7 @@ class Fired:
     target: str
     transition: Transition
     t: float
+    elapsed: float = 0.0       # time in the source state when it fired
 
 
 class StateMachine:
@@ -39,7 +40,7 @@ class StateMachine:
         elapsed = self.time_in_state(now)
         for transition in self.state.ordered_transitions():
             if transition.condition.evaluate(percepts, elapsed):
-                fired = Fired(self.state.name, transition.target, transition, now)
+                fired = Fired(self.state.name, transition.target, transition, now, elapsed)
                 self.state = self.app.states[transition.target]
                 self.entered_at = now
                 return fired

@@ -5,10 +5,9 @@ from __future__ import annotations
 import json
 import sys
 
-from applications.dialog import check_dialog
+from applications.appfolder import inspect_folder
 from applications.graph.catalog import load_catalog
 from applications.graph.diagnostics import ERROR, WARNING, Diagnostic
-from applications.graph.loader import find_application, inspect_application
 
 EXIT_CLEAN, EXIT_ERRORS, EXIT_UNKNOWN = 0, 1, 2
 
@@ -28,19 +27,10 @@ class CheckCommand:
             print(f"interbot: error: unknown robot '{args.robot}'; robots: "
                   f"{', '.join(catalog.robots)}", file=sys.stderr)
             return EXIT_UNKNOWN
-        draft, _, diagnostics = inspect_application(args.application, args.robot, catalog)
-        diagnostics = diagnostics + dialog_problems(args.application, draft, catalog or
-                                                    load_catalog(args.robot or (draft and draft.robot)))
+        draft, _, diagnostics = inspect_folder(args.application, args.robot, catalog)
         report(args.application, args.robot or (draft.robot if draft else None),
                diagnostics, args.json)
         return EXIT_ERRORS if any(d.is_error for d in diagnostics) else EXIT_CLEAN
-
-
-def dialog_problems(application: str, draft, catalog) -> list[Diagnostic]:
-    """The problems of the application's dialog.xml, checked against its graph and registry."""
-    states = list(draft.states) if draft is not None else None
-    behaviors = list(catalog.behaviors) if catalog.behaviors is not None else None
-    return check_dialog(find_application(application) / "dialog.xml", states, behaviors)[1]
 
 
 def report(name: str, robot: str | None, diagnostics: list[Diagnostic], as_json: bool) -> None:

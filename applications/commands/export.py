@@ -4,7 +4,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from applications.graph.loader import load_application
+from applications.appfolder import load_folder
 from applications.graph.scxml import export_scxml
 
 
@@ -19,7 +19,7 @@ class ExportCommand:
 
     def run(self, args) -> int:
         text = '<?xml version="1.0" encoding="UTF-8"?>\n' + \
-            export_scxml(load_application(args.application))
+            export_scxml(load_folder(args.application).app)
         if args.output:
             Path(args.output).write_text(text, encoding="utf-8")
         else:

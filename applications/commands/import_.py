@@ -6,6 +6,7 @@ import sys
 from pathlib import Path
 
 from applications.commands.check import report
+from applications.appfolder import inspect_folder
 from applications.graph.loader import GRAPH_FILE, check_application
 from applications.graph.scxml import import_scxml
 from applications.graph.writer import graph_xml
@@ -36,6 +37,11 @@ class ImportCommand:
                           graph_xml(application, comment=f"imported from {source}"),
                           encoding="utf-8")
         print(f"wrote {target}")
-        _, diagnostics = check_application(folder)
+        if (folder / "dialog.xml").exists():
+            _, _, diagnostics = inspect_folder(folder)      # the whole application
+        else:
+            _, diagnostics = check_application(folder)     # only the graph is there yet
+            print(f"(only the graph was checked: add dialog.xml, and database.sql where the "
+                  f"application records answers; then `interbot check {folder}`)")
         report(str(folder), application.robot, diagnostics, as_json=False)
         return 1 if any(d.is_error for d in diagnostics) else 0

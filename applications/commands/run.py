@@ -5,7 +5,7 @@ import sys
 from pathlib import Path
 
 from applications.exceptions import UnknownScenarioError, UnsupportedOnRobotError
-from applications.graph.loader import find_application, load_application
+from applications.graph.loader import find_application
 
 DEFAULT_ROBOT = "horos"
 
@@ -36,9 +36,8 @@ class RunCommand:
     def run(self, args) -> int:
         # Imported here, not at the top: they pull in the whole robot stack, which the other
         # subcommands (check, show, …) do not need to start.
-        from applications.database import AnswerDatabase
-        from applications.dialog import load_dialog
-        from applications.graph.catalog import load_catalog
+        from applications.appfolder import load_folder
+        from applications.database import ApplicationDatabase
         from applications.runtime import Run, default_data_dir
         from applications.trace import TraceWriter
         from behaviors import robot_capabilities
@@ -47,10 +46,9 @@ class RunCommand:
         folder = find_application(args.app)
         if args.robot:
             robot_capabilities(args.robot)        # an unknown robot: one line naming the known ones
-        app = load_application(folder, robot=args.robot)   # refuses an application with errors
+        loaded = load_folder(folder, robot=args.robot)     # refuses an application with errors
+        app, dialog = loaded.app, loaded.dialog
         robot_name = args.robot or app.robot or DEFAULT_ROBOT
-        dialog = load_dialog(folder / "dialog.xml", app.states,
-                             load_catalog(robot_name).behaviors)   # refuses dialog errors too
         scenario = None if args.port else resolve_scenario(folder, args.scenario)
         robot = open_robot(robot_name, port=args.port, scenario=scenario, fast=args.fast,
                            seed=args.seed)
@@ -64,7 +62,7 @@ class RunCommand:
                 f"({'port ' + args.port if args.port else 'simulation'}): "
                 + "; ".join(missing.values()))
         data_dir = args.data or default_data_dir()
-        database = AnswerDatabase(data_dir / f"{app.name}.sqlite", folder / "database.sql")
+        database = ApplicationDatabase(data_dir / f"{app.name}.sqlite", loaded.schema_file)
         trace = TraceWriter(args.trace)
         echo = None if args.quiet else print
         where = f"port {args.port}" if args.port else f"simulation ({scenario.stem if scenario else 'nobody'})"

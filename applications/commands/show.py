@@ -4,7 +4,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from applications.graph.loader import inspect_application
+from applications.appfolder import inspect_folder
 from applications.graph.pictures import FORMATS, GraphvizMissingError, render
 
 
@@ -18,10 +18,10 @@ class ShowCommand:
         parser.add_argument("-o", "--output", help="write to this file instead of the terminal")
 
     def run(self, args) -> int:
-        draft, application, diagnostics = inspect_application(args.application)
+        draft, application, diagnostics = inspect_folder(args.application)
         for diagnostic in diagnostics:
             print(diagnostic, file=sys.stderr)
-        graph = application or draft
+        graph = application.app if application is not None else draft
         if graph is None:
             return 1
         try:

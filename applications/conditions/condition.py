@@ -7,9 +7,9 @@ from typing import Any
 from ..exceptions import ConditionError
 from . import typecheck
 from .compiler import compile_tree
-from .nodes import Node
+from .nodes import Node, Or
 from .parser import parse
-from .typed import TIME_IN_STATE, Typed, variables
+from .typed import TIME_IN_STATE, AnyOf, Typed, variables
 
 
 class CompiledCondition:
@@ -42,6 +42,19 @@ class CompiledCondition:
         return self._evaluate(values, time_in_state)
 
     __call__ = evaluate
+
+    def fired_part(self, values: Mapping[str, Any], time_in_state: float) -> str | None:
+        """For a condition `a or b or …` that holds, the text of the first alternative that
+        holds (so a run can say why a transition fired); None for other conditions."""
+        if not (isinstance(self.tree, AnyOf) and isinstance(self.syntax, Or)
+                and len(self.tree.items) == len(self.syntax.operands)):
+            return None
+        parts = self.derived.get("or-parts")
+        if parts is None:
+            parts = [(self.text[node.offset:node.end].strip(), compile_tree(item))
+                     for node, item in zip(self.syntax.operands, self.tree.items)]
+            self.derived["or-parts"] = parts
+        return next((text for text, holds in parts if holds(values, time_in_state)), None)
 
     def __eq__(self, other: object) -> bool:
         return isinstance(other, CompiledCondition) and other.text == self.text

@@ -151,7 +151,8 @@ def build_model(draft: Draft, folder: Path, graph_file: Path) -> Application:
                           transitions=tuple(Transition(t.target, t.when, t.condition, t.priority,
                                                        t.location, t.foreign)
                                             for t in state.transitions),
-                          final=state.final, location=state.location, foreign=state.foreign)
+                          final=state.final, location=state.location, foreign=state.foreign,
+                          params=tuple(state.params))
               for name, state in draft.states.items()}
     return Application(name=draft.name, initial=draft.initial, robot=draft.robot, states=states,
                        folder=folder, graph_file=graph_file, foreign=draft.foreign)

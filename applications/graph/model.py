@@ -11,7 +11,7 @@ from pathlib import Path
 from ..conditions import CompiledCondition
 from .location import Location
 
-__all__ = ["Location", "Transition", "State", "Application", "Foreign"]
+__all__ = ["Location", "Transition", "State", "Application", "Foreign", "Param"]
 
 
 @dataclass(frozen=True)
@@ -38,6 +38,19 @@ class Transition:
 
 
 @dataclass(frozen=True)
+class Param:
+    """A parameter a state passes to its behavior: a written `value`, or the value of a percept
+    (`source`, e.g. answer.office) at the state's entry, optionally looked up in the
+    application's database (`lookup` = "table.column", matched on the table's key)."""
+    name: str
+    value: str | None
+    source: str | None = None
+    lookup: str | None = None
+    location: Location = field(default=None, compare=False)
+    value_location: Location = field(default=None, compare=False)
+
+
+@dataclass(frozen=True)
 class State:
     name: str
     behavior: str
@@ -45,6 +58,7 @@ class State:
     final: bool
     location: Location = field(compare=False)
     foreign: Foreign = field(default=Foreign(), compare=False, repr=False)
+    params: tuple[Param, ...] = ()
 
     def __post_init__(self) -> None:
         ranked = sorted((t for t in self.transitions if t.priority is not None),

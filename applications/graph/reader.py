@@ -15,17 +15,19 @@ from ..conditions import CompiledCondition, compile_condition
 from ..exceptions import ConditionError
 from .diagnostics import Diagnostic, did_you_mean, error
 from .location import Location
-from .model import Foreign
+from .model import Foreign, Param
 from .schema import schema_problems
 from .source import SourceMap
 
 ROOT = "application"
-ELEMENTS = {"application": ("state",), "state": ("transition",), "transition": ()}
+ELEMENTS = {"application": ("state",), "state": ("transition", "param"), "transition": (),
+            "param": ()}
 ATTRIBUTES = {"application": ("name", "initial", "robot"),
               "state": ("name", "behavior", "final"),
-              "transition": ("to", "when", "priority")}
+              "transition": ("to", "when", "priority"),
+              "param": ("name", "value", "from", "lookup")}
 REQUIRED = {"application": ("name", "initial"), "state": ("name", "behavior"),
-            "transition": ("to",)}
+            "transition": ("to",), "param": ("name",)}
 ALWAYS = "true"     # the condition of a transition written without `when`
 NO_FOREIGN = Foreign()
 
@@ -51,6 +53,7 @@ class DraftState:
     behavior_location: Location
     transitions: list[DraftTransition] = field(default_factory=list)
     foreign: Foreign = Foreign()
+    params: list[Param] = field(default_factory=list)
 
 
 @dataclass
@@ -178,14 +181,39 @@ class _Reader:
         complete = self.check_attributes(element)
         location = self.source.element(element)
         final = self.boolean(element, "final")
-        transitions = [t for t in map(self.transition, self.children(element)) if t is not None]
+        children = self.children(element)
+        transitions = [t for t in map(self.transition, (c for c in children
+                                                        if c.tag == "transition")) if t is not None]
+        params = [p for p in map(self.param, (c for c in children if c.tag == "param"))
+                  if p is not None]
         if not complete and element.get("name") is None:
             return None
         return DraftState(name=element.get("name", "").strip(),
                           behavior=element.get("behavior", "").strip(), final=final,
                           location=location,
                           behavior_location=self.source.value(element, "behavior"),
-                          transitions=transitions, foreign=self.foreign(element))
+                          transitions=transitions, foreign=self.foreign(element), params=params)
+
+    def param(self, element: etree._Element) -> Param | None:
+        """<param name="place" value="room_n2"/>, or from="answer.office" [lookup="rooms.place"]."""
+        complete = self.check_attributes(element)
+        self.children(element)
+        value, source = element.get("value"), element.get("from")
+        where = self.source.element(element)
+        if (value is None) == (source is None):
+            self.report("<param> needs either value=\"…\" or from=\"…\" (a percept such as "
+                        "answer.office), not both", where, "param")
+            return None
+        if element.get("lookup") is not None and source is None:
+            self.report("lookup=\"table.column\" goes with from=\"…\": it looks the percept's "
+                        "value up in the database", self.source.attribute(element, "lookup"),
+                        "param")
+            return None
+        if not complete:
+            return None
+        return Param(element.get("name").strip(), value, (source or "").strip() or None,
+                     (element.get("lookup") or "").strip() or None, where,
+                     self.source.value(element, "value" if value is not None else "from"))
 
     def boolean(self, element: etree._Element, name: str) -> bool:
         value = element.get(name)

@@ -1,7 +1,7 @@
 """Hot reload: notice when an application's files change and re-check them.
 
-The runtime calls `poll()` between two ticks. It returns None while nothing changed, a new
-checked Application to swap in, or the diagnostics of an edit with errors (the running
+The runtime calls `poll()` between two ticks. It returns None while nothing changed, the new
+checked application (graph, dialog and database set-up) to swap in, or the diagnostics of an edit with errors (the running
 application then carries on unchanged). Each change is reported once.
 """
 from __future__ import annotations
@@ -11,10 +11,9 @@ from pathlib import Path
 from ..exceptions import ApplicationError
 from .diagnostics import Diagnostic, error
 from .location import Location
-from .loader import GRAPH_FILE, check_application, find_application
-from .model import Application
+from .loader import GRAPH_FILE, find_application
 
-WATCHED_SUFFIXES = (".xml",)
+WATCHED_SUFFIXES = (".xml", ".sql")
 
 
 class ApplicationWatcher:
@@ -41,16 +40,17 @@ class ApplicationWatcher:
         self._seen = now
         return True
 
-    def poll(self) -> Application | list[Diagnostic] | None:
-        """None: no change. An Application: the edit is clean, swap it in. A list of
+    def poll(self):
+        """None: no change. A LoadedApplication: the edit is clean, swap it in. A list of
         diagnostics: the edit has errors (print them, keep running the old application)."""
         if not self.changed():
             return None
         if not (self.folder / GRAPH_FILE).is_file():
             return [error(f"{GRAPH_FILE} was removed; put it back",
                           Location(str(self.folder / GRAPH_FILE), 1, 1), "unreadable")]
+        from ..appfolder import inspect_folder
         try:
-            application, diagnostics = check_application(self.folder, self.robot)
+            _, application, diagnostics = inspect_folder(self.folder, self.robot)
         except ApplicationError as problem:      # e.g. the file vanished mid-save
             return list(problem.diagnostics) or [error(str(problem), Location(
                 str(self.folder / GRAPH_FILE), 1, 1), "unreadable")]

@@ -27,8 +27,9 @@ def test_bad_dialog_reports_every_problem_with_file_and_line(tmp_path):
         load_dialog(path)
     message = str(caught.value)
     assert f"{path}:3:1: error: <question> needs at least one <answer>" in message
-    assert f"{path}:3:1: error: <question> needs a text=" in message
-    assert f"{path}:5:1: error:" in message
+    assert f"{path}:3:1: error: <question> needs a non-empty text=" in message
+    # the condition's problem is pointed at in the line (column of the missing operand)
+    assert f"{path}:5:48: error: in condition:" in message
     assert f"{path}:6:1: error: unknown element <oops>" in message
     assert len(caught.value.diagnostics) == 4
 

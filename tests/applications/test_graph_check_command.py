@@ -9,10 +9,18 @@ from applications.cli import main
 BROKEN = Path(__file__).parent / "broken"
 
 
+SURVEY_DIALOG = ('<dialog><behavior name="Survey"><question id="q1" text="Fine?">'
+                 '<answer>yes</answer><answer>no</answer></question></behavior></dialog>')
+
+
 def app_from(tmp_path: Path, corpus_file: str) -> Path:
+    """An application folder around a corpus graph; its dialog and database are sound."""
+    from applications.database import ANSWERS_TABLE_SQL
     folder = tmp_path / "app"
     folder.mkdir()
     (folder / "graph.xml").write_bytes((BROKEN / corpus_file).read_bytes())
+    (folder / "dialog.xml").write_text(SURVEY_DIALOG)
+    (folder / "database.sql").write_text(ANSWERS_TABLE_SQL)
     return folder
 
 

@@ -28,12 +28,12 @@ def test_watcher_reports_nothing_until_a_file_changes(tmp_path: Path) -> None:
     assert watcher.poll() is None
     write(graph, GRAPH.replace('name="B"', 'name="C"').replace('to="B"', 'to="C"'), 2)
     reloaded = watcher.poll()
-    assert isinstance(reloaded, Application) and set(reloaded.states) == {"A", "C"}
+    assert isinstance(reloaded.app, Application) and set(reloaded.app.states) == {"A", "C"}
     assert watcher.poll() is None
-    in_a, in_b = StateMachine(reloaded, 0.0), StateMachine(reloaded, 0.0)
+    in_a, in_b = StateMachine(reloaded.app, 0.0), StateMachine(reloaded.app, 0.0)
     in_b.state = SimpleNamespace(name="B")          # a state the new version no longer has
-    assert in_a.replace(reloaded, 1.0) is False and in_a.state.name == "A"
-    assert in_b.replace(reloaded, 1.0) is True and in_b.state.name == "A"
+    assert in_a.replace(reloaded.app, 1.0) is False and in_a.state.name == "A"
+    assert in_b.replace(reloaded.app, 1.0) is True and in_b.state.name == "A"
 
 
 def test_an_edit_with_errors_returns_its_errors_once(tmp_path: Path) -> None:
@@ -45,7 +45,7 @@ def test_an_edit_with_errors_returns_its_errors_once(tmp_path: Path) -> None:
     assert isinstance(problems, list) and problems[0].code == "unknown-state"
     assert watcher.poll() is None
     write(graph, GRAPH, 3)
-    assert isinstance(watcher.poll(), Application)
+    assert isinstance(watcher.poll().app, Application)
 
 
 def test_a_new_dialog_file_counts_as_a_change_and_removal_is_an_error(tmp_path: Path) -> None:
@@ -53,7 +53,7 @@ def test_a_new_dialog_file_counts_as_a_change_and_removal_is_an_error(tmp_path: 
     write(graph, GRAPH, 1)
     watcher = ApplicationWatcher(tmp_path)
     write(tmp_path / "dialog.xml", "<dialog/>", 2)
-    assert isinstance(watcher.poll(), Application)
+    assert isinstance(watcher.poll().app, Application)
     graph.unlink()
     problems = watcher.poll()
     assert "graph.xml was removed" in problems[0].message
