@@ -20,7 +20,7 @@ from applications.dialog import Dialog, check_dialog
 from applications.exceptions import ApplicationError
 from applications.graph.catalog import Catalog, load_catalog
 from applications.graph.diagnostics import (Diagnostic, did_you_mean, error, has_errors,
-                                            sort_diagnostics, warning)
+                                            sort_diagnostics)
 from applications.graph.loader import _shown, find_application, graph_path, inspect_graph_bytes
 from applications.graph.location import Location
 from applications.graph.model import Application, Param
@@ -167,11 +167,11 @@ def _check_param(param: Param, state: DraftState, declared: Mapping[str, Any],
                       f"{did_you_mean(param.source, declarations)}", param.value_location,
                       "param-source")]
     if param.lookup is not None:
-        return _check_lookup(param, declarations[param.source], content)
+        return _check_lookup(param, content)
     return []
 
 
-def _check_lookup(param: Param, source_spec, content: DatabaseContent) -> list[Diagnostic]:
+def _check_lookup(param: Param, content: DatabaseContent) -> list[Diagnostic]:
     table, _, column = param.lookup.partition(".")
     if not (table and column):
         return [error(f"lookup=\"{param.lookup}\" must be table.column (e.g. rooms.place)",
@@ -180,14 +180,6 @@ def _check_lookup(param: Param, source_spec, content: DatabaseContent) -> list[D
         content.check_column(table, column)
     except ApplicationError as exc:
         return [error(f"lookup=\"{param.lookup}\": {exc}", param.location, "param-lookup")]
-    values = getattr(source_spec, "values", None) or ()
-    keys = set(content.keys(table))
-    missing = [v for v in values if v not in keys]
-    if missing:
-        return [warning(f"lookup=\"{param.lookup}\": {param.source} may be "
-                        f"{', '.join(repr(v) for v in missing)}, which table '{table}' has no row "
-                        f"for (its keys: {', '.join(sorted(keys)) or 'none'}); the parameter is "
-                        "then not set", param.location, "param-lookup")]
     return []
 
 

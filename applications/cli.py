@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import argparse
 import sys
-from importlib.metadata import entry_points
+from importlib.metadata import PackageNotFoundError, entry_points, version
 
 from applications.exceptions import ApplicationError, UnknownApplicationError
 from behaviors.exceptions import (BehaviorError, BehaviorFault, RobotOpenError,
@@ -35,12 +35,20 @@ def build_parser(commands: dict[str, object]) -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="interbot",
         description="Run, check and draw interaction-robot applications on real or simulated robots.")
+    parser.add_argument("--version", action="version", version=f"interbot {_version()}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for name, command in commands.items():
         sub_parser = sub.add_parser(name, help=command.help, description=command.help)
         command.add_arguments(sub_parser)
         sub_parser.set_defaults(handler=command)
     return parser
+
+
+def _version() -> str:
+    try:
+        return version("interbot")
+    except PackageNotFoundError:      # running from a source tree that was never installed
+        return "unknown (not installed)"
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -47,7 +47,7 @@ class RunSummary:
                f"({self.wall_seconds:.2f} s wall clock)"]
         for state, seconds in self.time_in_state.most_common():
             out.append(f"  {state:<18} {seconds:7.1f} s")
-        out.append(f"answers recorded: {self.answers}; surveys completed: {self.surveys_completed}")
+        out.append(f"answers recorded: {self.answers}; question sets completed: {self.surveys_completed}")
         if self.stalls:
             out.append(f"the loop fell behind real time {self.stalls} time(s)")
         if self.fault:

@@ -112,6 +112,11 @@ class Robot:
         """How long the simulated scenario suggests running, s (None on a real robot)."""
         return self.skills.scenario_duration
 
+    @property
+    def scenario_people(self) -> int | None:
+        """How many simulated people the scenario brings (None on a real robot)."""
+        return self.skills.scenario_people
+
     def ground_truth(self) -> list[tuple[str, float, float]]:
         return self.skills.ground_truth()
 

@@ -60,6 +60,14 @@ class Hardware:
         scenario = getattr(self.simulation, "scenario", None)
         return scenario.duration if scenario is not None else None
 
+    @property
+    def scenario_people(self) -> int | None:
+        """How many people the simulated scenario brings (None on a real robot)."""
+        if self.simulation is None:
+            return None
+        scenario = getattr(self.simulation, "scenario", None)
+        return len(scenario.people) if scenario is not None else 0
+
     def ground_truth(self) -> list[tuple[str, float, float]]:
         """Where the simulated people really are (empty on a real robot)."""
         if self.simulation is None:

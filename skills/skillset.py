@@ -106,6 +106,10 @@ class SkillSet:
     def scenario_duration(self) -> float | None:
         return self.hardware.scenario_duration
 
+    @property
+    def scenario_people(self) -> int | None:
+        return self.hardware.scenario_people
+
     def ground_truth(self) -> list[tuple[str, float, float]]:
         return self.hardware.ground_truth()
 

@@ -61,6 +61,8 @@ class RunCommand:
                 f"'{app.name}' cannot run on {robot_name} as opened "
                 f"({'port ' + args.port if args.port else 'simulation'}): "
                 + "; ".join(missing.values()))
+        if robot.scenario_people == 0:
+            print(nobody_message(folder, scenario))
         data_dir = args.data or default_data_dir()
         database = ApplicationDatabase(data_dir / f"{app.name}.sqlite", loaded.schema_file)
         trace = TraceWriter(args.trace)
@@ -95,6 +97,16 @@ def resolve_scenario(folder: Path, scenario: str | None) -> Path | None:
     raise UnknownScenarioError(
         f"unknown scenario '{scenario}'; scenarios of this application: "
         f"{', '.join(known) or 'none'} (or give the path of a .toml file)")
+
+
+def nobody_message(folder: Path, scenario: Path | None) -> str:
+    """Said once when the simulated world is empty, so nobody waits for a person in vain."""
+    scenarios = folder / "scenarios"
+    known = sorted(p.stem for p in scenarios.glob("*.toml")) if scenarios.is_dir() else []
+    why = (f"scenario '{scenario.stem}' brings no people" if scenario is not None else
+           "no --scenario was given and the application has no scenarios/default.toml")
+    return (f"interbot: nobody is in the simulated world: {why}; the robot will wait. "
+            f"Scenarios of this application: {', '.join(known) or 'none'} (--scenario NAME)")
 
 
 def _watcher(folder: Path, robot: str):
