@@ -189,7 +189,10 @@ class Firmware:
         elif kind == p.Cmd.SETRA and as_int:
             self._set_accel("rot", as_int, ROT_ACCEL_TOP)
         elif kind == p.Cmd.SONAR:
-            self.sonar_on = bool(as_int & 1)
+            if as_int & 1 or not as_int >> 1:
+                self.sonar_on = bool(as_int & 1)
+            else:                               # one array off: arrays are not modelled, and
+                self.ignored += 1               # switching them all off would be unsafe
         elif kind == p.Cmd.SETO:
             self.origin = pose
         elif kind == p.Cmd.CONFIG:

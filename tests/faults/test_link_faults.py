@@ -34,9 +34,11 @@ def assert_episode_recorded(finished, reason_part: str) -> None:
     assert reason_part in events[0]["reason"]
     assert events[1]["after"] > 0
     assert "link to the base: down 1 time(s), re-connected 1 time(s)" in finished.out
+    assert finished.err.count("link down") == 1, finished.err      # once per episode
     # The behaviors saw it: the application went to Halted while robot.fault held, and back.
     moves = [(e["from"], e["to"]) for e in finished.trace if e["kind"] == "transition"]
     assert ("Wait", "Halted") in moves and ("Halted", "Wait") in moves
+    assert moves.count(("Wait", "Halted")) == 1         # robot.fault held through the episode
     halted_at = next(e["t"] for e in finished.trace
                      if e["kind"] == "transition" and e["to"] == "Halted")
     assert halted_at >= events[0]["t"] - 0.2

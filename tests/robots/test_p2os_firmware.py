@@ -335,3 +335,11 @@ def test_our_driver_still_applies_the_profiles_safe_limits():
         assert base.emulator.firmware.max_vel == round(HOROS.limits.max_speed * 1000)
     finally:
         base.close()
+
+
+def test_switching_one_sonar_array_off_does_not_blind_the_robot(wire):
+    """SONAR bits 1..3 pick an array (6 turns array 3 off); arrays are not modelled, so the
+    emulator keeps every sonar firing rather than switch them all off."""
+    wire.send(p.sonar(False, array=3))
+    wire.run(0.3)
+    assert all(s.sonar for s in wire.sips())
