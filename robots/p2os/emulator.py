@@ -1,11 +1,13 @@
 """A P2OS firmware emulator: the robot side of the wire, around a body in the simulated world.
 
 It answers the handshake as the firmware does (echoes SYNC0/SYNC1, answers SYNC2 with name,
-class and subclass), streams a SIP every 100 ms while open, drives the world's body with the
-commanded VEL/RVEL (the body applies the profile's acceleration limits), stops the body after
-2 s without any client packet and re-accelerates to the last command on the next packet (the
-real firmware's watchdog, which the driver must guard against), and reports sonar, bumpers and
-stall from the world.
+class and subclass), streams a SIP every 100 ms while open (sonar on from OPEN), drives the
+world's body as the manuals describe the controller (velocity, heading and position servos,
+the subclass's absolute limits under SETV/SETRV, SETA/SETRA ramps, STOP and ESTOP; CONFIG
+answered with a CONFIGpac), stops the body after 2 s without any client packet and
+re-accelerates to the last command on the next packet (the real firmware's watchdog, which the
+driver must guard against), and reports sonar, bumpers and stall from the world. What each
+command does, or why it is ignored: docs/emulator-fidelity.md.
 
 Transports: a raw-mode pty (`serve_pty`) or a TCP port like MobileSim (`serve_tcp`). A reader
 thread answers packets as they arrive, so the handshake works even while a simulated clock
