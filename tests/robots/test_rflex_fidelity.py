@@ -111,3 +111,15 @@ def test_sonar_run_switches_the_sonar_reports(on):
     send(controller, p.sonar_run(on))
     got = [r for r in reports(step(controller, world, 0.3)) if isinstance(r, p.SonarReport)]
     assert bool(got) == on
+
+
+def test_the_driver_drops_and_counts_a_sonar_the_ring_does_not_have():
+    """A reading the profile does not describe is dropped with a count, never a crash."""
+    from rflex_helpers import PERSES
+    from robots.rflex.driver import RFlexBase
+    base = RFlexBase(PERSES.limits, "loop://")
+    report = p.SonarReport(0, 0, ((255, 100), (p.SONAR_WIRE_IDS[0], 1476)))
+    base._handle_bytes(p.encode_escaped(p.sonar_report(1, report)))
+    state = base.read_state()
+    assert state.extra["dropped_readings"] == 1 and "255" in state.extra["dropped_reason"]
+    assert state.sonar[0] == pytest.approx(1.0)
