@@ -62,10 +62,10 @@ class RunCommand:
         dialog = load_dialog(folder / "dialog.xml", app.states,
                              load_catalog(robot_name).behaviors)   # refuses dialog errors too
         scenario = None if args.port else resolve_scenario(folder, args.scenario)
-        robot = open_robot(robot_name, port=args.port, scenario=scenario, fast=args.fast,
-                           seed=args.seed)
-        trace = database = run = None
+        robot = trace = database = run = None
         try:
+            robot = open_robot(robot_name, port=args.port, scenario=scenario, fast=args.fast,
+                               seed=args.seed)
             needed = {state.behavior for state in app.states.values()}
             needed |= {rule.behavior for rule in dialog.overrides}
             missing = robot.cannot_run(needed)
@@ -86,10 +86,10 @@ class RunCommand:
             run = Run(app, robot, dialog=dialog, duration=args.duration, trace=trace,
                       database=database, echo=echo, reload=reload)
             summary = run.run()
-        except BaseException as exc:
             guard.closing()          # from here on a signal must not interrupt the closing
+        except BaseException as exc:
+            guard.closing()
             return self._end_badly(exc, robot, trace, database, run, guard)
-        guard.closing()
         problems = close_all(("the robot", robot.close), ("the trace", trace.close),
                              ("the answer database", database.close))
         for line in summary.lines():
@@ -103,7 +103,7 @@ class RunCommand:
     @staticmethod
     def _end_badly(exc: BaseException, robot, trace, database, run, guard: SignalGuard) -> int:
         """Stop and close the robot first, then the records; then the summary and one line."""
-        robot_problems = close_all(("the robot", robot.close))
+        robot_problems = close_all(("the robot", robot and robot.close))
         if isinstance(exc, Exception) and not isinstance(exc, _EXPECTED):
             crash = crash_line(exc)
             if trace is not None and not is_output_failure(exc):
