@@ -10,6 +10,7 @@ import argparse
 import sys
 from importlib.metadata import entry_points
 
+from applications.commands.arguments import UsageError
 from applications.exceptions import ApplicationError, UnknownApplicationError
 from applications.shutdown import (EXIT_BROKEN_PIPE, EXIT_CRASH, Interrupted, RunEnded,
                                    crash_line, silence_stdout)
@@ -71,6 +72,9 @@ def main(argv: list[str] | None = None) -> int:
     except RunEnded as exc:
         print(exc.line, file=sys.stderr)
         return exc.code
+    except UsageError as exc:
+        print(f"interbot {args.command}: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
     except (UnknownApplicationError, RobotOpenError, UnknownBehaviorError,
             UnsupportedBehaviorError) as exc:
         print(f"interbot: error: {exc}", file=sys.stderr)

@@ -15,6 +15,23 @@ from pathlib import Path
 SEED_MAX = 2**32 - 1           # numpy's seeds: 0 .. 2^32 - 1
 
 
+class UsageError(Exception):
+    """Arguments that are each fine but mean nothing together; the CLI prints it, exit 2."""
+
+
+def refuse_simulation_options_on_a_port(args) -> None:
+    """`--fast` and `--scenario` belong to the simulated world; a real base at `--port` has
+    neither a simulated clock nor simulated people."""
+    if getattr(args, "port", None) is None:
+        return
+    if getattr(args, "fast", False):
+        raise UsageError("argument --fast: runs on a simulated clock, which cannot drive a real "
+                         "base; allowed without --port only (drop --fast to drive the port)")
+    if getattr(args, "scenario", None) is not None:
+        raise UsageError("argument --scenario: simulated people mean nothing on a real base; "
+                         "allowed without --port only")
+
+
 def seed(text: str) -> int:
     """A random seed: a whole number 0 .. 2^32 - 1."""
     try:

@@ -54,6 +54,7 @@ class RunCommand:
         from behaviors import robot_capabilities
         from behaviors.robot import open_robot
 
+        arguments.refuse_simulation_options_on_a_port(args)
         folder = find_application(args.app)
         if args.robot:
             robot_capabilities(args.robot)        # an unknown robot: one line naming the known ones

@@ -42,6 +42,17 @@ MISTAKES = [
 ]
 
 
+@pytest.mark.parametrize("extra,argument", [(["--fast"], "--fast"),
+                                            (["--scenario", "complete"], "--scenario")])
+def test_simulation_options_with_a_port_are_refused_before_the_robot_opens(
+        robot_end, pause_app, capsys, extra, argument):
+    before = robot_end.connections
+    code = main(["run", str(pause_app), "--port", robot_end.url, *extra])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and f"argument {argument}" in err[0], err
+    assert robot_end.connections == before
+
+
 @pytest.mark.parametrize("extra,argument,allowed", MISTAKES)
 def test_a_mistaken_run_argument_is_one_line_and_exit_2_before_the_robot_opens(
         robot_end, pause_app, tmp_path, capsys, extra, argument, allowed):
