@@ -5,11 +5,12 @@ import sys
 from pathlib import Path
 
 from applications.commands import arguments
-from applications.exceptions import ApplicationError, UnknownScenarioError, UnsupportedOnRobotError
+from applications.exceptions import (ApplicationError, UnknownScenarioError,
+                                     UnsupportedOnRobotError)
 from applications.graph.loader import find_application, load_application
-from behaviors.exceptions import BehaviorError
 from applications.shutdown import (Interrupted, RunEnded, SignalGuard, close_all, crash_event,
                                    crash_line, is_output_failure, silence_stdout)
+from behaviors.exceptions import BehaviorError
 
 DEFAULT_ROBOT = "horos"
 # Errors the CLI reports itself (not crashes): a closed stdout, the application or robot refused.
