@@ -178,6 +178,7 @@ class RFlexBase(Base):
                        "dropped_readings": self._dropped_readings,
                        "dropped_reason": self._dropped_reason,
                        "link_error": ("port closed" if self._port is None else
+                                      "no report yet" if self._report_t == -math.inf else
                                       f"no report for {now - self._report_t:.2f} s")})
 
     def command(self, v: float, w: float) -> None:
