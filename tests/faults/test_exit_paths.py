@@ -102,3 +102,22 @@ def test_a_closed_stdout_ends_the_run_quietly():
     assert first.startswith(b"interbot: running")
     assert err == ""
     assert code == EXIT_BROKEN_PIPE
+
+
+def test_an_answer_database_that_fails_ends_the_run_with_one_line(tmp_path, capsys, monkeypatch):
+    """The answers cannot be written (disk gone): exit 5, one line, the summary still printed."""
+    from applications.database import AnswerDatabase
+    original = AnswerDatabase.__init__
+
+    def that_fails_later(self, path, schema_file):
+        original(self, path, schema_file)
+        self._db.close()                      # every later write raises sqlite3.ProgrammingError
+    monkeypatch.setattr(AnswerDatabase, "__init__", that_fails_later)
+    monkeypatch.setattr(AnswerDatabase, "close", lambda self: None)
+    code = main(["run", "survey", "--scenario", "complete", "--fast", "--quiet",
+                 "--data", str(tmp_path / "data")])
+    captured = capsys.readouterr()
+    lines = captured.err.strip().splitlines()
+    assert code == EXIT_OUTPUT
+    assert len(lines) == 1 and "the answer database" in lines[0], captured.err
+    assert "ended early by an error" in captured.out
