@@ -10,14 +10,26 @@ import argparse
 import sys
 from importlib.metadata import PackageNotFoundError, entry_points, version
 
+from applications.commands.arguments import UsageError
 from applications.exceptions import ApplicationError, UnknownApplicationError
+from applications.shutdown import (EXIT_BROKEN_PIPE, EXIT_CRASH, Interrupted, RunEnded,
+                                   crash_line, silence_stdout)
 from behaviors.exceptions import (BehaviorError, BehaviorFault, RobotOpenError,
                                   UnknownBehaviorError, UnsupportedBehaviorError)
 
 GROUP = "interbot.commands"
 
-# Exit codes: 0 fine, 1 the application has errors, 2 unknown name or bad usage, 3 fault.
+# Exit codes: 0 fine, 1 the application has errors, 2 unknown name or bad usage, 3 fault;
+# 4 a crash, 5 writing the trace/answers failed, 128 + N a signal, 141 a closed stdout
+# (applications.shutdown).
 EXIT_ERRORS, EXIT_USAGE, EXIT_FAULT = 1, 2, 3
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """A mistaken argument is one line: what is wrong and what is allowed (exit 2)."""
+
+    def error(self, message: str):
+        self.exit(EXIT_USAGE, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
 
 def load_commands() -> dict[str, object]:
@@ -32,7 +44,7 @@ def load_commands() -> dict[str, object]:
 
 
 def build_parser(commands: dict[str, object]) -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = OneLineParser(
         prog="interbot",
         description="Run, check and draw interaction-robot applications on real or simulated robots.")
     parser.add_argument("--version", action="version", version=f"interbot {_version()}")
@@ -55,10 +67,22 @@ def main(argv: list[str] | None = None) -> int:
     commands = load_commands()
     args = build_parser(commands).parse_args(argv)
     try:
-        return int(args.handler.run(args) or 0)
-    except KeyboardInterrupt:
-        print("interbot: interrupted", file=sys.stderr)
-        return 130
+        code = int(args.handler.run(args) or 0)
+        sys.stdout.flush()                  # a closed stdout shows here when output is piped
+        return code
+    except BrokenPipeError:
+        silence_stdout()
+        return EXIT_BROKEN_PIPE
+    except KeyboardInterrupt as exc:        # Ctrl-C, or SIGTERM/SIGHUP (shutdown.Interrupted)
+        name = exc.name if isinstance(exc, Interrupted) else "Ctrl-C"
+        print(f"interbot: interrupted by {name}", file=sys.stderr)
+        return exc.exit_code if isinstance(exc, Interrupted) else 130
+    except RunEnded as exc:
+        print(exc.line, file=sys.stderr)
+        return exc.code
+    except UsageError as exc:
+        print(f"interbot {args.command}: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
     except (UnknownApplicationError, RobotOpenError, UnknownBehaviorError,
             UnsupportedBehaviorError) as exc:
         print(f"interbot: error: {exc}", file=sys.stderr)
@@ -73,6 +97,10 @@ def main(argv: list[str] | None = None) -> int:
     except BehaviorError as exc:
         print(f"interbot: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
+    except Exception as exc:                # a bug: one line, not a traceback
+        print(crash_line(exc).line.replace("; the robot was stopped and closed", ""),
+              file=sys.stderr)
+        return EXIT_CRASH
 
 
 if __name__ == "__main__":

@@ -91,15 +91,13 @@ class ApplicationDatabase:
 
     def record_answer(self, *, robot: str, session: int, question: str, answer: str,
                       robot_time: float) -> None:
-        try:
-            with self._db:   # one transaction per answer
-                self._db.execute(
-                    "INSERT INTO answers (run_id, robot, session, question, answer, robot_time,"
-                    " wall_time) VALUES (?, ?, ?, ?, ?, ?, ?)",
-                    (self.run_id, robot, session, question, answer, robot_time, time.time()))
-        except sqlite3.Error as exc:
-            raise ApplicationError(f"{self.path}: the answer {question}={answer!r} could not be "
-                                   f"stored: {exc}") from None
+        # A failure here (disk full, file gone) is an output failure the run ends on, with the
+        # robot stopped first (applications/shutdown.py), so it is not caught here.
+        with self._db:   # one transaction per answer
+            self._db.execute(
+                "INSERT INTO answers (run_id, robot, session, question, answer, robot_time,"
+                " wall_time) VALUES (?, ?, ?, ?, ?, ?, ?)",
+                (self.run_id, robot, session, question, answer, robot_time, time.time()))
 
     def answers(self, run_only: bool = True) -> list[tuple[int, str, str]]:
         """(session, question, answer) rows, oldest first."""

@@ -41,6 +41,23 @@ class RunSummary:
     fault: str | None = None
     stalls: int = 0
     wall_seconds: float = 0.0
+    link_downs: int = 0             # `link` events with state "down"
+    link_ups: int = 0               # ... and "up" again (re-connected, data fresh)
+    link_down_seconds: float = 0.0  # summed over the episodes that ended
+    dropped_readings: int = 0       # readings the profile does not describe (`dropped` events)
+    ended_by: str | None = None     # why the loop ended early: "SIGTERM", "an error", ...
+
+    def count(self, event: dict[str, Any]) -> None:
+        """Keep the link and dropped-reading counters from the events that pass by."""
+        kind = event.get("kind")
+        if kind == "link":
+            if event.get("state") == "down":
+                self.link_downs += 1
+            else:
+                self.link_ups += 1
+                self.link_down_seconds += float(event.get("after", 0.0))
+        elif kind == "dropped":
+            self.dropped_readings += int(event.get("count", 0))
 
     def lines(self) -> list[str]:
         out = [f"ran {self.duration:.1f} s of robot time in {self.ticks} ticks "
@@ -50,6 +67,15 @@ class RunSummary:
         out.append(f"answers recorded: {self.answers}; question sets completed: {self.surveys_completed}")
         if self.stalls:
             out.append(f"the loop fell behind real time {self.stalls} time(s)")
+        if self.link_downs:
+            out.append(f"link to the base: down {self.link_downs} time(s), re-connected "
+                       f"{self.link_ups} time(s), {self.link_down_seconds:.1f} s down in all"
+                       + ("; down at the end" if self.link_downs > self.link_ups else ""))
+        if self.dropped_readings:
+            out.append(f"readings dropped (not described by the robot profile): "
+                       f"{self.dropped_readings}")
+        if self.ended_by:
+            out.append(f"ended early by {self.ended_by}; the robot was stopped")
         if self.fault:
             out.append(f"STOPPED ON A FAULT: {self.fault}")
         return out
@@ -81,7 +107,17 @@ class Run:
         machine = StateMachine(self.app, t0)
         self._emit({"t": 0.0, "kind": "transition", "from": None, "to": machine.state.name,
                     "when": "initial"})
-        self._activate(machine, robot.sense())
+        try:
+            self._activate(machine, robot.sense())
+            self._loop(machine, t0)
+        finally:                  # an interrupt or an error still leaves a summary behind
+            self.summary.duration = robot.now() - t0
+            self.summary.fault = robot.fault
+            self.summary.wall_seconds = time.perf_counter() - start_wall
+        return self.summary
+
+    def _loop(self, machine: StateMachine, t0: float) -> None:
+        robot = self.robot
         next_tick = t0
         while True:
             percepts = robot.sense()
@@ -106,10 +142,6 @@ class Run:
                 break
             next_tick += TICK
             self._keep_time(next_tick)
-        self.summary.duration = robot.now() - t0
-        self.summary.fault = robot.fault
-        self.summary.wall_seconds = time.perf_counter() - start_wall
-        return self.summary
 
     def _activate(self, machine: StateMachine, percepts) -> None:
         state = machine.state
@@ -154,6 +186,7 @@ class Run:
             self._activate(machine, percepts)
 
     def _emit(self, event: dict[str, Any]) -> None:
+        self.summary.count(event)
         self.trace.write(event)
         kind = event["kind"]
         if kind == "answer":

@@ -52,14 +52,14 @@ class EmulateCommand:
     def add_arguments(self, parser: argparse.ArgumentParser) -> None:
         parser.add_argument("base", choices=sorted(EMULATORS), help="which firmware to emulate")
         where = parser.add_mutually_exclusive_group()
-        where.add_argument("--tcp", type=int, metavar="PORT",
+        where.add_argument("--tcp", type=tcp_port, metavar="PORT",
                            help="listen on this TCP port (0 picks a free one)")
         where.add_argument("--pty", action="store_true", help="serve on a pseudo-terminal (default)")
         parser.add_argument("--host", default="127.0.0.1", help="address to bind with --tcp")
         parser.add_argument("--link", metavar="PATH", help="with --pty: a stable symlink to it")
         parser.add_argument("--robot", help="robot profile (default: the base's usual robot)")
         parser.add_argument("--scenario", metavar="FILE", help="people scenario (TOML)")
-        parser.add_argument("--seed", type=int, default=0)
+        parser.add_argument("--seed", type=seed, default=0)
 
     def run(self, args, stop: threading.Event | None = None) -> int:
         from robots.clock import RealClock
@@ -78,11 +78,11 @@ class EmulateCommand:
             return 2
         try:
             emulator.attach(simulation)
-            if args.tcp is not None:
-                host, port = emulator.serve_tcp(args.host, args.tcp)
-                address = f"socket://{host}:{port}"
-            else:
-                address = emulator.serve_pty(link=args.link)
+            try:
+                address = self._serve(emulator, args)
+            except (OSError, RobotError) as exc:
+                print(f"interbot emulate: error: {exc}", file=sys.stderr)
+                return 2
             emulator.start_clock(simulation)
             print(f"{args.base} emulator ({entry.about}, robot {profile.name}) ready; connect to: "
                   f"{address}", flush=True)
@@ -94,11 +94,54 @@ class EmulateCommand:
         return 0
 
 
+    @staticmethod
+    def _serve(emulator, args) -> str:
+        """Listen where the arguments say; an address that cannot be used is one clear line."""
+        if args.tcp is not None:
+            try:
+                host, port = emulator.serve_tcp(args.host, args.tcp)
+            except OSError as exc:
+                raise OSError(f"argument --tcp/--host: cannot listen on {args.host}:{args.tcp}: "
+                              f"{exc.strerror or exc}; allowed a free port (0 picks one) on an "
+                              f"address of this machine") from None
+            return f"socket://{host}:{port}"
+        try:
+            return emulator.serve_pty(link=args.link)
+        except OSError as exc:
+            raise OSError(f"argument --link: cannot make the link {args.link}: "
+                          f"{exc.strerror or exc}; allowed a path in an existing folder "
+                          f"you can write") from None
+
+
+def tcp_port(text: str) -> int:
+    """argparse type: a TCP port number 0 .. 65535 (0 picks a free one)."""
+    try:
+        value = int(text, 10)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a port number; allowed 0 .. 65535 "
+                                         f"(0 picks a free one)") from None
+    if not 0 <= value <= 65535:
+        raise argparse.ArgumentTypeError(f"{value} is not a port number; allowed 0 .. 65535 "
+                                         f"(0 picks a free one)")
+    return value
+
+
+def seed(text: str) -> int:
+    """argparse type: a random seed 0 .. 2^32 - 1."""
+    try:
+        value = int(text, 10)
+    except ValueError:
+        value = -1
+    if not 0 <= value <= 2**32 - 1:
+        raise argparse.ArgumentTypeError(f"{text!r}: allowed a whole number 0 .. {2**32 - 1}")
+    return value
+
+
 def _wait_for_interrupt(stop: threading.Event) -> None:
     """Until Ctrl-C, SIGTERM or `stop` is set."""
     previous = {}
     if threading.current_thread() is threading.main_thread():
-        for signum in (signal.SIGINT, signal.SIGTERM):
+        for signum in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
             previous[signum] = signal.signal(signum, lambda *_: stop.set())
     try:
         while not stop.wait(0.2):

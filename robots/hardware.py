@@ -13,7 +13,7 @@ from pathlib import Path
 from robots.base import Base, base_classes
 from robots.clock import RealClock, SimClock
 from robots.devices import Laser, PanTiltHead, PersonDetector, Speaker, TouchScreen
-from robots.exceptions import LinkError, RobotError
+from robots.exceptions import RobotError
 from robots.profile import RobotProfile, load_profile
 
 
@@ -114,7 +114,7 @@ def _open_real(profile: RobotProfile, clock, port: str) -> Hardware:
         base = driver(profile.limits, port, clock=clock, **profile.base.options)
     try:
         base.open()
-    except LinkError:
+    except BaseException:         # a link error, or a signal in the middle of the handshake
         base.close()
         raise
     # On a real robot the devices other than the base are not wired up yet; speech is printed.

@@ -45,9 +45,12 @@ class ObstacleSensing(Skill):
     def _free_ahead_sonar(self, ranges) -> float:
         if not len(ranges):
             return math.inf
-        r = np.asarray(ranges, dtype=float)
-        poses = self._sonar_poses[: len(r)]
-        echo = np.isfinite(r)
+        # Only the sonars the profile places count: a reading of any other (the driver should
+        # have dropped it) has no pose to put it at.
+        n = min(len(ranges), len(self._sonar_poses))
+        r = np.asarray(ranges[:n], dtype=float)
+        poses = self._sonar_poses[:n]
+        echo = np.isfinite(r) & (r >= 0)
         r, poses = r[echo], poses[echo]
         xs = poses[:, 0] + r * np.cos(poses[:, 2])
         ys = poses[:, 1] + r * np.sin(poses[:, 2])

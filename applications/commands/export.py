@@ -5,6 +5,7 @@ import sys
 from pathlib import Path
 
 from applications.appfolder import load_folder
+from applications.commands import arguments
 from applications.graph.scxml import export_scxml
 
 
@@ -15,7 +16,8 @@ class ExportCommand:
     def add_arguments(self, parser) -> None:
         parser.add_argument("application", help="bundled application name or application folder")
         parser.add_argument("--format", choices=("scxml",), default="scxml")
-        parser.add_argument("-o", "--output", help="write to this file instead of the terminal")
+        parser.add_argument("-o", "--output", type=arguments.output_file,
+                            help="write to this file instead of the terminal")
 
     def run(self, args) -> int:
         text = '<?xml version="1.0" encoding="UTF-8"?>\n' + \

@@ -5,6 +5,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from applications.commands import arguments
 from applications.commands.check import report
 from applications.appfolder import inspect_folder
 from applications.graph.loader import GRAPH_FILE, check_application
@@ -19,6 +20,7 @@ class ImportCommand:
     def add_arguments(self, parser) -> None:
         parser.add_argument("scxml", help="the .scxml file")
         parser.add_argument("-o", "--output", required=True, metavar="APPDIR",
+                            type=arguments.data_folder,
                             help="application folder to write graph.xml into")
         parser.add_argument("--force", action="store_true",
                             help="overwrite an existing graph.xml")

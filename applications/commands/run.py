@@ -4,10 +4,17 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from applications.exceptions import UnknownScenarioError, UnsupportedOnRobotError
+from applications.commands import arguments
+from applications.exceptions import (ApplicationError, UnknownScenarioError,
+                                     UnsupportedOnRobotError)
 from applications.graph.loader import find_application
+from applications.shutdown import (Interrupted, RunEnded, SignalGuard, close_all, crash_event,
+                                   crash_line, is_output_failure, silence_stdout)
+from behaviors.exceptions import BehaviorError
 
 DEFAULT_ROBOT = "horos"
+# Errors the CLI reports itself (not crashes): a closed stdout, the application or robot refused.
+_EXPECTED = (BrokenPipeError, ApplicationError, BehaviorError)
 
 
 class RunCommand:
@@ -23,17 +30,21 @@ class RunCommand:
                                                "(e.g. complete) or a .toml file")
         parser.add_argument("--fast", action="store_true",
                             help="run on a simulated clock as fast as the CPU allows")
-        parser.add_argument("--duration", type=float, help="seconds of robot time to run "
+        parser.add_argument("--duration", type=arguments.duration, help="seconds of robot time to run "
                                                            "(default: the scenario's length)")
-        parser.add_argument("--seed", type=int, default=0, help="random seed of the simulation")
-        parser.add_argument("--trace", help="write every event as a JSON line to this file")
-        parser.add_argument("--data", type=Path, default=None,
+        parser.add_argument("--seed", type=arguments.seed, default=0, help="random seed of the simulation")
+        parser.add_argument("--trace", type=arguments.output_file, help="write every event as a JSON line to this file")
+        parser.add_argument("--data", type=arguments.data_folder, default=None,
                             help="folder for the answer database (default: ./interbot-data)")
         parser.add_argument("--watch", action="store_true",
                             help="reload the application when its files change")
         parser.add_argument("--quiet", action="store_true", help="print only the summary")
 
     def run(self, args) -> int:
+        with SignalGuard() as guard:
+            return self._run(args, guard)
+
+    def _run(self, args, guard: SignalGuard) -> int:
         # Imported here, not at the top: they pull in the whole robot stack, which the other
         # subcommands (check, show, …) do not need to start.
         from applications.appfolder import load_folder
@@ -43,6 +54,7 @@ class RunCommand:
         from behaviors import robot_capabilities
         from behaviors.robot import open_robot
 
+        arguments.refuse_simulation_options_on_a_port(args)
         folder = find_application(args.app)
         if args.robot:
             robot_capabilities(args.robot)        # an unknown robot: one line naming the known ones
@@ -50,37 +62,79 @@ class RunCommand:
         app, dialog = loaded.app, loaded.dialog
         robot_name = args.robot or app.robot or DEFAULT_ROBOT
         scenario = None if args.port else resolve_scenario(folder, args.scenario)
-        robot = open_robot(robot_name, port=args.port, scenario=scenario, fast=args.fast,
-                           seed=args.seed)
-        needed = {state.behavior for state in app.states.values()}
-        needed |= {rule.behavior for rule in dialog.overrides}
-        missing = robot.cannot_run(needed)
-        if missing:
-            robot.close()
-            raise UnsupportedOnRobotError(
-                f"'{app.name}' cannot run on {robot_name} as opened "
-                f"({'port ' + args.port if args.port else 'simulation'}): "
-                + "; ".join(missing.values()))
-        if robot.scenario_people == 0:
-            print(nobody_message(folder, scenario))
-        data_dir = args.data or default_data_dir()
-        database = ApplicationDatabase(data_dir / f"{app.name}.sqlite", loaded.schema_file)
-        trace = TraceWriter(args.trace)
-        echo = None if args.quiet else print
-        where = f"port {args.port}" if args.port else f"simulation ({scenario.stem if scenario else 'nobody'})"
-        print(f"interbot: running '{app.name}' on {robot_name}, {where}"
-              f"{', fast' if args.fast else ''}; answers go to {database.path}")
+        robot = trace = database = run = None
         try:
+            robot = open_robot(robot_name, port=args.port, scenario=scenario, fast=args.fast,
+                               seed=args.seed)
+            needed = {state.behavior for state in app.states.values()}
+            needed |= {rule.behavior for rule in dialog.overrides}
+            missing = robot.cannot_run(needed)
+            if missing:
+                raise UnsupportedOnRobotError(
+                    f"'{app.name}' cannot run on {robot_name} as opened "
+                    f"({'port ' + args.port if args.port else 'simulation'}): "
+                    + "; ".join(missing.values()))
+            if robot.scenario_people == 0:
+                print(nobody_message(folder, scenario))
+            data_dir = args.data or default_data_dir()
+            database = ApplicationDatabase(data_dir / f"{app.name}.sqlite", loaded.schema_file)
+            trace = TraceWriter(args.trace)
+            echo = None if args.quiet else print
+            where = (f"port {args.port}" if args.port
+                     else f"simulation ({scenario.stem if scenario else 'nobody'})")
+            print(f"interbot: running '{app.name}' on {robot_name}, {where}"
+                  f"{', fast' if args.fast else ''}; answers go to {database.path}")
             reload = _watcher(folder, robot_name) if args.watch else None
-            summary = Run(app, robot, dialog=dialog, duration=args.duration, trace=trace,
-                          database=database, echo=echo, reload=reload).run()
-        finally:
-            robot.close()
-            trace.close()
-            database.close()
+            run = Run(app, robot, dialog=dialog, duration=args.duration, trace=trace,
+                      database=database, echo=echo, reload=reload)
+            summary = run.run()
+            guard.closing()          # from here on a signal must not interrupt the closing
+        except BaseException as exc:
+            guard.closing()
+            return self._end_badly(exc, robot, trace, database, run, guard)
+        problems = close_all(("the robot", robot.close), ("the trace", trace.close),
+                             ("the answer database", database.close))
         for line in summary.lines():
             print(line)
+        for line in problems:
+            print(f"interbot: warning: {line}", file=sys.stderr)
+        if guard.pending is not None:        # a signal came while closing: say so, exit like it
+            raise guard.pending
         return 3 if summary.fault else 0
+
+    @staticmethod
+    def _end_badly(exc: BaseException, robot, trace, database, run, guard: SignalGuard) -> int:
+        """Stop and close the robot first, then the records; then the summary and one line."""
+        robot_problems = close_all(("the robot", robot and robot.close))
+        if isinstance(exc, Exception) and not isinstance(exc, _EXPECTED):
+            crash = crash_line(exc)
+            if trace is not None and not is_output_failure(exc):
+                try:
+                    trace.write(crash_event(exc, run.summary.duration if run else 0.0))
+                except Exception:
+                    pass
+        else:
+            crash = None
+        close_all(("the trace", trace and trace.close),
+                  ("the answer database", database and database.close))
+        if isinstance(exc, BrokenPipeError):
+            raise exc
+        if run is not None:
+            if isinstance(exc, Interrupted):
+                run.summary.ended_by = exc.name
+            elif isinstance(exc, KeyboardInterrupt):
+                run.summary.ended_by = "SIGINT"
+            else:
+                run.summary.ended_by = "an error"
+            try:
+                for line in run.summary.lines():
+                    print(line)
+            except BrokenPipeError:
+                silence_stdout()
+        if crash is None:
+            raise exc
+        extra = "; ".join(robot_problems)
+        raise RunEnded(crash.line + (f" ({extra})" if extra else ""), crash.code) from exc
 
 
 def resolve_scenario(folder: Path, scenario: str | None) -> Path | None:

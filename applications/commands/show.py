@@ -5,6 +5,7 @@ import sys
 from pathlib import Path
 
 from applications.appfolder import inspect_folder
+from applications.commands import arguments
 from applications.graph.pictures import FORMATS, GraphvizMissingError, render
 
 
@@ -15,7 +16,8 @@ class ShowCommand:
     def add_arguments(self, parser) -> None:
         parser.add_argument("application", help="bundled application name or application folder")
         parser.add_argument("--format", choices=FORMATS, default="ascii")
-        parser.add_argument("-o", "--output", help="write to this file instead of the terminal")
+        parser.add_argument("-o", "--output", type=arguments.output_file,
+                            help="write to this file instead of the terminal")
 
     def run(self, args) -> int:
         draft, application, diagnostics = inspect_folder(args.application)

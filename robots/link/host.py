@@ -4,6 +4,12 @@ Every emulator needs the same plumbing around its protocol logic: serve on a pty
 read the client's bytes in a thread, write replies (counting them for lock-step), notice a
 hang-up, let tests pull the cable, and shut down cleanly. `EmulatorHost` is that plumbing; a
 protocol's emulator subclasses it and supplies `receive` and, where it must, the hooks.
+
+On TCP the newest connection takes over the line, as on a serial line whoever sends SYNC0 is
+answered: the previous client is hung up (`on_hangup`: the robot is left closed and stopped)
+and every connection is read on a thread of its own, so a client that keeps its socket open
+after it is done never locks the others out. A protocol may end a TCP session itself
+(`end_session()`, e.g. after P2OS CLOSE); a pty has no session to end.
 """
 from __future__ import annotations
 
@@ -18,6 +24,7 @@ from robots.link.pty import PtyPair
 
 class PtyTransport:
     """The emulator's end of a raw pty. `line_ok` can veto reads (e.g. the wrong baud rate)."""
+    has_sessions = False         # a serial line stays: CLOSE does not hang it up
 
     def __init__(self, pty: PtyPair, line_ok: Callable[[], bool] | None = None) -> None:
         self.pty = pty
@@ -48,6 +55,7 @@ class PtyTransport:
 
 class SocketTransport:
     """The emulator's end of one TCP connection (like MobileSim's port)."""
+    has_sessions = True
 
     def __init__(self, conn: socket.socket) -> None:
         self.conn = conn
@@ -71,6 +79,10 @@ class SocketTransport:
 
     def close(self) -> None:
         try:
+            self.conn.shutdown(socket.SHUT_RDWR)
+        except OSError:
+            pass
+        try:
             self.conn.close()
         except OSError:
             pass
@@ -90,6 +102,8 @@ class EmulatorHost:
         self._server: socket.socket | None = None
         self._threads: list[threading.Thread] = []
         self._stop = threading.Event()
+        self._end_requested = False
+        self.connections = 0     # TCP clients accepted so far
 
     # -- what a protocol's emulator supplies --------------------------------------------------
     def receive(self, data: bytes) -> None:
@@ -106,6 +120,10 @@ class EmulatorHost:
         """Whether the pty's line settings let bytes through (default: always)."""
         return True
 
+    def end_session(self) -> None:
+        """Called from `receive`: hang up the current TCP client once its bytes are handled."""
+        self._end_requested = True
+
     # -- transports ---------------------------------------------------------------------------
     def serve_pty(self, link: str | None = None) -> str:
         """Serve on a new raw pty; returns the path a driver should open."""
@@ -118,7 +136,7 @@ class EmulatorHost:
         server = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
         server.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
         server.bind((host, port))
-        server.listen(1)
+        server.listen(4)
         server.settimeout(0.2)
         self._server = server
 
@@ -131,18 +149,22 @@ class EmulatorHost:
                 except OSError:
                     return
                 conn.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-                self._serve(SocketTransport(conn), threaded=False)
+                self.connections += 1
+                self._serve(SocketTransport(conn))      # takes over from the previous client
         self._spawn(accept_loop, f"{self.name}-accept")
         return server.getsockname()[:2]
 
-    def _serve(self, transport, threaded: bool = True) -> None:
+    def _serve(self, transport) -> None:
         with self._lock:
-            self._transport = transport
+            previous, self._transport = self._transport, transport
+            if previous is not None:
+                self.on_hangup()             # the old client is gone: closed and stopped
+            self._end_requested = False
             self.on_connect()
-        if threaded:
-            self._spawn(lambda: self._read_loop(transport), f"{self.name}-reader")
-        else:
-            self._read_loop(transport)
+        if previous is not None:
+            previous.close()                 # its reader sees None and leaves quietly
+        self._threads = [t for t in self._threads if t.is_alive()]
+        self._spawn(lambda: self._read_loop(transport), f"{self.name}-reader")
 
     def _read_loop(self, transport) -> None:
         while not self._stop.is_set():
@@ -154,8 +176,16 @@ class EmulatorHost:
                         self.on_hangup()
                 transport.close()
                 return
-            if data:
+            if data and self._transport is transport:     # not after a take-over
                 self.receive(data)
+                ended, self._end_requested = self._end_requested, False
+                if ended and getattr(transport, "has_sessions", False):
+                    with self._lock:
+                        if self._transport is transport:
+                            self._transport = None
+                            self.on_hangup()
+                    transport.close()
+                    return
 
     def _send(self, data: bytes) -> None:
         transport = self._transport

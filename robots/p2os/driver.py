@@ -11,8 +11,13 @@ Safety, in real time:
   keep-alive is tied to fresh commands, never a free-standing pulse.
 - A watchdog thread sends zero WATCHDOG s (0.15) after the last `command()`, whatever the
   caller is doing. Nothing is re-sent after that until a new `command()`.
-- A reader thread decodes SIPs; no SIP for 3 cycles means the link is down. It then reconnects
-  with back-off, and on success sends zero before ENABLE; the old command is forgotten.
+- A reader thread decodes SIPs; no SIP for 3 cycles means the link is down. It sends zero on
+  the way out (the line may still carry it), then reconnects with back-off, and on success sends
+  zero before ENABLE; the old command is forgotten. The state says why the link went down
+  (`extra["link_error"]`); the log says it once per episode, and again when it is back.
+- A reading the profile does not describe (a sonar number beyond the profile's ring, a range
+  beyond twice the sensor's reach) is dropped and counted (`extra["dropped_readings"]`, with
+  the newest reason in `extra["dropped_reason"]`), never passed up.
 
 On a simulated clock (`for_simulation` with `clock.simulated`) there are no driver threads:
 `poll()` (called by the tick loop right after `simulation.advance`) reads until every byte the
@@ -84,7 +89,8 @@ class _Port:
 
 class P2OSBase(Base):
     """A Pioneer 2 base over P2OS. Options: baud, retries, reply_timeout, sonar_max_range,
-    watchdog, sonar (on at connect), reconnect (bool), lockstep (in-process emulator only)."""
+    watchdog, sonar (on at connect), sonar_count (the profile's ring; more are dropped),
+    reconnect (bool), lockstep (in-process emulator only)."""
 
     def __init__(self, limits: Limits, url: str, subclass_hint: str | None = "p2dx", clock=None,
                  **options) -> None:
@@ -97,6 +103,7 @@ class P2OSBase(Base):
         self.retries = int(options.pop("retries", 3))
         self.reply_timeout = float(options.pop("reply_timeout", 0.3))
         self.sonar_max_range = options.pop("sonar_max_range", None)
+        self.sonar_count = options.pop("sonar_count", None)
         self.sonar_at_connect = bool(options.pop("sonar", True))
         self.reconnect = bool(options.pop("reconnect", True))
         self.lockstep: LockStep | None = options.pop("lockstep", None)
@@ -110,13 +117,14 @@ class P2OSBase(Base):
         self.parser = p.P2OSParser()
         self.odometry = p.Odometry(self.factors)
         self.stats = {"sips": 0, "watchdog_stops": 0, "reconnects": 0, "link_downs": 0,
-                      "bad_sips": 0}
+                      "bad_sips": 0, "dropped_readings": 0}
+        self.dropped_reason = ""
         self.emulator = None                        # set by for_simulation
         self._port: _Port | None = None
         self._lock = threading.RLock()              # guards writes and command state
         self._state_cond = threading.Condition()
         self._state = BaseState(t=self._now(), link_up=False)
-        self._sonar: list[float] = [math.inf] * self.factors.sonars
+        self._sonar: list[float] = [math.inf] * self._ring_size(self.factors)
         self._link_up = False
         self._closing = threading.Event()
         self._reader: threading.Thread | None = None
@@ -133,7 +141,8 @@ class P2OSBase(Base):
         """A driver for a real Pioneer at `url`, configured from the robot profile."""
         max_range = profile.sonar.max_range if profile.sonar is not None else None
         return cls(profile.limits, url, subclass_hint=profile.base.options.get("subclass"),
-                   clock=clock, sonar_max_range=max_range, baud=profile.base.baud)
+                   clock=clock, sonar_max_range=max_range, sonar_count=_sonar_count(profile),
+                   baud=profile.base.baud)
 
     @classmethod
     def for_simulation(cls, profile, simulation, clock) -> "P2OSBase":
@@ -148,8 +157,8 @@ class P2OSBase(Base):
             emulator.start_clock()
         max_range = profile.sonar.max_range if profile.sonar is not None else None
         base = cls(profile.limits, path, subclass_hint=profile.base.options.get("subclass"),
-                   clock=clock, sonar_max_range=max_range, lockstep=lockstep,
-                   reconnect=lockstep is None)
+                   clock=clock, sonar_max_range=max_range, sonar_count=_sonar_count(profile),
+                   lockstep=lockstep, reconnect=lockstep is None)
         base.emulator = emulator
         return base
 
@@ -266,7 +275,7 @@ class P2OSBase(Base):
             self.connected_baud = baud
             if factors is not self.factors:
                 self.factors = factors
-                self._sonar = [math.inf] * factors.sonars
+                self._sonar = [math.inf] * self._ring_size(factors)
             self.odometry = p.Odometry(self.factors)
             self.parser.reset()
             self._cmd = (0, 0)                       # nothing resumes by itself
@@ -353,8 +362,8 @@ class P2OSBase(Base):
                 self._read_once(READ_QUANTUM)
                 self._check_liveness(self._time())
             except Exception as exc:             # never let the reader die with the link "up"
-                log.exception("%s: reader failed", self.url)
-                self._link_lost(f"reader error: {exc!r}")
+                log.debug("%s: reader failed", self.url, exc_info=True)
+                self._link_lost(f"reader error: {type(exc).__name__}: {exc}")
 
     def _read_once(self, timeout: float) -> None:
         port = self._port
@@ -394,9 +403,14 @@ class P2OSBase(Base):
         x, y, th = self.odometry.update(sip)
         v, w = self.odometry.velocities(sip)
         for number, units in sip.sonar:
-            if number >= len(self._sonar):
-                self._sonar.extend([math.inf] * (number + 1 - len(self._sonar)))
             metres = units * f.range / 1000.0
+            if number >= len(self._sonar):
+                self._drop(f"sonar number {number}: the profile has sonars 0..{len(self._sonar) - 1}")
+                continue
+            if self.sonar_max_range is not None and metres > 2 * self.sonar_max_range:
+                self._drop(f"sonar {number} range {metres:.2f} m: beyond the sensor's reach of "
+                           f"{self.sonar_max_range:g} m")
+                continue
             if self.sonar_max_range is not None and metres >= self.sonar_max_range - 1e-9:
                 metres = math.inf
             self._sonar[number] = metres
@@ -411,10 +425,23 @@ class P2OSBase(Base):
                    "estop": bool(sip.flags & 0x20), "sips": self.stats["sips"],
                    "subclass": self.factors.subclass,
                    "rejected_packets": self.parser.stats.rejected,
-                   "dropped_bytes": self.parser.stats.dropped_bytes})
+                   "dropped_bytes": self.parser.stats.dropped_bytes,
+                   "dropped_readings": self.stats["dropped_readings"],
+                   "dropped_reason": self.dropped_reason})
         with self._state_cond:
             self._state = state
             self._state_cond.notify_all()
+
+    def _ring_size(self, factors: p.Factors) -> int:
+        """How many sonars readings may name: the profile's ring, else the controller's."""
+        return self.sonar_count if self.sonar_count is not None else factors.sonars
+
+    def _drop(self, why: str) -> None:
+        """A reading the profile does not describe: count it, keep the newest reason."""
+        self.stats["dropped_readings"] += 1
+        if why != self.dropped_reason:
+            log.debug("%s: dropped a reading: %s", self.url, why)
+        self.dropped_reason = why
 
     def wait_for_sip(self, after: int, timeout: float) -> bool:
         """Block until more than `after` SIPs were decoded (benchmarks and tests)."""
@@ -440,8 +467,9 @@ class P2OSBase(Base):
             self.last_error = f"{self.url}: link down: {why}"
             log.warning("%s", self.last_error)
             self.stats["link_downs"] += 1
+            self._stop_on_the_way_out()
             self._drop_port()
-            self._set_link(False)
+            self._set_link(False, why)
             self._cmd = (0, 0)
             self.watchdog.disarm()
             self._next_attempt = self._time() + self.backoff.next_delay()
@@ -463,18 +491,34 @@ class P2OSBase(Base):
         if self.reconnect and now >= self._next_attempt:
             self._reconnect_with_backoff()
 
+    def _stop_on_the_way_out(self) -> None:
+        """Zero before dropping a port that may still carry it (a silent or garbled robot).
+
+        The controller would otherwise keep the last command until its own 2 s watchdog, and
+        resume it on the next packet (p2os.md §8)."""
+        port = self._port
+        if port is None:
+            return
+        try:
+            port.write(p.vel(0) + p.rvel(0))
+        except Exception:
+            pass                               # the line is gone: nothing to stop through
+
     def _drop_port(self) -> None:
         port, self._port = self._port, None
         if port is not None:
             port.close()
 
-    def _set_link(self, up: bool) -> None:
+    def _set_link(self, up: bool, why: str = "") -> None:
         self._link_up = up
         with self._state_cond:
             if self._state.link_up != up:
+                extra = dict(self._state.extra)
+                if not up:
+                    extra["link_error"] = why or "link closed"
                 self._state = replace(self._state, link_up=up, t=self._now(),
                                       v=self._state.v if up else 0.0,
-                                      w=self._state.w if up else 0.0)
+                                      w=self._state.w if up else 0.0, extra=extra)
             self._state_cond.notify_all()
 
     # -- sending ----------------------------------------------------------------------------------
@@ -503,6 +547,11 @@ class P2OSBase(Base):
     @property
     def link_up(self) -> bool:
         return self._link_up
+
+
+def _sonar_count(profile) -> int | None:
+    """The number of sonars the profile describes (None when it describes no ring)."""
+    return len(profile.sonar.poses) if profile.sonar is not None else None
 
 
 def _toward_zero_within(value: float, limit: float) -> int:

@@ -23,6 +23,7 @@ MAX_COUNT = 249            # later manuals; the P2 manual says 200 (we accept bo
 MIN_COUNT = 3              # type/command byte + checksum
 ARGINT, ARGNINT, ARGSTR = 0x3B, 0x1B, 0x2B
 SIP_TYPES = (0x32, 0x33)   # standard SIP: motors stopped / moving
+CONFIG_TYPE = 0x20         # CONFIGpac, the answer to CONFIG
 MAX_SIP_SONARS = (MAX_COUNT - 27) // 3
 
 
@@ -38,6 +39,7 @@ class Cmd(IntEnum):
     SETV = 6
     SETO = 7
     MOVE = 8
+    ROTATE = 9
     SETRV = 10
     VEL = 11
     HEAD = 12
@@ -168,6 +170,11 @@ def setrv(deg_s: int) -> bytes: return command(Cmd.SETRV, _bounded("SETRV deg/s"
 def setra(deg_s2: int) -> bytes: return command(Cmd.SETRA, _bounded("SETRA deg/s^2", deg_s2, -32767, 32767))
 def vel(mm_s: int) -> bytes: return command(Cmd.VEL, _bounded("VEL mm/s", mm_s, -32767, 32767))
 def rvel(deg_s: int) -> bytes: return command(Cmd.RVEL, _bounded("RVEL deg/s", deg_s, -32767, 32767))
+def move(mm: int) -> bytes: return command(Cmd.MOVE, _bounded("MOVE mm", mm, -32767, 32767))
+def rotate(deg_s: int) -> bytes: return command(Cmd.ROTATE, _bounded("ROTATE deg/s", deg_s, -32767, 32767))
+def head(deg: int) -> bytes: return command(Cmd.HEAD, _bounded("HEAD deg", deg, -32767, 32767))
+def dhead(deg: int) -> bytes: return command(Cmd.DHEAD, _bounded("DHEAD deg", deg, -32767, 32767))
+def config() -> bytes: return command(Cmd.CONFIG, 1)
 def bumpstall(mode: int) -> bytes: return command(Cmd.BUMPSTALL, _bounded("BUMPSTALL", mode, 0, 3))
 def say(text: str) -> bytes: return command(Cmd.SAY, text)
 
@@ -314,6 +321,57 @@ def decode_sip(packet: Packet) -> SIP:
         end += size
     return SIP(packet.kind == SIP_TYPES[1], x & 0x7FFF, y & 0x7FFF, th, lv, rv, batt,
                sb_lo | (sb_hi << 8), control, flags, compass, sonar, *tail, optional=optional)
+
+
+# -- CONFIGpac (0x20): the controller's own settings, laid out as ARIA reads them ---------------
+# (name, struct format); "z" is a NUL-terminated string. Fields after the P2 era are parsed only
+# while bytes remain, like the SIP's optional tail.
+CONFIG_FIELDS: tuple[tuple[str, str], ...] = (
+    ("robot_type", "z"), ("subtype", "z"), ("serial", "z"), ("four_mots", "B"),
+    ("rot_vel_top", "H"), ("trans_vel_top", "H"), ("rot_accel_top", "H"),
+    ("trans_accel_top", "H"), ("pwm_max", "H"), ("name", "z"), ("sip_cycle_ms", "B"),
+    ("host_baud", "B"), ("aux1_baud", "B"), ("has_gripper", "H"), ("front_sonar", "H"),
+    ("rear_sonar", "B"), ("low_battery", "H"), ("rev_count", "H"), ("watchdog_ms", "H"),
+    ("normal_mpacs", "B"), ("stall_val", "H"), ("stall_count", "H"), ("joy_vel", "H"),
+    ("joy_rot_vel", "H"), ("rot_vel_max", "H"), ("trans_vel_max", "H"), ("rot_accel", "H"),
+    ("rot_decel", "H"), ("rot_kp", "H"), ("rot_kv", "H"), ("rot_ki", "H"), ("trans_accel", "H"),
+    ("trans_decel", "H"), ("trans_kp", "H"), ("trans_kv", "H"), ("trans_ki", "H"),
+    ("front_bumps", "B"), ("rear_bumps", "B"), ("has_charger", "B"), ("sonar_cycle_ms", "B"),
+    ("reset_baud", "B"), ("gyro_type", "B"), ("drift_factor", "h"), ("aux2_baud", "B"),
+    ("aux3_baud", "B"), ("ticks_mm", "H"), ("shutdown_voltage", "H"), ("firmware_version", "z"),
+)
+
+
+def encode_config(values: dict) -> bytes:
+    """A whole CONFIGpac packet; fields missing from `values` are sent as 0 or ""."""
+    body = bytearray([CONFIG_TYPE])
+    for name, fmt in CONFIG_FIELDS:
+        value = values.get(name, "" if fmt == "z" else 0)
+        if fmt == "z":
+            body += str(value).encode("latin-1") + b"\0"
+        else:
+            body += struct.pack("<" + fmt, value)
+    return frame(bytes(body))
+
+
+def decode_config(packet: Packet) -> dict:
+    """The fields of a CONFIGpac, as far as its bytes go."""
+    if packet.kind != CONFIG_TYPE:
+        raise ProtocolError(f"packet type {packet.kind:#04x} is not a CONFIGpac (0x20)")
+    data, at, values = packet.data, 0, {}
+    for name, fmt in CONFIG_FIELDS:
+        if fmt == "z":
+            end = data.find(b"\0", at)
+            if end < 0:
+                break
+            values[name], at = data[at:end].decode("latin-1"), end + 1
+        else:
+            size = struct.calcsize("<" + fmt)
+            if at + size > len(data):
+                break
+            values[name] = struct.unpack_from("<" + fmt, data, at)[0]
+            at += size
+    return values
 
 
 # -- conversion to SI ------------------------------------------------------------------------------

@@ -78,6 +78,8 @@ class RFlexBase(Base):
         self._write_lock = threading.RLock()
         self._report_cond = threading.Condition(self._state_lock)
         self._thread: threading.Thread | None = None
+        self._dropped_readings = 0
+        self._dropped_reason = ""
         self._running = False
         self._opened = False
         self._closed = False
@@ -172,7 +174,12 @@ class RFlexBase(Base):
                 extra={"reports": self._reports, "reconnects": self._reconnects,
                        "watchdog_expirations": self.watchdog.expirations,
                        "decode_errors": self._decode_errors,
-                       "parser": self.parser.stats, "command": self._cmd})
+                       "parser": self.parser.stats, "command": self._cmd,
+                       "dropped_readings": self._dropped_readings,
+                       "dropped_reason": self._dropped_reason,
+                       "link_error": ("port closed" if self._port is None else
+                                      "no report yet" if self._report_t == -math.inf else
+                                      f"no report for {now - self._report_t:.2f} s")})
 
     def command(self, v: float, w: float) -> None:
         """Clamp (NaN -> 0), remember, and send both axes now; the watchdog is re-armed."""
@@ -447,7 +454,10 @@ class RFlexBase(Base):
             elif isinstance(report, p.SonarReport):
                 for wire, raw in report.readings:
                     index = p.SONAR_INDEX_OF_WIRE_ID.get(wire)
-                    if index is not None:
+                    if index is None:          # not a sonar of the B21r ring: counted, dropped
+                        self._dropped_readings += 1
+                        self._dropped_reason = f"sonar wire id {wire}: not on the B21r's ring"
+                    else:
                         self._sonar[index] = p.sonar_metres(raw)
             elif isinstance(report, p.DioReport):
                 self._panels[report.address] = report.data

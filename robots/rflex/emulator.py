@@ -13,6 +13,13 @@ Acceleration: the body ramps towards the commanded velocities with the profile's
 limits, capped further by the acceleration each SET_DIR carries (units/s², as the controller
 would ramp).
 
+Commands the notes describe but the simulated base has nothing for are accepted and counted in
+`ignored` (see docs/emulator-fidelity.md): IR_RUN (no IR ring is simulated), DIO_SET (no digital
+outputs), SYS_LCD_DUMP (no display). MOT_AXIS_SET_POS sets the axis's position counter and stops
+that axis (CARMEN sends it with zeros to reset odometry; what a moving SET_POS does is not
+known, so the safe reading is taken). While DIO reports run, the bearing passing its home
+(world heading 0) is reported as a DIO report at address 0x31, the B21's heading-home event.
+
 Failsafe: the controller zeroes both axes when no SET_DIR arrived for `FAILSAFE_TIMEOUT` =
 0.5 s of controller time. The real interval is undocumented (rflex.md §8). 0.5 s is five missed
 10 Hz resends, so one late host cycle on a loaded machine does not stop the robot, and at
@@ -69,6 +76,9 @@ class RFlexController:
         self.failsafe_stops = 0
         self.commands: list = []            # (time, decoded command), for tests and tools
         self.bad_commands = 0
+        self.ignored = 0                    # accepted commands with no effect here (see above)
+        self._last_heading: float | None = None
+        self._home_pending = False
         self._seq = 0
         self._next_motor = self._next_sonar = self._next_dio = 0.0
         self._panels_reported: dict[int, int] = {}
@@ -96,6 +106,10 @@ class RFlexController:
                 axis = self.axes[command.axis]
                 axis.target, axis.accel = float(command.velocity), float(command.accel)
                 self.last_set_dir = now
+        elif isinstance(command, p.SetPos):
+            if command.axis in (p.TRANSLATION_AXIS, p.ROTATION_AXIS):
+                axis = self.axes[command.axis]
+                axis.position, axis.target = float(command.position), 0.0
         elif isinstance(command, p.ReportRequest):
             self.motor_period, self.axis_mask = command.period_us / 1e6, command.axis_mask
             self._next_motor = now
@@ -118,6 +132,8 @@ class RFlexController:
         elif command == p.Simple(p.JSTK, p.JSTK_GET_STATE):
             return p.encode_escaped(p.joystick_report(self._next_seq(), p.JoystickReport(
                 self._timestamp(), 0, 0, 0)))
+        else:                               # IR_RUN, DIO_SET, SYS_LCD_DUMP: nothing to do it on
+            self.ignored += 1
         return b""
 
     def _stop_axes(self) -> None:
@@ -145,6 +161,7 @@ class RFlexController:
         body = self.world.body
         self.axes[0].position += body.v * dt * self.conv[0]
         self.axes[1].position += body.w * dt * self.conv[1]
+        self._watch_home(body.th)
         if (self.last_set_dir is not None and now - self.last_set_dir > self.failsafe
                 and any(a.target for a in self.axes)):
             self._stop_axes()
@@ -152,8 +169,19 @@ class RFlexController:
             self.failsafe_stops += 1
         return self._due_reports(now)
 
+    def _watch_home(self, heading: float) -> None:
+        """The bearing passed home (world heading 0, not the ±pi wrap): report it next."""
+        last, self._last_heading = self._last_heading, heading
+        if last is not None and last != heading and last * heading <= 0 \
+                and abs(last - heading) < math.pi:
+            self._home_pending = True
+
     def _due_reports(self, now: float) -> bytes:
         out = b""
+        if self._home_pending and self.dio_period > 0:
+            self._home_pending = False
+            out += p.encode_escaped(p.dio_report(self._next_seq(), p.DioReport(
+                self._timestamp(), p.HOME_ADDRESS, 1)))
         if self.motor_period > 0 and now >= self._next_motor - 1e-9:
             self._next_motor = _next_time(self.motor_period, now)
             out += self._motor_reports()

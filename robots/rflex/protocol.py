@@ -321,6 +321,15 @@ class SetDir:
 
 
 @dataclass(frozen=True)
+class SetPos:
+    axis: int
+    velocity: int
+    accel: int
+    torque: int
+    position: int
+
+
+@dataclass(frozen=True)
 class ReportRequest:
     period_us: int
     axis_mask: int
@@ -355,6 +364,9 @@ def decode_command(frame: Frame):
         _need(frame, 14, "MOT_AXIS_SET_DIR")
         axis, velocity, accel, torque, direction = struct.unpack(">BIIIB", frame.data)
         return SetDir(axis, velocity if direction else -velocity, accel, torque)
+    if key == (MOT, MOT_AXIS_SET_POS):
+        _need(frame, 17, "MOT_AXIS_SET_POS")
+        return SetPos(*struct.unpack(">BIIIi", frame.data))
     if key == (MOT, MOT_SYSTEM_REPORT_REQ):
         _need(frame, 8, "MOT_SYSTEM_REPORT_REQ")
         return ReportRequest(*struct.unpack(">II", frame.data))
@@ -367,7 +379,7 @@ def decode_command(frame: Frame):
     if key in ((MOT, MOT_SET_DEFAULTS), (MOT, MOT_BRAKE_SET), (MOT, MOT_BRAKE_RELEASE),
                (SYS, SYS_STATUS), (JSTK, JSTK_GET_STATE)):
         return Simple(*key)
-    if key in ((MOT, MOT_AXIS_SET_POS), (IR, IR_RUN), (DIO, DIO_SET), (SYS, SYS_LCD_DUMP)):
+    if key in ((IR, IR_RUN), (DIO, DIO_SET), (SYS, SYS_LCD_DUMP)):
         return Simple(*key)
     raise ProtocolError(f"unknown command port {frame.port} opcode {frame.opcode}")
 

@@ -29,6 +29,7 @@ EXPECTED = {
 
 def run_survey(tmp_path, scenario: str, robot: str = "horos", seed: int = 0,
                extra: tuple[str, ...] = ()) -> tuple[list[dict], list[tuple[str, str]], int]:
+    tmp_path.mkdir(parents=True, exist_ok=True)         # --trace wants an existing folder
     trace = tmp_path / f"{scenario}-{robot}-{seed}.jsonl"
     data = tmp_path / f"data-{scenario}-{robot}-{seed}"
     code = main(["run", "survey", "--robot", robot, "--scenario", scenario, "--fast",
