@@ -8,7 +8,8 @@ Adding a base is one line in `EMULATORS`: the name, its default robot profile, a
 factory lives ("module:Class.method"). The factory is called as
 `factory(profile, world, clock=clock)` and returns an object with `attach(simulation)`,
 `serve_pty(link=None) -> path`, `serve_tcp(host, port) -> (host, port)`,
-`start_clock(simulation)` and `close()`.
+`start_clock(simulation)` and `close()`. A bus rather than a serial line (CAN) serves TCP only
+(`tcp_only`), and `address` says how a client names it (`--port`).
 """
 from __future__ import annotations
 
@@ -27,12 +28,17 @@ class EmulatorEntry:
     robot: str          # the profile it emulates by default
     factory: str        # "package.module:Class.method"
     about: str = ""
+    address: str = "socket://{host}:{port}"     # how a client names the TCP server
+    tcp_only: bool = False                      # no pty (a bus, not a serial line)
 
 
 EMULATORS: dict[str, EmulatorEntry] = {
     "p2os": EmulatorEntry("horos", "robots.p2os.emulator:P2OSEmulator.for_profile",
                           "ActivMedia Pioneer 2 (P2OS)"),
     "rflex": EmulatorEntry("perses", "robots.rflex.emulator:RFlexEmulator.for_profile", "RWI B21r (rFLEX)"),
+    "can": EmulatorEntry("argos", "robots.canopen.emulator:CanOpenEmulator.for_profile",
+                         "two CiA 402 drives on CAN, served as socketcand",
+                         address="socketcand:{host}:{port}", tcp_only=True),
 }
 
 
@@ -76,11 +82,18 @@ class EmulateCommand:
         except RobotError as exc:
             print(f"interbot emulate: error: {exc}", file=sys.stderr)
             return 2
+        if entry.tcp_only and args.tcp is None:
+            if args.pty:
+                emulator.close()
+                print(f"interbot emulate: error: the {args.base} emulator serves TCP only; use "
+                      f"--tcp PORT (0 picks a free one)", file=sys.stderr)
+                return 2
+            args.tcp = 0
         try:
             emulator.attach(simulation)
             if args.tcp is not None:
                 host, port = emulator.serve_tcp(args.host, args.tcp)
-                address = f"socket://{host}:{port}"
+                address = entry.address.format(host=host, port=port)
             else:
                 address = emulator.serve_pty(link=args.link)
             emulator.start_clock(simulation)

@@ -59,6 +59,7 @@ class Drive:
         self.powered = True
         self.booted = False
         self.injected: list[int] = []           # EMCY codes sent (tests read them)
+        self.rpdo_log: list[tuple[float, int, int]] = []   # (monotonic, controlword, target) received
         self._reset_application()
         self.nmt_state = p.NodeState.BOOT_UP
 
@@ -240,6 +241,10 @@ class Drive:
         if not (self.powered and self.nmt_state is p.NodeState.OPERATIONAL):
             return
         with self.emulator.lock:
+            if len(data) == 6:
+                self.rpdo_log.append((time.monotonic(), *struct.unpack("<Hi", bytes(data))))
+                if len(self.rpdo_log) > 20_000:
+                    del self.rpdo_log[:10_000]
             for number in (1, 2):
                 cob_id = self._u(0x1400 + number - 1, 1)
                 if cob_id & p.PDO_INVALID or cob_id & 0x7FF != can_id:
@@ -489,6 +494,8 @@ class CanOpenEmulator:
         server.start()
         self._servers.append(server)
         return server.address
+
+    serve_tcp = serve_socketcand         # the name `interbot emulate` calls
 
     def close(self) -> None:
         self._stop.set()
