@@ -58,6 +58,7 @@ S = p.State402
 WATCHDOG = 0.15             # s without a fresh command -> zero
 BUS_STATE_EVERY = 0.5       # s between polls of the interface's error state (real time)
 LOG_ENV = "INTERBOT_CAN_LOG"
+NOTIFIER_CYCLE = 0.05       # s, longest the receive thread blocks (canopen's default is 1 s)
 
 
 class StartupError(HandshakeError):
@@ -277,6 +278,7 @@ class CanOpenBase(Base):
         if self.lockstep is not None:
             self.lockstep.reset()
         network = canopen.Network()
+        network.NOTIFIER_CYCLE = NOTIFIER_CYCLE          # close() returns promptly
         network.bus = DriverBus(bus, self.lockstep.to_device if self.lockstep else None, self.can_log)
         network.listeners.append(_Raw(self))
         if self.lockstep is not None:

@@ -365,6 +365,7 @@ class CanOpenEmulator:
         self.drives = {n: Drive(self, n, boot.get(n, 0.0)) for n in (config.left_node, config.right_node)}
         self.sent = 0
         self.network = canopen.Network()
+        self.network.NOTIFIER_CYCLE = 0.05                # close() returns promptly
         self.bus = can.Bus(interface="virtual", channel=self.channel)
         self.network.bus = DriverBus(self.bus, lockstep.to_host if lockstep else None, wait=False)
         if lockstep is not None:
