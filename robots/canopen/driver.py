@@ -309,14 +309,17 @@ class CanOpenBase(Base):
                                        f"call reset_faults() first, after finding the cause")
         with self._boot_cond:
             self._boot_seen.clear()
+        times = self.startup_timings = {"reset": time.monotonic()}
         self._send(*p.nmt(p.Nmt.RESET_COMMUNICATION))
         self._wait_boot()
-        t0 = time.monotonic()
+        t0 = times["booted"] = time.monotonic()
         for node in self.nodes:
             self._configure(node)
+        times["nmt_start"] = time.monotonic()
         self._send(*p.nmt(p.Nmt.START))
         for node in self.nodes:
             self._enable(node)
+        times["enabled"] = time.monotonic()
         with self._lock:
             self.odometry.reset()
             self._cmd = (0, 0)
