@@ -142,8 +142,8 @@ def bench_echo(count: int) -> list[float]:
 
 def bench_load(period: float, seconds: float) -> None:
     base, emulator = pair(sync_period=period)
-    tap = can.Bus(interface="virtual", channel=emulator.channel)
     base.open()
+    tap = can.Bus(interface="virtual", channel=emulator.channel)     # after the start-up's SDOs
     frames = []
     t_end = time.monotonic() + seconds
     while time.monotonic() < t_end:

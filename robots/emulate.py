@@ -61,6 +61,9 @@ class EmulateCommand:
         where.add_argument("--tcp", type=int, metavar="PORT",
                            help="listen on this TCP port (0 picks a free one)")
         where.add_argument("--pty", action="store_true", help="serve on a pseudo-terminal (default)")
+        where.add_argument("--bus", metavar="INTERFACE:CHANNEL",
+                           help="CAN only: put the emulated drives on this python-can bus "
+                                "(e.g. socketcan:vcan0) instead of serving TCP")
         parser.add_argument("--host", default="127.0.0.1", help="address to bind with --tcp")
         parser.add_argument("--link", metavar="PATH", help="with --pty: a stable symlink to it")
         parser.add_argument("--robot", help="robot profile (default: the base's usual robot)")
@@ -78,11 +81,14 @@ class EmulateCommand:
             profile = load_profile(args.robot or entry.robot)
             clock = RealClock()
             simulation = Simulation(profile, args.scenario, args.seed, clock)
-            emulator = load_factory(entry.factory)(profile, simulation.world, clock=clock)
+            if args.bus and not entry.tcp_only:
+                raise RobotError(f"--bus is for CAN emulators; {args.base} speaks over a serial line")
+            extra = {"port": args.bus} if args.bus else {}
+            emulator = load_factory(entry.factory)(profile, simulation.world, clock=clock, **extra)
         except RobotError as exc:
             print(f"interbot emulate: error: {exc}", file=sys.stderr)
             return 2
-        if entry.tcp_only and args.tcp is None:
+        if entry.tcp_only and args.tcp is None and not args.bus:
             if args.pty:
                 emulator.close()
                 print(f"interbot emulate: error: the {args.base} emulator serves TCP only; use "
@@ -91,7 +97,9 @@ class EmulateCommand:
             args.tcp = 0
         try:
             emulator.attach(simulation)
-            if args.tcp is not None:
+            if args.bus:
+                address = args.bus
+            elif args.tcp is not None:
                 host, port = emulator.serve_tcp(args.host, args.tcp)
                 address = entry.address.format(host=host, port=port)
             else:

@@ -301,12 +301,11 @@ class CanOpenBase(Base):
 
     def _start_up(self) -> None:
         """Reset, configure, start, enable: §2 of the protocol notes, checked at each step."""
-        c = self.config
-        if self._fault is not None or self._enabled is False:
-            for node in self.nodes:
-                if node in self._heartbeat_t and self._state_of_node_quiet(node) is S.FAULT:
-                    raise StartupError(f"{self._who(node)} is in Fault ({self._fault_text(node)}); "
-                                       f"call reset_faults() first, after finding the cause")
+        for node in self.nodes:          # a drive we drove before and that is now in Fault
+            if node in self._heartbeat_t and self._state_of_node_quiet(node) in (
+                    S.FAULT, S.FAULT_REACTION_ACTIVE):
+                raise StartupError(f"{self._who(node)} is in Fault ({self._fault_text(node)}); "
+                                   f"call reset_faults() first, after finding the cause")
         with self._boot_cond:
             self._boot_seen.clear()
         times = self.startup_timings = {"reset": time.monotonic()}

@@ -6,8 +6,9 @@ lacks we do here: NMT (boot-up, reset, start/stop), the heartbeat producer and c
 robot time, PDOs taken from the mapping objects the host wrote (TPDOs on SYNC, RPDOs written
 into the store), and the CiA 402 power state machine with profile-velocity ramps.
 
-Faults it produces: EMCY 0x8611 on following error (the wheel cannot follow its demand, e.g.
-the body is stuck), EMCY 0x8130 and a quick stop when the host's heartbeat stops, and whatever
+Faults it produces: EMCY 0x2310 over-current when the wheels push against an obstacle that
+holds the body (0.5 s), EMCY 0x8611 on following error (a wheel lags its demand by more than
+0.25 m/s for 1 s), EMCY 0x8130 and a quick stop when the host's heartbeat stops, and whatever
 a test injects (`inject_fault`, `power_off`, `bus_error`). Knobs for start-up tests: per drive
 `sdo_delay` (a slow drive), `refuse` {(index, sub): abort code}, `boot_delay` (None = never).
 
@@ -40,6 +41,8 @@ S = p.State402
 FOLLOWING_WINDOW = 0.25      # m/s between demand and actual ...
 FOLLOWING_TIME = 1.0         # ... for this long: following error
 SONAR_CYCLE = 0.05           # s between the sonar board's readings
+STALL_TIME = 0.5             # s pushing against an obstacle before the current limit trips
+STALL_DEMAND = 0.05          # m/s of demand that counts as pushing
 _channels = itertools.count(1)
 
 
@@ -354,7 +357,8 @@ class CanOpenEmulator:
     name = "canopen-emulator"
 
     def __init__(self, world, config: DriveConfig, clock=None, lockstep: LockStep | None = None,
-                 channel: str | None = None, boot_delays: dict[int, float | None] | None = None) -> None:
+                 channel: str | None = None, boot_delays: dict[int, float | None] | None = None,
+                 port: str | None = None) -> None:
         self.world = world
         self.config = config
         self.clock = clock
@@ -366,7 +370,13 @@ class CanOpenEmulator:
         self.sent = 0
         self.network = canopen.Network()
         self.network.NOTIFIER_CYCLE = 0.05                # close() returns promptly
-        self.bus = can.Bus(interface="virtual", channel=self.channel)
+        if port is not None:             # a real (v)can interface, e.g. socketcan:vcan0
+            from robots.canopen.bus import open_bus, parse_port
+            spec = parse_port(port)
+            self.channel = spec.channel
+            self.bus = open_bus(spec, config.bitrate)
+        else:
+            self.bus = can.Bus(interface="virtual", channel=self.channel)
         self.network.bus = DriverBus(self.bus, lockstep.to_host if lockstep else None, wait=False)
         if lockstep is not None:
             self.network.listeners.append(Counted(lockstep.to_device))
@@ -380,6 +390,7 @@ class CanOpenEmulator:
         self._hooked = False
         self._sonar: list[float] = [math.inf] * config.sonars
         self._sonar_due = 0.0
+        self._stalled_since: float | None = None
         self.timers(self.now())
 
     @classmethod
@@ -424,9 +435,27 @@ class CanOpenEmulator:
             demand_l = lf.demand * c.sign(c.left_node) / c.counts_per_metre if lf.powered else 0.0
             demand_r = rt.demand * c.sign(c.right_node) / c.counts_per_metre if rt.powered else 0.0
         body.set_command(*c.body_speeds(demand_l, demand_r))
+        self._check_stall(body, demand_l, demand_r)
         if c.sonar_node and c.sonars and self.world.t + 1e-9 >= self._sonar_due:
             self._sonar = [float(r) for r in self.world.sonar_ranges()][:c.sonars]
             self._sonar_due = self.world.t + SONAR_CYCLE
+
+    def _check_stall(self, body, demand_l: float, demand_r: float) -> None:
+        """A body held by an obstacle while the wheels push: over-current on the pushing drives."""
+        pushing = [n for n, d in ((self.config.left_node, demand_l), (self.config.right_node, demand_r))
+                   if abs(d) > STALL_DEMAND]
+        if not (body.stalled and pushing):
+            self._stalled_since = None
+            return
+        now = self.now()
+        if self._stalled_since is None:
+            self._stalled_since = now
+        elif now - self._stalled_since >= STALL_TIME:
+            self._stalled_since = None
+            with self.lock:
+                for node in pushing:
+                    if self.drives[node].state is S.OPERATION_ENABLED:
+                        self.drives[node].fault(0x2310)
 
     def timers(self, now: float) -> None:
         with self.lock:

@@ -341,3 +341,25 @@ def test_host_watchdog_in_real_time(realtime):
     t_last = time.monotonic()
     report("host watchdog (0.15 s after the last command)", t_last, emulator.drives[1])
     assert base.read_state().link_up and base.stats["watchdog_stops"] == 1
+
+
+def test_pushing_against_a_person_trips_over_current_and_stops(standing_person):
+    clock = SimClock()
+    simulation = Simulation(ARGOS, standing_person(0.0, 0.0), 0, clock)   # 0.75 m ahead
+    base = CanOpenBase.for_simulation(ARGOS, simulation, clock)
+    base.open()
+    try:
+        for _ in range(60):
+            base.command(0.3, 0.0)          # L0 obeys; the safety arbiter lives in L1
+            simulation.advance(clock.advance(0.1))
+            base.poll()
+            if not base.read_state().link_up:
+                break
+        state = base.read_state()
+        assert simulation.world.body.stalled or simulation.world.body.v == 0.0
+        assert not state.link_up and "EMCY 0x2310 over-current" in state.extra["fault"]
+        drives = base.emulator.drives
+        assert all(d.target == 0 for d in drives.values())
+        assert any(d.state in (S.FAULT, S.FAULT_REACTION_ACTIVE) for d in drives.values())
+    finally:
+        base.close()

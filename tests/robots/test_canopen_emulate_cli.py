@@ -56,3 +56,33 @@ def test_the_can_emulator_refuses_a_pty():
                              "raise SystemExit(main())", "emulate", "can", "--pty"],
                             capture_output=True, text=True, timeout=60)
     assert result.returncode == 2 and "serves TCP only; use --tcp PORT" in result.stderr
+
+
+def test_emulate_can_on_a_python_can_bus_instead_of_tcp(capsys):
+    """`--bus socketcan:vcan0` where a machine has vcan; here the same path on a virtual bus."""
+    import argparse
+    import threading
+
+    from robots.emulate import EmulateCommand
+
+    command = EmulateCommand()
+    parser = argparse.ArgumentParser()
+    command.add_arguments(parser)
+    args = parser.parse_args(["can", "--bus", "virtual:emulate-bus-test"])
+    stop = threading.Event()
+    thread = threading.Thread(target=command.run, args=(args, stop), daemon=True)
+    thread.start()
+    deadline = time.monotonic() + 10
+    while "ready" not in capsys.readouterr().out and time.monotonic() < deadline:
+        time.sleep(0.05)
+    base = CanOpenBase.for_profile(ARGOS, "virtual:emulate-bus-test", clock=RealClock())
+    try:
+        base.open()
+        assert base.read_state().link_up
+    finally:
+        base.close()
+        stop.set()
+        thread.join(timeout=10)
+    assert not thread.is_alive()
+    with pytest.raises(SystemExit):
+        parser.parse_args(["can", "--bus", "virtual:x", "--tcp", "0"])      # one or the other
