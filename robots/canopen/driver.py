@@ -361,7 +361,7 @@ class CanOpenBase(Base):
             raise StartupError(
                 f"{self.port}: {', '.join(self._who(n) for n in missing)} sent no boot-up "
                 f"(0x{0x700 + missing[0]:03X} data 00) within {self.config.boot_timeout:.1f} s after "
-                f"NMT reset communication (000#8200); check its power, its node id, the bit rate "
+                f"NMT reset communication (000#8200); check power, node ids, the bit rate "
                 f"({self.config.bitrate} bit/s) and the bus termination")
 
     def _configure(self, node: int) -> None:
