@@ -48,7 +48,7 @@ from robots.canopen import protocol as p
 from robots.canopen.bus import CandumpLog, Counted, DriverBus, open_bus, parse_port
 from robots.canopen.od import drive_dictionary
 from robots.canopen.wheels import DriveConfig, Odometry
-from robots.exceptions import HandshakeError, LinkError
+from robots.exceptions import HandshakeError
 from robots.link.lockstep import LockStep
 from robots.link.watchdog import CommandWatchdog
 from robots.profile import Limits
