@@ -363,3 +363,17 @@ def test_pushing_against_a_person_trips_over_current_and_stops(standing_person):
         assert any(d.state in (S.FAULT, S.FAULT_REACTION_ACTIVE) for d in drives.values())
     finally:
         base.close()
+
+
+def test_a_wheel_that_cannot_follow_raises_following_error(fast):
+    base, simulation, clock, tick = fast
+    body = simulation.world.body
+    body.limits = replace(body.limits, max_accel=0.01)       # the body barely answers the wheels
+    for _ in range(40):
+        base.command(0.5, 0.0)
+        tick()
+        if not base.read_state().link_up:
+            break
+    fault = base.read_state().extra["fault"]
+    assert "EMCY 0x8611 following error" in fault, fault
+    assert all(d.target == 0 for d in base.emulator.drives.values())
