@@ -8,7 +8,8 @@ Adding a base is one line in `EMULATORS`: the name, its default robot profile, a
 factory lives ("module:Class.method"). The factory is called as
 `factory(profile, world, clock=clock)` and returns an object with `attach(simulation)`,
 `serve_pty(link=None) -> path`, `serve_tcp(host, port) -> (host, port)`,
-`start_clock(simulation)` and `close()`.
+`start_clock(simulation)` and `close()`. A bus rather than a serial line (CAN) serves TCP only
+(`tcp_only`), and `address` says how a client names it (`--port`).
 """
 from __future__ import annotations
 
@@ -27,12 +28,17 @@ class EmulatorEntry:
     robot: str          # the profile it emulates by default
     factory: str        # "package.module:Class.method"
     about: str = ""
+    address: str = "socket://{host}:{port}"     # how a client names the TCP server
+    tcp_only: bool = False                      # no pty (a bus, not a serial line)
 
 
 EMULATORS: dict[str, EmulatorEntry] = {
     "p2os": EmulatorEntry("horos", "robots.p2os.emulator:P2OSEmulator.for_profile",
                           "ActivMedia Pioneer 2 (P2OS)"),
     "rflex": EmulatorEntry("perses", "robots.rflex.emulator:RFlexEmulator.for_profile", "RWI B21r (rFLEX)"),
+    "can": EmulatorEntry("argos", "robots.canopen.emulator:CanOpenEmulator.for_profile",
+                         "two CiA 402 drives on CAN, served as socketcand",
+                         address="socketcand:{host}:{port}", tcp_only=True),
 }
 
 
@@ -55,6 +61,9 @@ class EmulateCommand:
         where.add_argument("--tcp", type=tcp_port, metavar="PORT",
                            help="listen on this TCP port (0 picks a free one)")
         where.add_argument("--pty", action="store_true", help="serve on a pseudo-terminal (default)")
+        where.add_argument("--bus", metavar="INTERFACE:CHANNEL",
+                           help="CAN only: put the emulated drives on this python-can bus "
+                                "(e.g. socketcan:vcan0) instead of serving TCP")
         parser.add_argument("--host", default="127.0.0.1", help="address to bind with --tcp")
         parser.add_argument("--link", metavar="PATH", help="with --pty: a stable symlink to it")
         parser.add_argument("--robot", help="robot profile (default: the base's usual robot)")
@@ -72,14 +81,24 @@ class EmulateCommand:
             profile = load_profile(args.robot or entry.robot)
             clock = RealClock()
             simulation = Simulation(profile, args.scenario, args.seed, clock)
-            emulator = load_factory(entry.factory)(profile, simulation.world, clock=clock)
+            if args.bus and not entry.tcp_only:
+                raise RobotError(f"--bus is for CAN emulators; {args.base} speaks over a serial line")
+            extra = {"port": args.bus} if args.bus else {}
+            emulator = load_factory(entry.factory)(profile, simulation.world, clock=clock, **extra)
         except RobotError as exc:
             print(f"interbot emulate: error: {exc}", file=sys.stderr)
             return 2
+        if entry.tcp_only and args.tcp is None and not args.bus:
+            if args.pty:
+                emulator.close()
+                print(f"interbot emulate: error: the {args.base} emulator serves TCP only; use "
+                      f"--tcp PORT (0 picks a free one)", file=sys.stderr)
+                return 2
+            args.tcp = 0
         try:
             emulator.attach(simulation)
             try:
-                address = self._serve(emulator, args)
+                address = args.bus if args.bus else self._serve(emulator, entry, args)
             except (OSError, RobotError) as exc:
                 print(f"interbot emulate: error: {exc}", file=sys.stderr)
                 return 2
@@ -95,7 +114,7 @@ class EmulateCommand:
 
 
     @staticmethod
-    def _serve(emulator, args) -> str:
+    def _serve(emulator, entry, args) -> str:
         """Listen where the arguments say; an address that cannot be used is one clear line."""
         if args.tcp is not None:
             try:
@@ -104,7 +123,7 @@ class EmulateCommand:
                 raise OSError(f"argument --tcp/--host: cannot listen on {args.host}:{args.tcp}: "
                               f"{exc.strerror or exc}; allowed a free port (0 picks one) on an "
                               f"address of this machine") from None
-            return f"socket://{host}:{port}"
+            return entry.address.format(host=host, port=port)
         try:
             return emulator.serve_pty(link=args.link)
         except OSError as exc:

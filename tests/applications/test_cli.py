@@ -34,7 +34,9 @@ def test_listings(capsys):
     assert "FaceUser" in out and "pan_tilt" in out
     assert main(["robots"]) == 0
     out = capsys.readouterr().out
-    assert "horos" in out and "perses" in out and "pan_tilt" in out.splitlines()[0]
+    lines = {line.split()[0]: line for line in out.splitlines()}
+    assert {"horos", "perses", "argos"} <= set(lines)
+    assert "pan_tilt" in lines["horos"] and "pan_tilt" not in lines["argos"]
 
 
 def test_tree_renders_the_realization_of_the_robot(capsys):

@@ -1,10 +1,12 @@
 """The paper's portability claim: the same application (the same graph.xml) runs on HOROS
-(Pioneer, P2OS) and PERSES (B21r, rFLEX) with only the robot-specific layers changed, and goes
-through the same states on every bundled survey scenario.
+(Pioneer, P2OS), PERSES (B21r, rFLEX) and ARGOS (two CiA 402 drives on CAN) with only the
+robot-specific layers changed, and goes through the same states on every bundled scenario.
 
-Each run is the real command line in --fast mode; on PERSES the rFLEX driver talks to the
-controller emulator over a pty. Behaviors may be realized differently (FaceUser turns the
-pan-tilt head on HOROS and the whole body on PERSES); the sequence of states must not differ.
+Each run is the real command line in --fast mode; each driver talks its wire protocol to its
+emulator (P2OS and rFLEX over a pty, CANopen over python-can's virtual bus). Behaviors may be
+realized differently (FaceUser turns the pan-tilt head on HOROS and the whole body on the
+others); the sequence of states must not differ. A bundled application joins with one line in
+APPLICATIONS, a base with one line in ROBOTS.
 """
 from __future__ import annotations
 
@@ -16,13 +18,20 @@ import applications
 from applications.cli import main
 from applications.trace import read_trace
 
-SURVEY = Path(applications.__file__).parent / "bundled" / "survey"
+BUNDLED = Path(applications.__file__).parent / "bundled"
+SURVEY = BUNDLED / "survey"
 SCENARIOS = sorted(p.stem for p in (SURVEY / "scenarios").glob("*.toml"))
+APPLICATIONS = [        # one line per bundled application that must run unchanged on every base
+    "survey",
+]
+ROBOTS = ("horos", "perses", "argos")     # P2OS, rFLEX, CANopen; the first is the reference
+CASES = [(app, scenario) for app in APPLICATIONS
+         for scenario in sorted(p.stem for p in (BUNDLED / app / "scenarios").glob("*.toml"))]
 
 
-def run(tmp_path: Path, robot: str, scenario: str) -> list[dict]:
-    trace = tmp_path / f"{robot}-{scenario}.jsonl"
-    code = main(["run", str(SURVEY), "--robot", robot, "--scenario", scenario, "--fast",
+def run(tmp_path: Path, robot: str, scenario: str, app: str = "survey") -> list[dict]:
+    trace = tmp_path / f"{app}-{robot}-{scenario}.jsonl"
+    code = main(["run", str(BUNDLED / app), "--robot", robot, "--scenario", scenario, "--fast",
                  "--seed", "0", "--trace", str(trace), "--data", str(tmp_path / f"data-{robot}"),
                  "--quiet"])
     assert code == 0
@@ -42,14 +51,14 @@ def test_every_bundled_scenario_is_covered():
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("scenario", SCENARIOS)
-def test_same_states_on_horos_and_perses(tmp_path, scenario):
-    horos = run(tmp_path, "horos", scenario)
-    perses = run(tmp_path, "perses", scenario)
-    assert states(perses) == states(horos)
-    assert len(states(horos)) >= 1
-    # The same behaviors were asked for; where one moved something, the robots differ in how.
-    assert {name for name, _ in realizations(perses)} == {name for name, _ in realizations(horos)}
-    moving = {name for name, how in realizations(perses) if how == "body"}
-    if moving:
-        assert realizations(perses) != realizations(horos)
+@pytest.mark.parametrize("app, scenario", CASES)
+def test_same_states_on_every_base(tmp_path, app, scenario):
+    traces = {robot: run(tmp_path, robot, scenario, app) for robot in ROBOTS}
+    reference = traces[ROBOTS[0]]
+    assert len(states(reference)) >= 1
+    for robot, trace in traces.items():
+        assert states(trace) == states(reference), robot
+        # The same behaviors were asked for; where one moved something, the robots differ in how.
+        assert {name for name, _ in realizations(trace)} == {name for name, _ in realizations(reference)}
+        if robot != ROBOTS[0] and {name for name, how in realizations(trace) if how == "body"}:
+            assert realizations(trace) != realizations(reference), robot

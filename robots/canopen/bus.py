@@ -1,0 +1,162 @@
+"""Opening a CAN bus from a `--port` string, and the wrapper that counts and logs what we send.
+
+Port syntax: `INTERFACE:CHANNEL`, python-can's names, e.g. `socketcan:can0`,
+`pcan:PCAN_USBBUS1`, `virtual:NAME`; `socketcand:HOST:PORT` (channel can0) or
+`socketcand:HOST:PORT:CHANNEL` for a socketcand server such as `interbot emulate can`.
+A `?log=FILE` suffix writes a candump `-l` log of the session.
+
+Why a wrapper: on a simulated clock the driver and the in-process emulator run in lock-step
+(`robots.link.LockStep`, counting frames instead of bytes): every frame the driver sends is
+acted on by the emulator before `send` returns. The same wrapper tees every frame sent into
+the session log (python-can buses do not see their own frames).
+"""
+from __future__ import annotations
+
+import threading
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import can
+
+from robots.exceptions import LinkError
+from robots.link.lockstep import ByteCounter
+
+NO_BITRATE = {"virtual", "socketcan", "socketcand"}     # interfaces that take no bitrate argument
+
+
+@dataclass(frozen=True)
+class PortSpec:
+    interface: str
+    channel: str
+    kwargs: dict = field(default_factory=dict)
+    log: str | None = None
+
+    def __str__(self) -> str:
+        return f"{self.interface}:{self.channel}"
+
+
+def parse_port(port: str) -> PortSpec:
+    """`INTERFACE:CHANNEL[?log=FILE]` -> PortSpec; the error shows the syntax."""
+    text, _, query = port.partition("?")
+    log = None
+    if query:
+        key, _, value = query.partition("=")
+        if key != "log" or not value:
+            raise LinkError(f"CAN port {port!r}: unknown option {query!r}; the only one is ?log=FILE")
+        log = value
+    interface, sep, rest = text.partition(":")
+    if not sep or not interface or not rest:
+        raise LinkError(f"CAN port {port!r}: expected INTERFACE:CHANNEL, e.g. socketcan:can0, "
+                        f"pcan:PCAN_USBBUS1, virtual:NAME or socketcand:127.0.0.1:29536")
+    if interface == "socketcand":
+        parts = rest.split(":")
+        if len(parts) not in (2, 3) or not parts[1].isdigit():
+            raise LinkError(f"CAN port {port!r}: socketcand needs HOST:PORT[:CHANNEL], "
+                            f"e.g. socketcand:127.0.0.1:29536")
+        channel = parts[2] if len(parts) == 3 else "can0"
+        return PortSpec(interface, channel, {"host": parts[0], "port": int(parts[1])}, log)
+    if interface not in can.VALID_INTERFACES:
+        raise LinkError(f"CAN port {port!r}: unknown python-can interface {interface!r}; known: "
+                        f"{', '.join(sorted(can.VALID_INTERFACES))}")
+    return PortSpec(interface, rest, {}, log)
+
+
+def open_bus(spec: PortSpec, bitrate: int | None = None) -> can.BusABC:
+    kwargs = dict(spec.kwargs)
+    if bitrate and spec.interface not in NO_BITRATE:
+        kwargs["bitrate"] = bitrate
+    try:
+        return can.Bus(interface=spec.interface, channel=spec.channel, **kwargs)
+    except Exception as exc:          # python-can raises many kinds (CanError, OSError, ImportError)
+        raise LinkError(f"CAN port {spec}: cannot open the interface: {exc} (is the adapter "
+                        f"plugged in and the interface up, e.g. `ip link set can0 up type can "
+                        f"bitrate {bitrate or 500000}`?)") from exc
+
+
+class CandumpLog:
+    """A session log in candump `-l` format: `(seconds.micros) CHANNEL ID#DATA`, one frame a line."""
+
+    def __init__(self, path: str | Path, channel: str = "can0") -> None:
+        self.path = Path(path)
+        self.channel = channel
+        self._file = open(self.path, "w", encoding="ascii")
+        self._lock = threading.Lock()
+        self.frames = 0
+
+    def write(self, msg: can.Message) -> None:
+        stamp = msg.timestamp or time.time()
+        width = 8 if msg.is_extended_id else 3
+        if msg.is_error_frame:
+            ident, payload = f"{0x20000000 | msg.arbitration_id:08X}", msg.data.hex().upper()
+        else:
+            ident = f"{msg.arbitration_id:0{width}X}"
+            payload = "R" if msg.is_remote_frame else bytes(msg.data).hex().upper()
+        with self._lock:
+            if self._file.closed:
+                return
+            self._file.write(f"({stamp:.6f}) {self.channel} {ident}#{payload}\n")
+            self.frames += 1
+
+    def on_message_received(self, msg: can.Message) -> None:   # a python-can listener, too
+        self.write(msg)
+
+    def close(self) -> None:
+        with self._lock:
+            self._file.close()
+
+
+class DriverBus:
+    """A bus that counts sent frames for lock-step and tees them into the log. The driver's
+    `send` also waits until the emulator has handled the frame (`wait`); the emulator's not."""
+
+    def __init__(self, bus: can.BusABC, counter: ByteCounter | None = None,
+                 log: CandumpLog | None = None, drain_timeout: float = 2.0, wait: bool = True) -> None:
+        self.bus = bus
+        self.counter = counter
+        self.wait = wait
+        self.log = log
+        self.drain_timeout = drain_timeout
+        self.channel_info = getattr(bus, "channel_info", "can")
+        self.sent = 0
+
+    def send(self, msg: can.Message, timeout: float | None = None) -> None:
+        if self.counter is not None:
+            self.counter.wrote(1)
+        try:
+            self.bus.send(msg, timeout)
+        except Exception:
+            if self.counter is not None:
+                self.counter.got(1)           # never arrives: do not wait for it
+            raise
+        self.sent += 1
+        if self.log is not None:
+            self.log.write(can.Message(timestamp=time.time(), arbitration_id=msg.arbitration_id,
+                                       data=msg.data, is_extended_id=msg.is_extended_id,
+                                       is_remote_frame=msg.is_remote_frame))
+        if self.wait and self.counter is not None and not self.counter.wait_drained(self.drain_timeout):
+            raise can.CanOperationError("in-process emulator did not take the frame within "
+                                        f"{self.drain_timeout} s")
+
+    def recv(self, timeout: float | None = None) -> can.Message | None:
+        return self.bus.recv(timeout)
+
+    def fileno(self) -> int:
+        raise NotImplementedError    # python-can's Notifier then reads in a thread
+
+    @property
+    def state(self):
+        return self.bus.state
+
+    def shutdown(self) -> None:
+        self.bus.shutdown()
+
+
+class Counted(can.Listener):
+    """Counts frames once every listener before it has handled them (lock-step's `got`)."""
+
+    def __init__(self, counter: ByteCounter) -> None:
+        self.counter = counter
+
+    def on_message_received(self, msg: can.Message) -> None:
+        self.counter.got(1)

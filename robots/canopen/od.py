@@ -1,0 +1,81 @@
+"""The object dictionary of a CiA 402 wheel drive in profile velocity mode, built in code.
+
+Both ends use it: the driver's `canopen.RemoteNode` (its SDO client needs no more than index
+and subindex, but names and types make errors readable) and the emulator's `canopen.LocalNode`
+(whose SDO server checks existence, access and data length against it). Only the objects the
+driver touches are here; a real drive's EDS has hundreds more.
+"""
+from __future__ import annotations
+
+from canopen import ObjectDictionary
+from canopen.objectdictionary import ODArray, ODRecord, ODVariable, datatypes as dt
+
+from robots.canopen import protocol as p
+
+DEVICE_TYPE_402 = 0x00020192        # CiA 402 drive, servo
+
+
+def _var(name: str, index: int, sub: int, data_type: int, access: str = "rw", default=0) -> ODVariable:
+    var = ODVariable(name, index, sub)
+    var.data_type = data_type
+    var.access_type = access
+    var.default = default
+    return var
+
+
+def _pdo_comm(od: ObjectDictionary, index: int, name: str, cob_id: int, rx: bool) -> None:
+    record = ODRecord(name, index)
+    record.add_member(_var("Highest sub-index supported", index, 0, dt.UNSIGNED8, "const", 5))
+    record.add_member(_var("COB-ID", index, 1, dt.UNSIGNED32, "rw", cob_id))
+    record.add_member(_var("Transmission type", index, 2, dt.UNSIGNED8, "rw", 0xFF))
+    if not rx:
+        record.add_member(_var("Inhibit time", index, 3, dt.UNSIGNED16, "rw", 0))
+    record.add_member(_var("Event timer", index, 5, dt.UNSIGNED16, "rw", 0))
+    od.add_object(record)
+
+
+def _pdo_map(od: ObjectDictionary, index: int, name: str) -> None:
+    record = ODRecord(name, index)
+    record.add_member(_var("Number of mapped objects", index, 0, dt.UNSIGNED8, "rw", 0))
+    for sub in range(1, 5):
+        record.add_member(_var(f"Mapped object {sub}", index, sub, dt.UNSIGNED32, "rw", 0))
+    od.add_object(record)
+
+
+def drive_dictionary(node: int) -> ObjectDictionary:
+    """The dictionary of drive `node` (PDO COB-IDs are node-specific defaults, all invalid)."""
+    od = ObjectDictionary()
+    od.add_object(_var("Device type", p.DEVICE_TYPE, 0, dt.UNSIGNED32, "ro", DEVICE_TYPE_402))
+    od.add_object(_var("Error register", p.ERROR_REGISTER, 0, dt.UNSIGNED8, "ro", 0))
+    consumer = ODArray("Consumer heartbeat time", p.CONSUMER_HEARTBEAT)
+    consumer.add_member(_var("Number of entries", p.CONSUMER_HEARTBEAT, 0, dt.UNSIGNED8, "const", 1))
+    consumer.add_member(_var("Consumer heartbeat time 1", p.CONSUMER_HEARTBEAT, 1, dt.UNSIGNED32))
+    od.add_object(consumer)
+    od.add_object(_var("Producer heartbeat time", p.PRODUCER_HEARTBEAT, 0, dt.UNSIGNED16, "rw", 0))
+    for n in (1, 2):
+        _pdo_comm(od, 0x1400 + n - 1, f"RPDO{n} communication parameter",
+                  p.PDO_INVALID | p.rpdo_id(n, node), rx=True)
+        _pdo_map(od, 0x1600 + n - 1, f"RPDO{n} mapping parameter")
+        _pdo_comm(od, 0x1800 + n - 1, f"TPDO{n} communication parameter",
+                  p.PDO_INVALID | p.tpdo_id(n, node), rx=False)
+        _pdo_map(od, 0x1A00 + n - 1, f"TPDO{n} mapping parameter")
+    for name, index, data_type, access in (
+            ("Abort connection option code", p.ABORT_CONNECTION_OPTION, dt.INTEGER16, "rw"),
+            ("Error code", p.ERROR_CODE, dt.UNSIGNED16, "ro"),
+            ("Controlword", p.CONTROLWORD, dt.UNSIGNED16, "rw"),
+            ("Statusword", p.STATUSWORD, dt.UNSIGNED16, "ro"),
+            ("Quick stop option code", p.QUICK_STOP_OPTION, dt.INTEGER16, "rw"),
+            ("Modes of operation", p.MODES_OF_OPERATION, dt.INTEGER8, "rw"),
+            ("Modes of operation display", p.MODES_DISPLAY, dt.INTEGER8, "ro"),
+            ("Position actual value", p.POSITION_ACTUAL, dt.INTEGER32, "ro"),
+            ("Velocity demand value", p.VELOCITY_DEMAND, dt.INTEGER32, "ro"),
+            ("Velocity actual value", p.VELOCITY_ACTUAL, dt.INTEGER32, "ro"),
+            ("Max profile velocity", p.MAX_PROFILE_VELOCITY, dt.UNSIGNED32, "rw"),
+            ("Profile acceleration", p.PROFILE_ACCELERATION, dt.UNSIGNED32, "rw"),
+            ("Profile deceleration", p.PROFILE_DECELERATION, dt.UNSIGNED32, "rw"),
+            ("Quick stop deceleration", p.QUICK_STOP_DECELERATION, dt.UNSIGNED32, "rw"),
+            ("Target velocity", p.TARGET_VELOCITY, dt.INTEGER32, "rw")):
+        od.add_object(_var(name, index, 0, data_type, access, 0))
+    od[p.QUICK_STOP_OPTION].default = 2
+    od[p.ABORT_CONNECTION_OPTION].default = 1
+    return od

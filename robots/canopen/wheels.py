@@ -1,0 +1,145 @@
+"""The two-wheel drive's parameters and its kinematics, pure: SI in, drive units out, and back.
+
+Drive units (CiA 402 leaves them to the vendor; ours are the common choice): velocity in
+encoder increments per second at the motor, position in increments, accelerations in
+increments/s². `DriveConfig` is read from the profile's `[base]` table (docs/canopen.md).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+
+from robots.exceptions import ProfileError
+
+I32 = 2**32
+
+
+@dataclass(frozen=True)
+class DriveConfig:
+    wheel_radius: float = 0.0825        # m
+    track_width: float = 0.42           # m, between the wheels' contact points
+    encoder_counts: int = 4096          # increments per motor revolution (after quadrature)
+    gear_ratio: float = 24.0            # motor revolutions per wheel revolution
+    left_node: int = 1
+    right_node: int = 2
+    right_mirrored: bool = True         # the right motor is mounted mirrored: negate it
+    sonar_node: int = 0                 # a sonar board sending ranges on SYNC (0 = none)
+    sonars: int = 0
+    heartbeat_ms: int = 100             # each drive's heartbeat period (0x1017)
+    heartbeat_timeout_ms: int = 300     # a drive's heartbeat older than this: link down
+    host_heartbeat_ms: int = 100        # the host's own heartbeat (node 0x7F)
+    host_timeout_ms: int = 300          # the drives quick-stop without the host's heartbeat
+    sync_period: float = 0.01           # s, SYNC (TPDOs on every SYNC)
+    quick_stop_decel: float = 1.5       # m/s² at the wheel, on faults and the host timeout
+    sdo_timeout: float = 0.3            # s per SDO answer (one retry)
+    boot_timeout: float = 2.0           # s for the boot-up after NMT reset communication
+    state_timeout: float = 0.5          # s for a CiA 402 state change to show in the statusword
+    bitrate: int = 500_000
+
+    @classmethod
+    def from_options(cls, options: dict, where: str = "profile [base]") -> "DriveConfig":
+        """Build from the profile's base options; unknown keys are left to the caller."""
+        known = {f.name: f for f in fields(cls)}
+        values = {}
+        for key, value in options.items():
+            if key not in known:
+                continue
+            kind = type(getattr(cls, key))
+            if kind is bool:
+                if not isinstance(value, bool):
+                    raise ProfileError(f"{where}: {key} = {value!r} must be true or false")
+            elif isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise ProfileError(f"{where}: {key} = {value!r} must be a number")
+            values[key] = kind(value)
+        config = cls(**values)
+        config.check(where)
+        return config
+
+    def check(self, where: str) -> None:
+        for key, low, high in (("wheel_radius", 0.01, 1.0), ("track_width", 0.05, 3.0),
+                               ("encoder_counts", 1, 2**24), ("gear_ratio", 0.01, 1000.0),
+                               ("left_node", 1, 127), ("right_node", 1, 127),
+                               ("sonar_node", 0, 127), ("sonars", 0, 16),
+                               ("heartbeat_ms", 10, 10_000), ("heartbeat_timeout_ms", 20, 60_000),
+                               ("host_heartbeat_ms", 10, 10_000), ("host_timeout_ms", 20, 60_000),
+                               ("sync_period", 0.001, 1.0), ("quick_stop_decel", 0.05, 20.0),
+                               ("sdo_timeout", 0.01, 10.0), ("boot_timeout", 0.0, 60.0),
+                               ("state_timeout", 0.01, 10.0), ("bitrate", 10_000, 1_000_000)):
+            value = getattr(self, key)
+            if not low <= value <= high:
+                raise ProfileError(f"{where}: {key} = {value} outside the allowed range {low} .. {high}")
+        if self.left_node == self.right_node:
+            raise ProfileError(f"{where}: left_node and right_node are both {self.left_node}")
+        if self.heartbeat_timeout_ms <= self.heartbeat_ms:
+            raise ProfileError(f"{where}: heartbeat_timeout_ms ({self.heartbeat_timeout_ms}) must "
+                               f"exceed heartbeat_ms ({self.heartbeat_ms})")
+        if self.host_timeout_ms <= self.host_heartbeat_ms:
+            raise ProfileError(f"{where}: host_timeout_ms ({self.host_timeout_ms}) must exceed "
+                               f"host_heartbeat_ms ({self.host_heartbeat_ms})")
+
+    # -- scale -------------------------------------------------------------------------------------
+    @property
+    def counts_per_metre(self) -> float:
+        """Motor increments per metre of wheel travel."""
+        return self.encoder_counts * self.gear_ratio / (2 * math.pi * self.wheel_radius)
+
+    def sign(self, node: int) -> int:
+        return -1 if (node == self.right_node and self.right_mirrored) else 1
+
+    def wheel_name(self, node: int) -> str:
+        return {self.left_node: "left wheel", self.right_node: "right wheel",
+                self.sonar_node: "sonar board"}.get(node, "unknown node")
+
+    def to_counts(self, metres_per_s: float, node: int) -> int:
+        return round(metres_per_s * self.counts_per_metre) * self.sign(node)
+
+    def to_metres(self, counts: float, node: int) -> float:
+        return counts * self.sign(node) / self.counts_per_metre
+
+    def wheel_speeds(self, v: float, w: float) -> tuple[float, float]:
+        """(left, right) wheel speeds in m/s for body speeds v (m/s), w (rad/s)."""
+        half = w * self.track_width / 2
+        return v - half, v + half
+
+    def body_speeds(self, left: float, right: float) -> tuple[float, float]:
+        """(v, w) of the body for wheel speeds in m/s."""
+        return (left + right) / 2, (right - left) / self.track_width
+
+    def command_counts(self, v: float, w: float) -> tuple[int, int]:
+        """Target velocities (left node, right node) in drive units."""
+        left, right = self.wheel_speeds(v, w)
+        return self.to_counts(left, self.left_node), self.to_counts(right, self.right_node)
+
+    def accel_counts(self, metres_per_s2: float) -> int:
+        return max(1, round(metres_per_s2 * self.counts_per_metre))
+
+
+def wrap_delta(new: int, old: int) -> int:
+    """new - old for 32-bit position counters that wrap."""
+    return (new - old + 2**31) % I32 - 2**31
+
+
+class Odometry:
+    """Dead reckoning from the two wheels' position counters (midpoint integration)."""
+
+    def __init__(self, config: DriveConfig) -> None:
+        self.config = config
+        self.x = self.y = self.th = 0.0
+        self._last: tuple[int, int] | None = None
+
+    def reset(self) -> None:
+        """Forget the counters (a drive rebooted); the pose is kept."""
+        self._last = None
+
+    def update(self, left_counts: int, right_counts: int) -> tuple[float, float, float]:
+        c = self.config
+        if self._last is not None:
+            dl = c.to_metres(wrap_delta(left_counts, self._last[0]), c.left_node)
+            dr = c.to_metres(wrap_delta(right_counts, self._last[1]), c.right_node)
+            ds, dth = (dl + dr) / 2, (dr - dl) / c.track_width
+            mid = self.th + dth / 2
+            self.x += ds * math.cos(mid)
+            self.y += ds * math.sin(mid)
+            self.th = (self.th + dth + math.pi) % (2 * math.pi) - math.pi
+        self._last = (left_counts, right_counts)
+        return self.x, self.y, self.th

@@ -1,0 +1,88 @@
+"""`interbot emulate can`: a socketcand server on 127.0.0.1 that the real driver drives through."""
+from __future__ import annotations
+
+import re
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from robots.canopen.driver import CanOpenBase
+from robots.clock import RealClock
+from robots.profile import load_profile
+
+ARGOS = load_profile("argos")
+
+
+@pytest.fixture
+def server():
+    proc = subprocess.Popen([sys.executable, "-c", "from applications.cli import main; "
+                             "raise SystemExit(main())", "emulate", "can", "--tcp", "0"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    line = proc.stdout.readline()
+    match = re.search(r"connect to: (socketcand:127\.0\.0\.1:\d+)", line)
+    assert match, (line, proc.stderr.read() if proc.poll() is not None else "")
+    yield proc, match.group(1)
+    if proc.poll() is None:
+        proc.kill()
+        proc.wait()
+
+
+def test_the_driver_drives_the_served_emulator_from_another_process(server, tmp_path):
+    proc, port = server
+    log = tmp_path / "session.log"
+    base = CanOpenBase.for_profile(ARGOS, f"{port}?log={log}", clock=RealClock())
+    try:
+        base.open()
+        deadline = time.monotonic() + 3
+        while base.read_state().v < 0.1 and time.monotonic() < deadline:
+            base.command(0.3, 0.0)
+            time.sleep(0.05)
+        state = base.read_state()
+        assert state.link_up and state.v >= 0.1 and len(state.sonar) == 8
+    finally:
+        base.close()
+    frames = [line.split()[2] for line in log.read_text().splitlines()]
+    assert "000#8200" in frames and "701#00" in frames and any(f.startswith("181#") for f in frames)
+    proc.send_signal(signal.SIGTERM)
+    out, _ = proc.communicate(timeout=10)
+    assert proc.returncode == 0 and "can emulator stopped" in out
+
+
+def test_the_can_emulator_refuses_a_pty():
+    result = subprocess.run([sys.executable, "-c", "from applications.cli import main; "
+                             "raise SystemExit(main())", "emulate", "can", "--pty"],
+                            capture_output=True, text=True, timeout=60)
+    assert result.returncode == 2 and "serves TCP only; use --tcp PORT" in result.stderr
+
+
+def test_emulate_can_on_a_python_can_bus_instead_of_tcp(capsys):
+    """`--bus socketcan:vcan0` where a machine has vcan; here the same path on a virtual bus."""
+    import argparse
+    import threading
+
+    from robots.emulate import EmulateCommand
+
+    command = EmulateCommand()
+    parser = argparse.ArgumentParser()
+    command.add_arguments(parser)
+    args = parser.parse_args(["can", "--bus", "virtual:emulate-bus-test"])
+    stop = threading.Event()
+    thread = threading.Thread(target=command.run, args=(args, stop), daemon=True)
+    thread.start()
+    deadline = time.monotonic() + 10
+    while "ready" not in capsys.readouterr().out and time.monotonic() < deadline:
+        time.sleep(0.05)
+    base = CanOpenBase.for_profile(ARGOS, "virtual:emulate-bus-test", clock=RealClock())
+    try:
+        base.open()
+        assert base.read_state().link_up
+    finally:
+        base.close()
+        stop.set()
+        thread.join(timeout=10)
+    assert not thread.is_alive()
+    with pytest.raises(SystemExit):
+        parser.parse_args(["can", "--bus", "virtual:x", "--tcp", "0"])      # one or the other
