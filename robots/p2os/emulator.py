@@ -46,6 +46,12 @@ BAUD_CONSTANTS = {9600: termios.B9600, 19200: termios.B19200, 38400: termios.B38
                   57600: termios.B57600, 115200: termios.B115200}
 
 
+def _odometry(world):
+    """What the encoders count: the world's wheel odometry (drifting from the body's true pose),
+    or the body itself in a bare stand-in world without one."""
+    return getattr(world, "odometry", world.body)
+
+
 @dataclass(frozen=True)
 class Snapshot:
     """What the firmware reports, sampled from the world on the thread that steps it."""
@@ -60,8 +66,8 @@ class Snapshot:
 
     @classmethod
     def of(cls, world) -> "Snapshot":
-        body = world.body
-        return cls(body.x, body.y, body.th, body.v, body.w,
+        odometry = _odometry(world)
+        return cls(odometry.x, odometry.y, odometry.th, odometry.v, odometry.w,
                    tuple(float(r) for r in np.asarray(world.sonar_ranges())),
                    int(world.bumpers), bool(world.stalled))
 
@@ -311,8 +317,8 @@ class P2OSEmulator(EmulatorHost):
             now = self.now()
             pose = (self._snapshot.x, self._snapshot.y, self._snapshot.th)
             if self.lockstep is not None:
-                body = self.world.body
-                pose = (body.x, body.y, body.th)
+                odometry = _odometry(self.world)
+                pose = (odometry.x, odometry.y, odometry.th)
             arrived = time.monotonic()
             for packet in self.parser.feed(data):
                 self.received.append((arrived, packet))
