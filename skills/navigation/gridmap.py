@@ -122,9 +122,11 @@ def map_from_floor(floor: Floor, resolution: float = DEFAULT_RESOLUTION,
     if not (math.isfinite(resolution) and 0.005 <= resolution <= 1.0):
         raise MapError(f"map resolution {resolution!r} m is outside 0.005 … 1.0 m")
     xmin, ymin, xmax, ymax = floor.bounds
-    origin = (xmin - margin, ymin - margin)
-    cols = int(math.ceil((xmax - xmin + 2 * margin) / resolution))
-    rows = int(math.ceil((ymax - ymin + 2 * margin) / resolution))
+    # half a cell off the round margin: walls on round coordinates fall on cell centres, so the
+    # distance field (to cell centres) has no half-cell bias that localization would inherit
+    origin = (xmin - margin - resolution / 2, ymin - margin - resolution / 2)
+    cols = int(math.ceil((xmax - xmin + 2 * margin) / resolution)) + 1
+    rows = int(math.ceil((ymax - ymin + 2 * margin) / resolution)) + 1
     occupied = np.zeros((rows, cols), dtype=bool)
     grid = GridMap(occupied, resolution, origin, dict(floor.places), None, floor.name,
                    f"floor {floor.name}")
