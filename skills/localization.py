@@ -52,7 +52,7 @@ class Localization(Skill):
         self.filter: MonteCarloLocalization | None = None
         if self.mode != "odometry":
             model = laser_model(laser_range) if self.mode == "laser" else sonar_model(
-                sonar.max_range)
+                sonar.max_range, sonar.cone)
             self.filter = MonteCarloLocalization(grid, model, params, np.random.default_rng(seed))
             if initial_pose is not None:
                 self.filter.reset(initial_pose)

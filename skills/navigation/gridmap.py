@@ -170,6 +170,30 @@ def load_map_server(path: Path) -> GridMap:
                    path.stem, str(path))
 
 
+def save_map_server(grid: GridMap, path: str | Path) -> Path:
+    """Write `grid` as a map_server pair (`path` .yaml and a .pgm beside it), places included.
+
+    Occupied cells are black (0), free white (254), unknown grey (205), as map_saver writes
+    them; a map exported from a floor is a starting point for a team's own map."""
+    import yaml
+    path = Path(path)
+    image = path.with_suffix(".pgm")
+    pixels = np.full(grid.shape, 254, dtype=np.uint8)
+    if grid.unknown is not None:
+        pixels[grid.unknown] = 205
+    pixels[grid.occupied] = 0
+    rows, cols = grid.shape
+    image.write_bytes(f"P5\n# {grid.name}\n{cols} {rows}\n255\n".encode() +
+                      np.flipud(pixels).tobytes())
+    meta = {"image": image.name, "resolution": float(grid.resolution),
+            "origin": [float(grid.origin[0]), float(grid.origin[1]), 0.0], "negate": 0,
+            "occupied_thresh": 0.65, "free_thresh": 0.196,
+            "places": {name: [round(x, 3), round(y, 3), round(math.degrees(th), 1)]
+                       for name, (x, y, th) in grid.places.items()}}
+    path.write_text(yaml.safe_dump(meta, sort_keys=False), encoding="utf-8")
+    return path
+
+
 def read_pgm(path: Path) -> tuple[np.ndarray, int]:
     """The pixels (rows top to bottom) and maximum value of a binary (P5) or text (P2) PGM."""
     try:

@@ -55,6 +55,8 @@ class BeamModel:
     fit_distance: float = 0.2   # m: an end point this close to a wall "fits"
     lost_fit: float = 0.5       # fit below this (for `lost_after`) means lost …
     found_fit: float = 0.7      # … and lost ends when it is back above this
+    cone: float = 0.0           # rad: a sonar's echo is the nearest wall within its cone; the
+                                # beam scores its best of three rays at -cone/3, 0, +cone/3
 
 
 def laser_model(max_range: float, beams: int = 36) -> BeamModel:
@@ -62,10 +64,11 @@ def laser_model(max_range: float, beams: int = 36) -> BeamModel:
                      fit_distance=0.2, lost_fit=0.5, found_fit=0.7)
 
 
-def sonar_model(max_range: float) -> BeamModel:
+def sonar_model(max_range: float, cone: float = math.radians(30)) -> BeamModel:
     """Wide cones and few beams: a wider Gaussian, more random readings, every beam used."""
     return BeamModel("sonar", sigma=0.25, z_hit=0.8, z_rand=0.2, max_range=max_range,
-                     beams=1000, weight=0.5, fit_distance=0.4, lost_fit=0.3, found_fit=0.5)
+                     beams=1000, weight=0.5, fit_distance=0.4, lost_fit=0.3, found_fit=0.5,
+                     cone=cone)
 
 
 @dataclass(frozen=True)
@@ -257,8 +260,7 @@ class MonteCarloLocalization:
         if len(ranges) == 0:
             self._estimate()
             return
-        xs, ys = beam_endpoints(self.particles, beam_poses, ranges)
-        loglik = beam_log_likelihood(self.grid, self.field, self.outside, xs, ys)
+        loglik = self._beam_log_likelihood(self.particles, beam_poses, ranges)
         per_beam = loglik.mean(axis=1)                       # (N,) mean log likelihood per beam
         offmap = ~self._on_free(self.particles)
         per_beam[offmap] += self.outside                     # a robot cannot stand in a wall
@@ -271,6 +273,19 @@ class MonteCarloLocalization:
         self.fit = self._fit_at(self.pose, beam_poses, ranges)
         self._update_lost(now)
         self._resample()
+
+    def _beam_log_likelihood(self, particles, beam_poses, ranges) -> np.ndarray:
+        """(N, K) log likelihood of each beam from each particle (best ray of a cone)."""
+        if self.model.cone <= 0.0:
+            xs, ys = beam_endpoints(particles, beam_poses, ranges)
+            return beam_log_likelihood(self.grid, self.field, self.outside, xs, ys)
+        best = None
+        for fraction in (-1 / 3, 0.0, 1 / 3):
+            rays = beam_poses + (0.0, 0.0, fraction * self.model.cone)
+            xs, ys = beam_endpoints(particles, rays, ranges)
+            ray = beam_log_likelihood(self.grid, self.field, self.outside, xs, ys)
+            best = ray if best is None else np.maximum(best, ray)
+        return best
 
     def _usable(self, beam_poses, ranges):
         echo = np.isfinite(ranges) & (ranges > 0.0) & (ranges < self.model.max_range)
@@ -301,11 +316,16 @@ class MonteCarloLocalization:
 
     def _fit_at(self, pose, beam_poses, ranges) -> float:
         """Share of the beams whose end point from `pose` lies within fit_distance of a wall."""
-        xs, ys = beam_endpoints(np.asarray([pose]), beam_poses, ranges)
-        rows, cols = self.grid.to_cells(xs, ys)
-        ok = self.grid.inside(rows, cols)
-        near = np.zeros(xs.shape, dtype=bool)
-        near[ok] = self.grid.distance_field[rows[ok], cols[ok]] <= self.model.fit_distance
+        near = np.zeros(len(ranges), dtype=bool)
+        fractions = (-1 / 3, 0.0, 1 / 3) if self.model.cone > 0.0 else (0.0,)
+        for fraction in fractions:
+            rays = beam_poses + (0.0, 0.0, fraction * self.model.cone)
+            xs, ys = beam_endpoints(np.asarray([pose]), rays, ranges)
+            rows, cols = self.grid.to_cells(xs[0], ys[0])
+            ok = self.grid.inside(rows, cols)
+            hit = np.zeros(len(ranges), dtype=bool)
+            hit[ok] = self.grid.distance_field[rows[ok], cols[ok]] <= self.model.fit_distance
+            near |= hit
         return float(near.mean())
 
     def _update_lost(self, now: float) -> None:
