@@ -35,6 +35,7 @@ import numpy as np
 from skills.navigation.gridmap import GridMap
 
 TWO_PI = 2 * math.pi
+MAX_SHORT_SHARE = 0.5       # more beams than this cut short: the pose is wrong, not the view
 
 
 def wrap(angle):
@@ -61,7 +62,7 @@ class BeamModel:
 
 def laser_model(max_range: float, beams: int = 36) -> BeamModel:
     return BeamModel("laser", sigma=0.10, max_range=max_range, beams=beams, weight=0.3,
-                     fit_distance=0.2, lost_fit=0.5, found_fit=0.7)
+                     fit_distance=0.2, lost_fit=0.6, found_fit=0.8)
 
 
 def sonar_model(max_range: float, cone: float = math.radians(30)) -> BeamModel:
@@ -86,7 +87,7 @@ class MCLParams:
     alpha_fast: float = 0.2
     inject_max: float = 0.25         # at most this share of the particles re-drawn per update
     local_std: tuple[float, float] = (1.0, math.radians(60))   # local re-draw: m, rad
-    global_after: float = 5.0        # s lost before re-drawn particles come from anywhere too
+    global_after: float = 5.0        # s of poor fit before re-drawn particles come from anywhere
     inject_clearance: float = 0.2    # m: re-drawn particles keep this far from walls
     lost_ratio: float = 0.5          # short/long likelihood average below this is a poor fit
     lost_after: float = 0.5          # s of poor fit before "lost"
@@ -133,6 +134,26 @@ def beam_log_likelihood(grid: GridMap, field: np.ndarray, outside: float,
     out = np.full(xs.shape, outside)
     out[ok] = field[rows[ok], cols[ok]]
     return out
+
+
+def expected_ranges(grid: GridMap, pose, beam_poses: np.ndarray, max_range: float,
+                    step: float | None = None) -> np.ndarray:
+    """Range (K,) at which each beam from `pose` first meets an occupied or unknown cell, or
+    the map's edge, marching in steps of half a cell; inf when nothing within `max_range`."""
+    step = grid.resolution / 2 if step is None else step
+    r = np.arange(step, max_range + step, step)
+    x, y, th = pose
+    c, s = math.cos(th), math.sin(th)
+    ox = x + c * beam_poses[:, 0] - s * beam_poses[:, 1]
+    oy = y + s * beam_poses[:, 0] + c * beam_poses[:, 1]
+    heading = th + beam_poses[:, 2]
+    rows, cols = grid.to_cells(ox[:, None] + r * np.cos(heading)[:, None],
+                               oy[:, None] + r * np.sin(heading)[:, None])
+    ok = grid.inside(rows, cols)
+    blocked = ~ok
+    blocked[ok] = ~grid.free[rows[ok], cols[ok]]
+    first = blocked.argmax(axis=1)
+    return np.where(blocked.any(axis=1), r[first], np.inf)
 
 
 def sample_motion(particles: np.ndarray, odom_from, odom_to, params: MCLParams,
@@ -212,8 +233,7 @@ class MonteCarloLocalization:
         self.fit = 1.0
         self.lost = False
         self._poor_since: float | None = None
-        self._lost_since: float | None = None
-        self._now = 0.0
+        self._poor_for = 0.0
         self.injected = 0
         self.pose: tuple[float, float, float] = (0.0, 0.0, 0.0)
         self.covariance = np.zeros((3, 3))
@@ -230,7 +250,8 @@ class MonteCarloLocalization:
         self.weights = np.full(n, 1.0 / n)
         self.w_slow = self.w_fast = None
         self.lost = False
-        self._poor_since = self._lost_since = None
+        self._poor_since = None
+        self._poor_for = 0.0
         self._estimate()
 
     def reset_global(self) -> None:
@@ -261,7 +282,9 @@ class MonteCarloLocalization:
             self._estimate()
             return
         loglik = self._beam_log_likelihood(self.particles, beam_poses, ranges)
-        per_beam = loglik.mean(axis=1)                       # (N,) mean log likelihood per beam
+        self._estimate()                                     # the predicted estimate
+        mapped = ~self._short(self.pose, beam_poses, ranges)
+        per_beam = loglik[:, mapped].mean(axis=1)            # (N,) mean log likelihood per beam
         offmap = ~self._on_free(self.particles)
         per_beam[offmap] += self.outside                     # a robot cannot stand in a wall
         self._track_likelihood(per_beam)
@@ -314,8 +337,22 @@ class MonteCarloLocalization:
         self.w_slow += p.alpha_slow * (average - self.w_slow)
         self.w_fast += p.alpha_fast * (average - self.w_fast)
 
+    def _short(self, pose, beam_poses, ranges) -> np.ndarray:
+        """Beams that end well before the map's wall seen from `pose`: something unmapped (a
+        person, a cart) is in the way. They say nothing about the fit, unless most of the scan
+        is short: then the map is wrong where the estimate is, and every beam counts."""
+        cone = self.model.cone
+        fractions = (-1 / 3, 0.0, 1 / 3) if cone > 0.0 else (0.0,)
+        expected = np.min([expected_ranges(self.grid, pose, beam_poses + (0.0, 0.0, f * cone),
+                                           self.model.max_range) for f in fractions], axis=0)
+        short = ranges < expected - 2 * self.model.fit_distance
+        return short if short.mean() <= MAX_SHORT_SHARE else np.zeros_like(short)
+
     def _fit_at(self, pose, beam_poses, ranges) -> float:
-        """Share of the beams whose end point from `pose` lies within fit_distance of a wall."""
+        """Share of the beams whose end point from `pose` lies within fit_distance of a wall,
+        among the beams not cut short by something unmapped."""
+        mapped = ~self._short(pose, beam_poses, ranges)
+        beam_poses, ranges = beam_poses[mapped], ranges[mapped]
         near = np.zeros(len(ranges), dtype=bool)
         fractions = (-1 / 3, 0.0, 1 / 3) if self.model.cone > 0.0 else (0.0,)
         for fraction in fractions:
@@ -329,25 +366,23 @@ class MonteCarloLocalization:
         return float(near.mean())
 
     def _update_lost(self, now: float) -> None:
-        p = self.params
-        spread = self.spread
-        m = self.model
+        """Poor fit (few beams near walls, or the likelihood far below its long-term average)
+        for `lost_after` seconds, or a wide spread, is lost; a good fit and a tight cloud end
+        it. Between the two thresholds nothing changes (hysteresis)."""
+        p, m = self.params, self.model
         ratio = self.w_fast / self.w_slow if self.w_slow else 1.0
-        if self.fit < m.lost_fit or ratio < p.lost_ratio:
-            if self._poor_since is None:
-                self._poor_since = now
-        elif self.fit >= m.found_fit:
+        bad = self.fit < m.lost_fit or ratio < p.lost_ratio
+        good = self.fit >= m.found_fit and ratio >= p.lost_ratio
+        if bad and self._poor_since is None:
+            self._poor_since = now
+        elif good:
             self._poor_since = None
-        poor = self._poor_since is not None and now - self._poor_since >= p.lost_after
+        self._poor_for = 0.0 if self._poor_since is None else now - self._poor_since
+        spread = self.spread
         if self.lost:
-            self.lost = not (self.fit >= m.found_fit and spread < p.lost_spread / 2)
+            self.lost = not (good and spread < p.lost_spread / 2)
         else:
-            self.lost = poor or spread > p.lost_spread
-        if not self.lost:
-            self._lost_since = None
-        elif self._lost_since is None:
-            self._lost_since = now
-        self._now = now
+            self.lost = self._poor_for >= p.lost_after or spread > p.lost_spread
 
     @property
     def spread(self) -> float:
@@ -375,8 +410,7 @@ class MonteCarloLocalization:
     def _recovery_poses(self, count: int) -> np.ndarray:
         """Around the estimate (a slip, a bad start); once lost for `global_after` seconds,
         half of them anywhere in free space (kidnapping)."""
-        long_lost = (self._lost_since is not None
-                     and self._now - self._lost_since >= self.params.global_after)
+        long_lost = self.lost and self._poor_for >= self.params.global_after
         local = count // 2 if long_lost else count
         std_xy, std_th = self.params.local_std
         near = np.asarray(self.pose) + self.rng.standard_normal((local, 3)) * (std_xy, std_xy,

@@ -10,7 +10,7 @@ from robots.profile import PROFILE_DIR as ROBOTS
 from skills.localization import pose_error
 from skills.navigation.gridmap import GridMap, MapError
 from skills.navigation.mcl import (BeamModel, MCLParams, beam_endpoints, beam_log_likelihood,
-                                   likelihood_field, low_variance_resample,
+                                   expected_ranges, likelihood_field, low_variance_resample,
                                    outside_log_likelihood, sample_motion, weighted_estimate)
 from skills.skillset import SkillSet, open_skills
 
@@ -25,6 +25,47 @@ walls = [
 ]
 [places]
 robot_home = [1.5, 1.0, 0.0]
+"""
+
+
+GROUP_IN_FRONT = """[scenario]
+name = "group"
+duration = 60.0
+robot = "robot_home"
+[[person]]
+id = "a"
+appear = 5.0
+at = [-4.0, 0.3]
+speed = 1.0
+steps = [ { walk = [[-0.6, 0.3]] }, { pause = 100.0 } ]
+[[person]]
+id = "b"
+appear = 5.0
+at = [4.0, 0.4]
+speed = 1.0
+steps = [ { walk = [[0.0, 0.4]] }, { pause = 100.0 } ]
+[[person]]
+id = "c"
+appear = 6.0
+at = [4.0, 0.3]
+speed = 1.0
+steps = [ { walk = [[0.6, 0.3]] }, { pause = 100.0 } ]
+[[person]]
+id = "d"
+appear = 0.0
+at = [-1.2, 0.0]
+steps = [ { pause = 100.0 } ]
+[[person]]
+id = "e"
+appear = 0.0
+at = [1.2, 0.0]
+steps = [ { pause = 100.0 } ]
+[[person]]
+id = "f"
+appear = 5.0
+at = [-3.0, 0.0]
+speed = 1.0
+steps = [ { walk = [[3.0, -0.2]] }, { leave = [9.0, 0.0] } ]
 """
 
 
@@ -60,6 +101,16 @@ def test_unknown_cells_count_as_far_from_walls():
     grid = GridMap(grid.occupied, 0.1, (0.0, 0.0), unknown=unknown)
     model = BeamModel(sigma=0.1, max_range=4.0)
     assert likelihood_field(grid, model)[0, 4] == pytest.approx(outside_log_likelihood(model))
+
+
+def test_expected_ranges_march_to_the_first_wall():
+    grid = wall_map()                                    # wall at x = 0.5 .. 0.6
+    beams = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, math.pi], [0.0, 0.0, math.pi / 2]])
+    got = expected_ranges(grid, (0.15, 0.45, 0.0), beams, max_range=5.0)
+    assert got[0] == pytest.approx(0.35, abs=0.05)       # east: the wall
+    assert got[1] == pytest.approx(0.15, abs=0.05)       # west: the map's edge
+    assert got[2] == pytest.approx(0.55, abs=0.05)       # north: the edge at y = 1.0
+    assert np.isinf(expected_ranges(grid, (0.15, 0.45, 0.0), beams[:1], max_range=0.2)).all()
 
 
 def test_beam_endpoints_place_each_beam_from_each_particle():
@@ -178,6 +229,25 @@ def test_local_kidnapping_is_noticed_and_corrected():
         assert position <= 0.10 and heading <= math.radians(5)
     finally:
         skills.close()
+
+
+@pytest.mark.parametrize("robot", ["horos", "perses"])
+def test_a_group_standing_in_front_is_not_taken_for_being_lost(tmp_path, robot):
+    scenario = tmp_path / "group.toml"
+    scenario.write_text(GROUP_IN_FRONT)
+    skills = open_skills(robot, scenario=scenario, fast=True, seed=0)
+    lost, errors = [], []
+
+    def record(s):
+        lost.append(s.blackboard.value("localization/lost"))
+        errors.append(error(s)[0])
+    try:
+        run(skills, 12.0, each=record)                   # three walk up and stay, one passes
+        run(skills, 6.0, w=0.2, each=record)             # then the robot turns among them
+        assert len(skills.hardware.simulation.world.present_people()) == 5
+    finally:
+        skills.close()
+    assert not any(lost) and max(errors) < 0.15
 
 
 def test_far_kidnapping_flags_lost_then_relocalizes(tmp_path):
