@@ -15,15 +15,17 @@ Each particle is a pose hypothesis (x, y, th) in the map frame with a weight. Pe
    overconfident at 10 Hz.
 3. **Resampling** (`low_variance_resample`) when the effective sample size drops below half.
 4. **Recovery** (augmented MCL): short- and long-term averages of the measurement likelihood;
-   when the short one falls well below the long one the scan no longer fits and a share of
-   the particles is re-drawn: half around the current estimate (a local slip), half anywhere
-   in free space (kidnapping).
+   when the short one falls below the long one the scan no longer fits and a share of the
+   particles is re-drawn around the current estimate (a slip, a wrong start) and, after
+   `global_after` seconds of poor fit, half of them anywhere in free space (kidnapping).
 
-`lost` is true while the scan does not fit the estimate (fewer than `lost_fit` of the beams
-end within `fit_distance` of a wall for `lost_after` seconds) or the particles are spread
-wider than `lost_spread`; it clears when the fit is back above `found_fit` and the spread is
-below `lost_spread / 2`. The estimate is the weighted mean (circular for the heading) with its
-3×3 covariance. Pure: no devices, no clock; the `Localization` skill feeds it.
+`lost` is true after `lost_after` seconds of poor fit (fewer than `BeamModel.lost_fit` of the
+beams end within `fit_distance` of a wall, or the short likelihood average is below
+`lost_ratio` of the long one) or while the particles spread wider than `lost_spread`; it clears
+when the fit is back above `found_fit`, the likelihood is back and the spread is below
+`lost_spread / 2`. Beams cut short by something unmapped (people) count for neither. The
+estimate is the weighted mean (circular for the heading) with its 3×3 covariance. Pure: no
+devices, no clock; the `Localization` skill feeds it.
 """
 from __future__ import annotations
 
@@ -139,8 +141,8 @@ def beam_log_likelihood(grid: GridMap, field: np.ndarray, outside: float,
 def expected_ranges(grid: GridMap, pose, beam_poses: np.ndarray, max_range: float,
                     step: float | None = None) -> np.ndarray:
     """Range (K,) at which each beam from `pose` first meets an occupied or unknown cell, or
-    the map's edge, marching in steps of half a cell; inf when nothing within `max_range`."""
-    step = grid.resolution / 2 if step is None else step
+    the map's edge, marching in steps of one cell; inf when nothing within `max_range`."""
+    step = grid.resolution if step is None else step
     r = np.arange(step, max_range + step, step)
     x, y, th = pose
     c, s = math.cos(th), math.sin(th)
