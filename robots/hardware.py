@@ -68,6 +68,17 @@ class Hardware:
         scenario = getattr(self.simulation, "scenario", None)
         return len(scenario.people) if scenario is not None else 0
 
+    @property
+    def start_pose(self) -> tuple[float, float, float] | None:
+        """Where the simulated robot started (x, y, heading rad; None on a real robot)."""
+        return getattr(self.simulation, "start_pose", None)
+
+    @property
+    def floor(self):
+        """The simulated floor (robots.sim.floor.Floor; None on a real robot)."""
+        world = getattr(self.simulation, "world", None)
+        return world.floor if world is not None else None
+
     def ground_truth(self) -> list[tuple[str, float, float]]:
         """Where the simulated people really are (empty on a real robot)."""
         if self.simulation is None:
@@ -85,16 +96,18 @@ class Hardware:
 
 
 def open_hardware(robot: str | Path, *, port: str | None = None, scenario: str | Path | None = None,
-                  fast: bool = False, seed: int = 0, emulate: bool = True) -> Hardware:
+                  fast: bool = False, seed: int = 0, emulate: bool = True,
+                  floor: str | Path = "office") -> Hardware:
     """Open `robot` (a profile name or path). `port` drives a real base; otherwise simulate.
 
-    `emulate=False` forces the in-process simulated base even where an emulator exists.
+    `emulate=False` forces the in-process simulated base even where an emulator exists;
+    `floor` is the simulated building (a bundled floor name or a floor .toml).
     """
     profile = load_profile(robot)
     clock = SimClock() if fast else RealClock()
     if port is not None:
         return _open_real(profile, clock, port)
-    return _open_simulated(profile, clock, scenario, seed, emulate)
+    return _open_simulated(profile, clock, scenario, seed, emulate, floor)
 
 
 def _driver_class(profile: RobotProfile) -> type[Base] | None:
@@ -122,11 +135,12 @@ def _open_real(profile: RobotProfile, clock, port: str) -> Hardware:
     return Hardware(profile=profile, clock=clock, base=base, speaker=ConsoleSpeaker(clock))
 
 
-def _open_simulated(profile: RobotProfile, clock, scenario, seed: int, emulate: bool) -> Hardware:
+def _open_simulated(profile: RobotProfile, clock, scenario, seed: int, emulate: bool,
+                    floor: str | Path = "office") -> Hardware:
     from robots.sim.base import SimulatedBase
     from robots.sim.simulation import Simulation
 
-    simulation = Simulation(profile, scenario, seed, clock)
+    simulation = Simulation(profile, scenario, seed, clock, floor)
     driver = _driver_class(profile)
     if emulate and driver is not None and hasattr(driver, "for_simulation"):
         base = driver.for_simulation(profile, simulation, clock)

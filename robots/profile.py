@@ -74,6 +74,27 @@ class DetectorSpec:
 
 
 @dataclass(frozen=True)
+class OdometrySpec:
+    """Wheel-odometry error of the simulated base (table `[odometry]`, all optional).
+
+    Per metre driven and radian turned, the odometry the simulated base reports differs from
+    the body's true motion by a systematic part (miscalibrated wheel diameter and wheel base,
+    unequal wheels) and a random part whose variance grows linearly with the distance and the
+    angle (a random walk). A real base has the same kinds of error; zeros make it exact."""
+    scale_error: float = 0.01        # fraction: reported distance = true · (1 + scale_error)
+    turn_error: float = 0.02         # fraction: reported rotation = true · (1 + turn_error)
+    drift: float = math.radians(0.5)  # rad of heading error per metre driven (unequal wheels)
+    noise_distance: float = 0.01     # m standard deviation per √m driven
+    noise_turn: float = 0.02         # rad standard deviation per √rad turned
+    noise_heading: float = math.radians(0.5)  # rad standard deviation per √m driven
+
+    @property
+    def exact(self) -> bool:
+        return not any((self.scale_error, self.turn_error, self.drift, self.noise_distance,
+                        self.noise_turn, self.noise_heading))
+
+
+@dataclass(frozen=True)
 class RobotProfile:
     name: str
     description: str
@@ -90,6 +111,7 @@ class RobotProfile:
     touch_screen: bool
     speech: bool
     people_detector: DetectorSpec | None
+    odometry: OdometrySpec = field(default_factory=OdometrySpec)
 
     @property
     def capabilities(self) -> frozenset[str]:
@@ -188,6 +210,7 @@ class _ProfileReader:
             touch_screen=bool(self.data.get("screen", {}).get("touch", False)),
             speech=bool(self.data.get("speech", {}).get("output", True)),
             people_detector=self.detector(),
+            odometry=self.odometry(),
         )
 
     def limits(self) -> Limits:
@@ -233,6 +256,29 @@ class _ProfileReader:
                         tilt_min=self.angle("head", "tilt_min_deg", -90.0, 0.0),
                         tilt_max=self.angle("head", "tilt_max_deg", 0.0, 90.0),
                         max_pan_rate=self.angle("head", "max_pan_rate_deg", 1.0, 720.0))
+
+    def odometry(self) -> OdometrySpec:
+        """The simulated odometry error; each key defaults to `OdometrySpec`'s value."""
+        if self.table("odometry", required=False) is None:
+            return OdometrySpec()
+        known = {"scale_error", "turn_error", "drift_deg_per_m", "noise_m_per_sqrt_m",
+                 "noise_deg_per_sqrt_deg", "noise_deg_per_sqrt_m"}
+        unknown = set(self.data["odometry"]) - known
+        if unknown:
+            raise self.fail("odometry", f"unknown key(s) {', '.join(sorted(unknown))}; "
+                            f"known: {', '.join(sorted(known))}")
+        d = OdometrySpec()
+        per_sqrt_deg = math.sqrt(math.degrees(1.0))        # deg/√deg -> rad/√rad
+        return OdometrySpec(
+            scale_error=self.number("odometry", "scale_error", -0.2, 0.2, d.scale_error),
+            turn_error=self.number("odometry", "turn_error", -0.2, 0.2, d.turn_error),
+            drift=self.angle("odometry", "drift_deg_per_m", -10.0, 10.0, math.degrees(d.drift)),
+            noise_distance=self.number("odometry", "noise_m_per_sqrt_m", 0.0, 0.5,
+                                       d.noise_distance),
+            noise_turn=self.angle("odometry", "noise_deg_per_sqrt_deg", 0.0, 5.0,
+                                  math.degrees(d.noise_turn) / per_sqrt_deg) * per_sqrt_deg,
+            noise_heading=self.angle("odometry", "noise_deg_per_sqrt_m", 0.0, 10.0,
+                                     math.degrees(d.noise_heading)))
 
     def detector(self) -> DetectorSpec | None:
         if self.table("people_detector", required=False) is None:

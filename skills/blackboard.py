@@ -39,10 +39,23 @@ def _key(key: str, type_: str, unit: str, writer: str, doc: str) -> KeySpec:
 
 SCHEMA: dict[str, KeySpec] = {spec.key: spec for spec in (
     _key("robot/pose", "tuple[float, float, float]", "m, m, rad", "localization",
-         "odometry pose (x, y, heading) in the world frame"),
+         "pose estimate (x, y, heading) in the map frame (odometry alone without a map)"),
     _key("robot/velocity", "tuple[float, float]", "m/s, rad/s", "localization",
          "measured translational and rotational velocity"),
     _key("robot/link", "bool", "-", "localization", "the base link is up and its state is fresh"),
+    # -- localization (skills.localization, skills.navigation.mcl) --
+    _key("robot/odometry", "tuple[float, float, float]", "m, m, rad", "localization",
+         "the base's odometry pose (x, y, heading) in its own frame; drifts"),
+    _key("localization/covariance", "tuple[tuple[float, float, float], ...]",
+         "m², m·rad, rad² (3×3: x, y, heading)", "localization",
+         "covariance of the pose estimate (absent in odometry mode)"),
+    _key("localization/lost", "bool", "-", "localization",
+         "the scan no longer fits the map at the estimate, or the particles are spread wide"),
+    _key("localization/fit", "float", "0..1", "localization",
+         "share of the used beams whose end point lies near a wall from the estimate"),
+    _key("localization/mode", "str", "-", "localization",
+         "'laser', 'sonar' or 'odometry' (no map, or no range sensor)"),
+    # -- end localization --
     _key("sensors/sonar", "tuple[float, ...]", "m", "obstacles",
          "last range per sonar index; inf when no echo"),
     _key("obstacles/front", "float", "m", "obstacles",

@@ -1,8 +1,8 @@
 """People perception: detections from the person detector and the laser, tracked in the world frame.
 
-Detections arrive in the robot frame; they are moved to the world frame with the odometry pose
-before tracking (`skills.people.frames`), which is how the robot's own motion is compensated;
-the tracker fuses a camera and a laser detection of the same person in one frame.
+Detections arrive in the robot frame; they are moved to the world (map) frame with the
+localization pose before tracking (`skills.people.frames`), which is how the robot's own motion
+is compensated; the tracker fuses a camera and a laser detection of the same person in one frame.
 
 Laser leg pairs keep tracks alive and sharpen them, but only the camera may *confirm* a track
 (`TrackerParams.confirming_sources`): door jambs and wall ends look like legs to a scan and,

@@ -18,6 +18,7 @@ from skills.exceptions import SkillError, SkillUnavailableError
 from skills.head import HeadControl
 from skills.localization import Localization
 from skills.motion import Motion
+from skills.navigation.gridmap import GridMap, load_map, map_from_floor
 from skills.obstacles import ObstacleSensing
 from skills.perception import PeoplePerception
 from skills.questionnaire import Questionnaire
@@ -37,13 +38,15 @@ def robot_capabilities(robot: str) -> frozenset[str]:
 
 
 class SkillSet:
-    def __init__(self, hardware: Hardware) -> None:
+    def __init__(self, hardware: Hardware, *, map: str | Path | GridMap | None = None,
+                 initial_pose: tuple[float, float, float] | None = None, seed: int = 0) -> None:
         self.hardware = hardware
         self.profile = hardware.profile
         self.blackboard = Blackboard(self.profile.name)
         self.events = EventLog()
         bb, ev = self.blackboard, self.events
-        self.localization = Localization(bb, ev, hardware.base)
+        self.map = _robot_map(hardware, map)
+        self.localization = _localization(bb, ev, hardware, self.map, initial_pose, seed)
         self.obstacles = ObstacleSensing(bb, ev, self.profile, self.localization, hardware.laser)
         user_range = self.profile.people_detector.range if self.profile.people_detector else 5.0
         self.perception = PeoplePerception(bb, ev, self.localization, hardware.people_detector,
@@ -121,10 +124,48 @@ class SkillSet:
 
 
 def open_skills(robot: str | Path, *, port: str | None = None, scenario: str | Path | None = None,
-                fast: bool = False, seed: int = 0) -> SkillSet:
-    """Open the robot's hardware (real or simulated) and its skills."""
+                fast: bool = False, seed: int = 0, map: str | Path | GridMap | None = None,
+                initial_pose: tuple[float, float, float] | None = None) -> SkillSet:
+    """Open the robot's hardware (real or simulated) and its skills.
+
+    `map`: a bundled floor name, a floor .toml or a map_server .yaml (default: the simulated
+    floor in simulation, none on a real robot). `initial_pose` (x m, y m, heading rad) where
+    localization starts (default: the start pose in simulation, else the map's robot_home)."""
     try:
         hardware = open_hardware(robot, port=port, scenario=scenario, fast=fast, seed=seed)
     except RobotError as exc:
         raise SkillError(str(exc)) from exc
-    return SkillSet(hardware)
+    try:
+        return SkillSet(hardware, map=map, initial_pose=initial_pose, seed=seed)
+    except Exception:
+        hardware.close()
+        raise
+
+
+# -- map and localization ----------------------------------------------------------------------
+
+def _robot_map(hardware: Hardware, map) -> GridMap | None:
+    """The given map, else the simulated floor's map in simulation, else none."""
+    if isinstance(map, GridMap):
+        return map
+    if map is not None:
+        return load_map(map)
+    floor = hardware.floor
+    return map_from_floor(floor) if floor is not None else None
+
+
+def _localization(bb, ev, hardware: Hardware, grid: GridMap | None, initial_pose,
+                  seed: int) -> Localization:
+    """MCL with the laser (else the sonar ring) on the map; the odometry alone without one.
+
+    Start pose: explicit, else the simulator's start pose, else the map's robot_home; with
+    none of them the filter starts spread over the free map."""
+    profile = hardware.profile
+    if initial_pose is None:
+        initial_pose = hardware.start_pose
+    if initial_pose is None and grid is not None:
+        initial_pose = grid.places.get("robot_home")
+    laser_range = profile.laser.max_range if profile.laser is not None else 8.0
+    return Localization(bb, ev, hardware.base, grid=grid, laser=hardware.laser,
+                        laser_range=laser_range, sonar=profile.sonar, initial_pose=initial_pose,
+                        seed=seed)

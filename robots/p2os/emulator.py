@@ -54,6 +54,12 @@ BAUD_CONSTANTS = {9600: termios.B9600, 19200: termios.B19200, 38400: termios.B38
                   57600: termios.B57600, 115200: termios.B115200}
 
 
+def _odometry(world):
+    """What the encoders count: the world's wheel odometry (drifting from the body's true pose),
+    or the body itself in a bare stand-in world without one."""
+    return getattr(world, "odometry", world.body)
+
+
 @dataclass(frozen=True)
 class Snapshot:
     """What the firmware reports, sampled from the world on the thread that steps it."""
@@ -68,8 +74,8 @@ class Snapshot:
 
     @classmethod
     def of(cls, world) -> "Snapshot":
-        body = world.body
-        return cls(body.x, body.y, body.th, body.v, body.w,
+        odometry = _odometry(world)
+        return cls(odometry.x, odometry.y, odometry.th, odometry.v, odometry.w,
                    tuple(float(r) for r in np.asarray(world.sonar_ranges())),
                    int(world.bumpers), bool(world.stalled))
 
@@ -404,10 +410,10 @@ class P2OSEmulator(EmulatorHost):
             self.sips_sent += 1
 
     def _sampled_now(self, now: float) -> Snapshot:
-        """Real time: the body's pose at SIP time (moved on from the world's last step at its
+        """Real time: the odometry pose at SIP time (moved on from the world's last step at its
         velocities), with the newest sonar sweep; not a copy up to half a cycle old."""
-        body = self.world.body
-        x, y, th, v, w = body.x, body.y, body.th, body.v, body.w
+        odometry = _odometry(self.world)
+        x, y, th, v, w = odometry.x, odometry.y, odometry.th, odometry.v, odometry.w
         ahead = min(max(0.0, now - float(self.world.t)), SIP_CYCLE)
         if ahead > 0:
             if abs(w) < 1e-9:
@@ -445,8 +451,8 @@ class P2OSEmulator(EmulatorHost):
         """Bytes from the client: act on every whole packet, answer, then count them as read."""
         with self._lock:
             now = self.now()
-            body = self.world.body
-            pose = (body.x, body.y, body.th)     # MOVE, DHEAD and SETO start from here
+            odometry = _odometry(self.world)     # the firmware knows only its encoders
+            pose = (odometry.x, odometry.y, odometry.th)   # MOVE, DHEAD and SETO start here
             arrived = time.monotonic()
             for packet in self.parser.feed(data):
                 self.received.append((arrived, packet))
@@ -463,7 +469,8 @@ class P2OSEmulator(EmulatorHost):
     def _apply(self) -> None:
         """Hand the servos' targets to the body, ramped at the firmware's rates."""
         body, firmware = self.world.body, self.firmware
-        target = firmware.drive((body.x, body.y, body.th))
+        odometry = _odometry(self.world)
+        target = firmware.drive((odometry.x, odometry.y, odometry.th))
         if firmware.estop_pending:               # ESTOP overrides the deceleration
             firmware.estop_pending = False
             body.v = body.w = 0.0

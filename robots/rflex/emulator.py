@@ -1,8 +1,8 @@
 """The rFLEX controller side, for tests and the simulated world: PERSES's firmware in software.
 
 `RFlexController` is the firmware logic without I/O: it takes command bytes, drives the world's
-body, counts odometry per axis and produces the reports (motor per axis, the 48 sonars, bumper
-panels, system status). `RFlexEmulator` puts it on a transport (a raw pty or a TCP port) in the
+body, counts odometry per axis (the world's drifting wheel odometry, `robots.sim.odometry`) and
+produces the reports (motor per axis, the 48 sonars, bumper panels, system status). `RFlexEmulator` puts it on a transport (a raw pty or a TCP port) in the
 same shape as the P2OS emulator, so `interbot emulate` can host either:
 - a reader thread applies commands as they arrive (in lock-step, before the driver's write
   returns, so a command written before `advance` is in force for the whole next step);
@@ -159,8 +159,11 @@ class RFlexController:
         """The body moved for `dt`: count odometry, apply the failsafe, return the due reports."""
         self.now = now
         body = self.world.body
-        self.axes[0].position += body.v * dt * self.conv[0]
-        self.axes[1].position += body.w * dt * self.conv[1]
+        odometry = getattr(self.world, "odometry", None)   # None in a bare stand-in world
+        distance, rotation = (odometry.last_step if odometry is not None
+                              else (body.v * dt, body.w * dt))
+        self.axes[0].position += distance * self.conv[0]
+        self.axes[1].position += rotation * self.conv[1]
         self._watch_home(body.th)
         if (self.last_set_dir is not None and now - self.last_set_dir > self.failsafe
                 and any(a.target for a in self.axes)):
@@ -194,8 +197,8 @@ class RFlexController:
         return out
 
     def _motor_reports(self) -> bytes:
-        body = self.world.body
-        measured = (body.v * self.conv[0], body.w * self.conv[1])
+        moving = getattr(self.world, "odometry", self.world.body)
+        measured = (moving.v * self.conv[0], moving.w * self.conv[1])
         out = b""
         for index, axis in enumerate(self.axes):
             if self.axis_mask & (1 << index):

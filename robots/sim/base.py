@@ -1,5 +1,6 @@
 """The in-process simulated base: the `Base` interface over a World's body, for running the
-upper layers in the simulated world before (or instead of) a wire-protocol driver.
+upper layers in the simulated world before (or instead of) a wire-protocol driver. Pose and
+velocities are the world's wheel odometry (which drifts from the body's true pose).
 
 Like the P2OS firmware, it stops the body by itself when no command arrived for 2 s of sim
 time, and nothing resumes motion until a new command comes.
@@ -43,8 +44,9 @@ class SimulatedBase(Base):
         self.last_command_t = self.world.t
 
     def read_state(self) -> BaseState:
-        world, body = self.world, self.world.body
-        return BaseState(t=world.t, x=body.x, y=body.y, th=body.th, v=body.v, w=body.w,
+        world, body, odometry = self.world, self.world.body, self.world.odometry
+        return BaseState(t=world.t, x=odometry.x, y=odometry.y, th=odometry.th, v=odometry.v,
+                         w=odometry.w,
                          sonar=tuple(float(r) for r in world.sonar_ranges()),
                          bumpers=body.bumpers, stalled=body.stalled,
                          motors_enabled=self.is_open, battery=BATTERY_VOLTS,

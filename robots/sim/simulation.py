@@ -23,6 +23,8 @@ class Simulation:
         self.scenario = load_scenario(scenario_path) if scenario_path is not None else None
         plan = floor if isinstance(floor, Floor) else load_floor(floor)
         self.world = World(plan, profile, self.scenario, seed)
+        body = self.world.body
+        self.start_pose = (body.x, body.y, body.th)    # the scenario's robot pose
         self._devices: dict | None = None
 
     def advance(self, now: float) -> None:

@@ -1,6 +1,8 @@
 """The simulated world: a floor, the robot's body, scripted people, and what the robot's
-sensors and devices make of them. One `numpy.random.Generator` drives every random draw, so a
-run is the same for the same seed and the same sequence of calls.
+sensors and devices make of them. One `numpy.random.Generator` drives every random draw (the
+wheel odometry has its own stream, `robots.sim.odometry`), so a run is the same for the same
+seed and the same sequence of calls. `body` is the ground truth; `odometry` is what the base
+reports.
 """
 from __future__ import annotations
 
@@ -15,6 +17,7 @@ from robots.exceptions import FloorError, ScenarioError
 from robots.profile import RobotProfile
 from robots.sim.body import Obstacles, UnicycleBody
 from robots.sim.floor import Floor
+from robots.sim.odometry import WheelOdometry, odometry_rng
 from robots.sim.people import BODY_RADIUS, LEG_RADIUS, SimPerson
 from robots.sim.raycast import cast_rays, point_segment_distances
 from robots.sim.scenario import Leave, Scenario, Walk
@@ -73,6 +76,7 @@ class World:
         self.t = 0.0
         x, y, th = self._start_pose()
         self.body = UnicycleBody(x, y, th, profile.limits, profile.radius)
+        self.odometry = WheelOdometry((x, y, th), profile.odometry, odometry_rng(seed))
         self.people: list[SimPerson] = []
         if scenario is not None:
             _check_places(scenario, floor)
@@ -128,6 +132,7 @@ class World:
             self._version += 1
             reach = self.body.radius + 0.5
             self.body.step(h, Obstacles(self._walls_near(reach), self.body_circles()))
+            self.odometry.step(self.body.v, self.body.w, h)
             self._version += 1
             for hook in self.hooks:
                 hook(self, h)

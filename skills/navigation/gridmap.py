@@ -122,9 +122,11 @@ def map_from_floor(floor: Floor, resolution: float = DEFAULT_RESOLUTION,
     if not (math.isfinite(resolution) and 0.005 <= resolution <= 1.0):
         raise MapError(f"map resolution {resolution!r} m is outside 0.005 … 1.0 m")
     xmin, ymin, xmax, ymax = floor.bounds
-    origin = (xmin - margin, ymin - margin)
-    cols = int(math.ceil((xmax - xmin + 2 * margin) / resolution))
-    rows = int(math.ceil((ymax - ymin + 2 * margin) / resolution))
+    # half a cell off the round margin: walls on round coordinates fall on cell centres, so the
+    # distance field (to cell centres) has no half-cell bias that localization would inherit
+    origin = (xmin - margin - resolution / 2, ymin - margin - resolution / 2)
+    cols = int(math.ceil((xmax - xmin + 2 * margin) / resolution)) + 1
+    rows = int(math.ceil((ymax - ymin + 2 * margin) / resolution)) + 1
     occupied = np.zeros((rows, cols), dtype=bool)
     grid = GridMap(occupied, resolution, origin, dict(floor.places), None, floor.name,
                    f"floor {floor.name}")
@@ -166,6 +168,30 @@ def load_map_server(path: Path) -> GridMap:
     places = _places(meta.get("places", {}), path)
     return GridMap(occupied, resolution, (float(origin[0]), float(origin[1])), places, unknown,
                    path.stem, str(path))
+
+
+def save_map_server(grid: GridMap, path: str | Path) -> Path:
+    """Write `grid` as a map_server pair (`path` .yaml and a .pgm beside it), places included.
+
+    Occupied cells are black (0), free white (254), unknown grey (205), as map_saver writes
+    them; a map exported from a floor is a starting point for a team's own map."""
+    import yaml
+    path = Path(path)
+    image = path.with_suffix(".pgm")
+    pixels = np.full(grid.shape, 254, dtype=np.uint8)
+    if grid.unknown is not None:
+        pixels[grid.unknown] = 205
+    pixels[grid.occupied] = 0
+    rows, cols = grid.shape
+    image.write_bytes(f"P5\n# {grid.name}\n{cols} {rows}\n255\n".encode() +
+                      np.flipud(pixels).tobytes())
+    meta = {"image": image.name, "resolution": float(grid.resolution),
+            "origin": [float(grid.origin[0]), float(grid.origin[1]), 0.0], "negate": 0,
+            "occupied_thresh": 0.65, "free_thresh": 0.196,
+            "places": {name: [round(x, 3), round(y, 3), round(math.degrees(th), 1)]
+                       for name, (x, y, th) in grid.places.items()}}
+    path.write_text(yaml.safe_dump(meta, sort_keys=False), encoding="utf-8")
+    return path
 
 
 def read_pgm(path: Path) -> tuple[np.ndarray, int]:

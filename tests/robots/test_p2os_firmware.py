@@ -244,7 +244,7 @@ def test_the_sip_position_is_sampled_at_sip_time_not_at_the_last_world_step():
     body = simulation.world.body
     body.v = body.cmd_v = 1.0                        # cruising at 1 m/s along x
     simulation.advance(1.0)                          # the world's last step: t = 1.0
-    x_at_step = body.x
+    x_at_step = simulation.world.odometry.x          # what the encoders counted by then
     clock.t = 1.08                                   # the SIP goes out 80 ms later
     emulator.tick(clock.t)
     sip = [p.decode_sip(k) for k in p.P2OSParser().feed(bytes(sent)) if k.kind in p.SIP_TYPES][-1]

@@ -85,11 +85,13 @@ def test_drives_the_body_and_integrates_odometry_in_world_frame():
             sim.advance(clock.now())
             base.poll()
             base.command(0.3, 0.25)
-        state, body = base.read_state(), sim.world.body
+        state, body = base.read_state(), sim.world.odometry      # what the encoders counted
         assert state.t == pytest.approx(clock.now())
         assert math.hypot(state.x - body.x, state.y - body.y) < 0.005
         assert abs(state.th - body.th) < 0.005
         assert state.v == pytest.approx(body.v, abs=1e-4) and state.w == pytest.approx(body.w, abs=1e-4)
+        truth = sim.world.body                                   # drifted from, but close to
+        assert 0.0 < math.hypot(state.x - truth.x, state.y - truth.y) < 0.1
         truth = sim.world.sonar_ranges()
         assert len(state.sonar) == 48
         for got, want in zip(state.sonar, truth):
@@ -161,7 +163,7 @@ def test_odometry_survives_counter_wrap():
             base.command(0.5, -0.5)
         positions = emulator.controller.axes
         assert positions[0].position > 2**31 and positions[1].position < -(2**31)   # both wrapped
-        state, body = base.read_state(), emulator.world.body
+        state, body = base.read_state(), emulator.world.body   # a stand-in world counts exactly
         assert math.hypot(state.x - body.x, state.y - body.y) < 0.005
         assert abs(state.th - body.th) < 0.005
     finally:

@@ -126,8 +126,10 @@ def test_simulated_base_drives_the_body_and_reports_state():
     base.command(0.2, 0.0)
     sim.advance(clock.advance(1.0))
     state = base.read_state()
-    assert state.t == pytest.approx(1.0) and state.v == pytest.approx(0.2)
-    assert state.y > -0.75 and state.th == pytest.approx(math.pi / 2)
+    assert state.t == pytest.approx(1.0)
+    assert state.v == pytest.approx(0.2 * (1 + HOROS.odometry.scale_error))   # wheel odometry
+    assert (state.x, state.y, state.th) == sim.world.odometry.pose
+    assert state.y > -0.75 and state.th == pytest.approx(math.pi / 2, abs=0.01)
     assert len(state.sonar) == 16 and all(isinstance(r, float) for r in state.sonar)
     assert state.motors_enabled and state.link_up and state.battery == 12.5
     assert state.bumpers == 0 and not state.stalled

@@ -82,3 +82,25 @@ def test_bad_pgm_images_are_refused_with_the_byte_offset(tmp_path):
 def test_unknown_place_lists_the_places():
     with pytest.raises(MapError, match="has no place 'kitchen'; places: .*room_n2"):
         load_map("office").place("kitchen")
+
+
+def test_floor_walls_lie_on_cell_centres():
+    grid = load_map("office")
+    rows, cols = grid.to_cells([-5.0, 0.0], [1.2, 3.0])          # a wall at y = 1.2, one at x = 0
+    cx, cy = grid.to_world(rows, cols)
+    assert cy[0] == pytest.approx(1.2) and cx[1] == pytest.approx(0.0)
+    assert grid.distance_field[rows[0] - 4, cols[0]] == pytest.approx(0.2)   # 4 cells south
+
+
+def test_a_map_saved_as_map_server_loads_back_the_same(tmp_path):
+    from skills.navigation.gridmap import save_map_server
+    grid = load_map("office")
+    path = save_map_server(grid, tmp_path / "office.yaml")
+    assert (tmp_path / "office.pgm").exists()
+    again = load_map(path)
+    assert again.shape == grid.shape and again.resolution == grid.resolution
+    assert again.origin == pytest.approx(grid.origin)
+    assert (again.occupied == grid.occupied).all() and not again.unknown.any()
+    assert set(again.places) == set(grid.places)
+    for name, (x, y, th) in grid.places.items():
+        assert again.places[name] == pytest.approx((x, y, th), abs=1e-3)

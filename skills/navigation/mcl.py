@@ -1,0 +1,424 @@
+"""Monte-Carlo localization (a particle filter) on a grid map, vectorised with numpy.
+
+Each particle is a pose hypothesis (x, y, th) in the map frame with a weight. Per update:
+
+1. **Motion** (`sample_motion`): the odometry delta since the last update, split into a turn,
+   a straight move and a turn, is applied to every particle with noise that grows with the
+   turn and the distance (Thrun, Burgard, Fox: *Probabilistic Robotics*, table 5.6,
+   `sample_motion_model_odometry`), plus a small floor so a standing filter keeps exploring.
+2. **Measurement** (`beam_log_likelihood`): every used beam's end point is placed on the map
+   from every particle; its likelihood is a Gaussian of the distance from that point to the
+   nearest wall (the likelihood field, read from `GridMap.distance_field`) mixed with a
+   uniform term for people and clutter. Beams without an echo (max range) carry no weight;
+   the laser is subsampled. The log likelihoods are summed and tempered (`BeamModel.weight`),
+   because neighbouring beams are not independent and an untempered filter grows
+   overconfident at 10 Hz.
+3. **Resampling** (`low_variance_resample`) when the effective sample size drops below half.
+4. **Recovery** (augmented MCL): short- and long-term averages of the measurement likelihood;
+   when the short one falls below the long one the scan no longer fits and a share of the
+   particles is re-drawn around the current estimate (a slip, a wrong start) and, after
+   `global_after` seconds of poor fit, half of them anywhere in free space (kidnapping).
+
+`lost` is true after `lost_after` seconds of poor fit (fewer than `BeamModel.lost_fit` of the
+beams end within `fit_distance` of a wall, or the short likelihood average is below
+`lost_ratio` of the long one) or while the particles spread wider than `lost_spread`; it clears
+when the fit is back above `found_fit`, the likelihood is back and the spread is below
+`lost_spread / 2`. Beams cut short by something unmapped (people) count for neither. The
+estimate is the weighted mean (circular for the heading) with its 3×3 covariance. Pure: no
+devices, no clock; the `Localization` skill feeds it.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from skills.navigation.gridmap import GridMap
+
+TWO_PI = 2 * math.pi
+MAX_SHORT_SHARE = 0.5       # more beams than this cut short: the pose is wrong, not the view
+
+
+def wrap(angle):
+    """Angles in [-pi, pi)."""
+    return (np.asarray(angle) + math.pi) % TWO_PI - math.pi
+
+
+@dataclass(frozen=True)
+class BeamModel:
+    """The range sensor's error model for the likelihood field."""
+    name: str = "laser"
+    sigma: float = 0.10         # m: spread of an end point around the wall it hit
+    z_hit: float = 0.9          # share of beams that hit the mapped walls
+    z_rand: float = 0.1         # share of random readings (people, clutter), uniform in range
+    max_range: float = 8.0      # m: readings at or beyond are "no echo" and skipped
+    beams: int = 36             # beams used per update (evenly subsampled)
+    weight: float = 0.3         # temperature of the summed log likelihood (beams correlate)
+    fit_distance: float = 0.2   # m: an end point this close to a wall "fits"
+    lost_fit: float = 0.5       # fit below this (for `lost_after`) means lost …
+    found_fit: float = 0.7      # … and lost ends when it is back above this
+    cone: float = 0.0           # rad: a sonar's echo is the nearest wall within its cone; the
+                                # beam scores its best of three rays at -cone/3, 0, +cone/3
+
+
+def laser_model(max_range: float, beams: int = 36) -> BeamModel:
+    return BeamModel("laser", sigma=0.10, max_range=max_range, beams=beams, weight=0.3,
+                     fit_distance=0.2, lost_fit=0.6, found_fit=0.8)
+
+
+def sonar_model(max_range: float, cone: float = math.radians(30)) -> BeamModel:
+    """Wide cones and few beams: a wider Gaussian, more random readings, every beam used."""
+    return BeamModel("sonar", sigma=0.25, z_hit=0.8, z_rand=0.2, max_range=max_range,
+                     beams=1000, weight=0.5, fit_distance=0.4, lost_fit=0.3, found_fit=0.5,
+                     cone=cone)
+
+
+@dataclass(frozen=True)
+class MCLParams:
+    particles: int = 500
+    initial_particles: int = 5000    # drawn by `reset`; the first resampling keeps `particles`
+    # motion noise (Thrun's alpha1..alpha4): rot from rot, rot from trans, trans from trans,
+    # trans from rot; plus a floor per update (m, rad) that keeps a standing filter alive
+    alphas: tuple[float, float, float, float] = (0.1, 0.05, 0.1, 0.02)
+    floor_xy: float = 0.01
+    floor_th: float = math.radians(0.3)
+    initial_std: tuple[float, float, float] = (0.5, 0.5, math.radians(20))
+    resample_ess: float = 0.5        # resample when the effective sample size < this · N
+    alpha_slow: float = 0.005        # averaging rates of the recovery's likelihood averages
+    alpha_fast: float = 0.2
+    inject_max: float = 0.25         # at most this share of the particles re-drawn per update
+    local_std: tuple[float, float] = (1.0, math.radians(60))   # local re-draw: m, rad
+    global_after: float = 5.0        # s of poor fit before re-drawn particles come from anywhere
+    inject_clearance: float = 0.2    # m: re-drawn particles keep this far from walls
+    lost_ratio: float = 0.5          # short/long likelihood average below this is a poor fit
+    lost_after: float = 0.5          # s of poor fit before "lost"
+    lost_spread: float = 1.0         # m: largest position standard deviation before "lost"
+
+
+# -- pure pieces --------------------------------------------------------------------------------
+
+def likelihood_field(grid: GridMap, model: BeamModel) -> np.ndarray:
+    """log p(end point in cell) for every cell: Gaussian in the distance to the nearest wall
+    mixed with the uniform random term. Unknown cells count as far from any wall."""
+    distance = grid.distance_field
+    if grid.unknown is not None:
+        distance = np.where(grid.unknown, np.inf, distance)
+    hit = np.exp(-0.5 * (distance / model.sigma) ** 2) / (math.sqrt(TWO_PI) * model.sigma)
+    return np.log(model.z_hit * hit + model.z_rand / model.max_range)
+
+
+def outside_log_likelihood(model: BeamModel) -> float:
+    """An end point off the map: only the random term explains it."""
+    return math.log(model.z_rand / model.max_range)
+
+
+def beam_endpoints(particles: np.ndarray, beam_poses: np.ndarray,
+                   ranges: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """World (x, y) of each beam's end point seen from each particle: two (N, K) arrays.
+
+    particles (N, 3) map-frame poses; beam_poses (K, 3) sensor x, y, heading in the robot frame;
+    ranges (K,) metres from the sensor."""
+    px, py, pth = particles[:, 0:1], particles[:, 1:2], particles[:, 2:3]
+    c, s = np.cos(pth), np.sin(pth)
+    bx, by, bth = beam_poses[:, 0], beam_poses[:, 1], beam_poses[:, 2]
+    ox = px + c * bx - s * by
+    oy = py + s * bx + c * by
+    heading = pth + bth
+    return ox + ranges * np.cos(heading), oy + ranges * np.sin(heading)
+
+
+def beam_log_likelihood(grid: GridMap, field: np.ndarray, outside: float,
+                        xs: np.ndarray, ys: np.ndarray) -> np.ndarray:
+    """log p of each end point from the likelihood field (off the map: `outside`)."""
+    rows, cols = grid.to_cells(xs, ys)
+    ok = grid.inside(rows, cols)
+    out = np.full(xs.shape, outside)
+    out[ok] = field[rows[ok], cols[ok]]
+    return out
+
+
+def expected_ranges(grid: GridMap, pose, beam_poses: np.ndarray, max_range: float,
+                    step: float | None = None) -> np.ndarray:
+    """Range (K,) at which each beam from `pose` first meets an occupied or unknown cell, or
+    the map's edge, marching in steps of one cell; inf when nothing within `max_range`."""
+    step = grid.resolution if step is None else step
+    r = np.arange(step, max_range + step, step)
+    x, y, th = pose
+    c, s = math.cos(th), math.sin(th)
+    ox = x + c * beam_poses[:, 0] - s * beam_poses[:, 1]
+    oy = y + s * beam_poses[:, 0] + c * beam_poses[:, 1]
+    heading = th + beam_poses[:, 2]
+    rows, cols = grid.to_cells(ox[:, None] + r * np.cos(heading)[:, None],
+                               oy[:, None] + r * np.sin(heading)[:, None])
+    ok = grid.inside(rows, cols)
+    blocked = ~ok
+    blocked[ok] = ~grid.free[rows[ok], cols[ok]]
+    first = blocked.argmax(axis=1)
+    return np.where(blocked.any(axis=1), r[first], np.inf)
+
+
+def sample_motion(particles: np.ndarray, odom_from, odom_to, params: MCLParams,
+                  rng: np.random.Generator) -> np.ndarray:
+    """New particle poses after the odometry moved from `odom_from` to `odom_to` (x, y, th)."""
+    x0, y0, th0 = odom_from
+    x1, y1, th1 = odom_to
+    trans = math.hypot(x1 - x0, y1 - y0)
+    rot1 = float(wrap(math.atan2(y1 - y0, x1 - x0) - th0)) if trans > 1e-4 else 0.0
+    backwards = abs(rot1) > math.pi / 2       # driving backwards: turn less, move negative
+    if backwards:
+        rot1 = float(wrap(rot1 + math.pi))
+        trans = -trans
+    rot2 = float(wrap(th1 - th0 - rot1))
+    a1, a2, a3, a4 = params.alphas
+    n = len(particles)
+    sd_rot1 = math.sqrt(a1 * rot1 ** 2 + a2 * trans ** 2)
+    sd_trans = math.sqrt(a3 * trans ** 2 + a4 * (rot1 ** 2 + rot2 ** 2))
+    sd_rot2 = math.sqrt(a1 * rot2 ** 2 + a2 * trans ** 2)
+    noise = rng.standard_normal((6, n))
+    r1 = rot1 + sd_rot1 * noise[0]
+    t = trans + sd_trans * noise[1]
+    r2 = rot2 + sd_rot2 * noise[2]
+    out = np.empty_like(particles)
+    heading = particles[:, 2] + r1
+    # the floor is isotropic: a standing filter must be able to slide sideways too
+    out[:, 0] = particles[:, 0] + t * np.cos(heading) + params.floor_xy * noise[3]
+    out[:, 1] = particles[:, 1] + t * np.sin(heading) + params.floor_xy * noise[4]
+    out[:, 2] = wrap(heading + r2 + params.floor_th * noise[5])
+    return out
+
+
+def low_variance_resample(weights: np.ndarray, rng: np.random.Generator,
+                          count: int | None = None) -> np.ndarray:
+    """Indices drawn in proportion to `weights` with one random offset (Thrun table 4.4)."""
+    count = len(weights) if count is None else count
+    positions = (rng.random() + np.arange(count)) / count
+    cumulative = np.cumsum(weights)
+    cumulative[-1] = 1.0
+    return np.searchsorted(cumulative, positions, side="right").clip(0, len(weights) - 1)
+
+
+def weighted_estimate(particles: np.ndarray, weights: np.ndarray):
+    """Weighted mean pose (circular mean heading) and its 3×3 covariance."""
+    x = float(weights @ particles[:, 0])
+    y = float(weights @ particles[:, 1])
+    th = math.atan2(float(weights @ np.sin(particles[:, 2])),
+                    float(weights @ np.cos(particles[:, 2])))
+    d = np.column_stack((particles[:, 0] - x, particles[:, 1] - y, wrap(particles[:, 2] - th)))
+    cov = (d * weights[:, None]).T @ d
+    return (x, y, th), cov
+
+
+# -- the filter ---------------------------------------------------------------------------------
+
+class MonteCarloLocalization:
+    """The particle filter; `predict` with odometry, `correct` with a scan, then read
+    `pose`, `covariance`, `lost` and `fit`."""
+
+    def __init__(self, grid: GridMap, model: BeamModel, params: MCLParams = MCLParams(),
+                 rng: np.random.Generator | None = None) -> None:
+        self.grid = grid
+        self.model = model
+        self.params = params
+        self.rng = rng if rng is not None else np.random.default_rng(0)
+        self.field = likelihood_field(grid, model)
+        self.outside = outside_log_likelihood(model)
+        rows, cols = np.nonzero(grid.free & (grid.distance_field >= params.inject_clearance))
+        if len(rows) == 0:
+            raise ValueError(f"map '{grid.name}' has no free cell {params.inject_clearance} m "
+                             "from a wall to place the robot in")
+        self._free_cells = (rows, cols)
+        n = params.particles
+        self.particles = np.zeros((n, 3))
+        self.weights = np.full(n, 1.0 / n)
+        self.w_slow = self.w_fast = None
+        self.fit = 1.0
+        self.lost = False
+        self._poor_since: float | None = None
+        self._poor_for = 0.0
+        self.injected = 0
+        self.pose: tuple[float, float, float] = (0.0, 0.0, 0.0)
+        self.covariance = np.zeros((3, 3))
+
+    # -- initialisation --
+
+    def reset(self, pose, std=None) -> None:
+        """Particles drawn around `pose` with standard deviations `std` (m, m, rad)."""
+        std = self.params.initial_std if std is None else std
+        n = max(self.params.initial_particles, self.params.particles)
+        noise = self.rng.standard_normal((n, 3)) * np.asarray(std, dtype=float)
+        self.particles = np.asarray(pose, dtype=float) + noise
+        self.particles[:, 2] = wrap(self.particles[:, 2])
+        self.weights = np.full(n, 1.0 / n)
+        self.w_slow = self.w_fast = None
+        self.lost = False
+        self._poor_since = None
+        self._poor_for = 0.0
+        self._estimate()
+
+    def reset_global(self) -> None:
+        """Particles spread over the free space (the pose is unknown)."""
+        self.particles = self._free_poses(max(self.params.initial_particles,
+                                              self.params.particles))
+        self.weights = np.full(len(self.particles), 1.0 / len(self.particles))
+        self.w_slow = self.w_fast = None
+        self._estimate()
+
+    def _free_poses(self, count: int) -> np.ndarray:
+        rows, cols = self._free_cells
+        pick = self.rng.integers(0, len(rows), count)
+        x, y = self.grid.to_world(rows[pick], cols[pick])
+        jitter = (self.rng.random((2, count)) - 0.5) * self.grid.resolution
+        th = self.rng.uniform(-math.pi, math.pi, count)
+        return np.column_stack((x + jitter[0], y + jitter[1], th))
+
+    # -- the update --
+
+    def predict(self, odom_from, odom_to) -> None:
+        self.particles = sample_motion(self.particles, odom_from, odom_to, self.params, self.rng)
+
+    def correct(self, beam_poses: np.ndarray, ranges: np.ndarray, now: float) -> None:
+        """Weigh the particles by a scan: beam poses (K, 3) in the robot frame, ranges (K,) m."""
+        beam_poses, ranges = self._usable(np.asarray(beam_poses, float), np.asarray(ranges, float))
+        if len(ranges) == 0:
+            self._estimate()
+            return
+        loglik = self._beam_log_likelihood(self.particles, beam_poses, ranges)
+        self._estimate()                                     # the predicted estimate
+        mapped = ~self._short(self.pose, beam_poses, ranges)
+        per_beam = loglik[:, mapped].mean(axis=1)            # (N,) mean log likelihood per beam
+        offmap = ~self._on_free(self.particles)
+        per_beam[offmap] += self.outside                     # a robot cannot stand in a wall
+        self._track_likelihood(per_beam)
+        logw = np.log(np.maximum(self.weights, 1e-300)) + self.model.weight * loglik.sum(axis=1)
+        logw[offmap] += self.model.weight * len(ranges) * self.outside
+        w = np.exp(logw - logw.max())
+        self.weights = w / w.sum()
+        self._estimate()
+        self.fit = self._fit_at(self.pose, beam_poses, ranges)
+        self._update_lost(now)
+        self._resample()
+
+    def _beam_log_likelihood(self, particles, beam_poses, ranges) -> np.ndarray:
+        """(N, K) log likelihood of each beam from each particle (best ray of a cone)."""
+        if self.model.cone <= 0.0:
+            xs, ys = beam_endpoints(particles, beam_poses, ranges)
+            return beam_log_likelihood(self.grid, self.field, self.outside, xs, ys)
+        best = None
+        for fraction in (-1 / 3, 0.0, 1 / 3):
+            rays = beam_poses + (0.0, 0.0, fraction * self.model.cone)
+            xs, ys = beam_endpoints(particles, rays, ranges)
+            ray = beam_log_likelihood(self.grid, self.field, self.outside, xs, ys)
+            best = ray if best is None else np.maximum(best, ray)
+        return best
+
+    def _usable(self, beam_poses, ranges):
+        echo = np.isfinite(ranges) & (ranges > 0.0) & (ranges < self.model.max_range)
+        index = np.nonzero(echo)[0]
+        if len(index) > self.model.beams:
+            index = index[np.linspace(0, len(index) - 1, self.model.beams).round().astype(int)]
+        return beam_poses[index], ranges[index]
+
+    def _on_free(self, poses: np.ndarray) -> np.ndarray:
+        rows, cols = self.grid.to_cells(poses[:, 0], poses[:, 1])
+        ok = self.grid.inside(rows, cols)
+        free = np.zeros(len(poses), dtype=bool)
+        free[ok] = self.grid.free[rows[ok], cols[ok]]
+        return free
+
+    def _track_likelihood(self, per_beam: np.ndarray) -> None:
+        """Short- and long-term averages of the per-beam measurement likelihood; they start
+        once the filter has converged, so the long one stands for "localized"."""
+        average = float(self.weights @ np.exp(per_beam))
+        if self.w_slow is None:
+            if len(self.weights) == self.params.particles and not self.lost \
+                    and self.spread < self.params.lost_spread / 4:
+                self.w_slow = self.w_fast = average
+            return
+        p = self.params
+        self.w_slow += p.alpha_slow * (average - self.w_slow)
+        self.w_fast += p.alpha_fast * (average - self.w_fast)
+
+    def _short(self, pose, beam_poses, ranges) -> np.ndarray:
+        """Beams that end well before the map's wall seen from `pose`: something unmapped (a
+        person, a cart) is in the way. They say nothing about the fit, unless most of the scan
+        is short: then the map is wrong where the estimate is, and every beam counts."""
+        cone = self.model.cone
+        fractions = (-1 / 3, 0.0, 1 / 3) if cone > 0.0 else (0.0,)
+        expected = np.min([expected_ranges(self.grid, pose, beam_poses + (0.0, 0.0, f * cone),
+                                           self.model.max_range) for f in fractions], axis=0)
+        short = ranges < expected - 2 * self.model.fit_distance
+        return short if short.mean() <= MAX_SHORT_SHARE else np.zeros_like(short)
+
+    def _fit_at(self, pose, beam_poses, ranges) -> float:
+        """Share of the beams whose end point from `pose` lies within fit_distance of a wall,
+        among the beams not cut short by something unmapped."""
+        mapped = ~self._short(pose, beam_poses, ranges)
+        beam_poses, ranges = beam_poses[mapped], ranges[mapped]
+        near = np.zeros(len(ranges), dtype=bool)
+        fractions = (-1 / 3, 0.0, 1 / 3) if self.model.cone > 0.0 else (0.0,)
+        for fraction in fractions:
+            rays = beam_poses + (0.0, 0.0, fraction * self.model.cone)
+            xs, ys = beam_endpoints(np.asarray([pose]), rays, ranges)
+            rows, cols = self.grid.to_cells(xs[0], ys[0])
+            ok = self.grid.inside(rows, cols)
+            hit = np.zeros(len(ranges), dtype=bool)
+            hit[ok] = self.grid.distance_field[rows[ok], cols[ok]] <= self.model.fit_distance
+            near |= hit
+        return float(near.mean())
+
+    def _update_lost(self, now: float) -> None:
+        """Poor fit (few beams near walls, or the likelihood far below its long-term average)
+        for `lost_after` seconds, or a wide spread, is lost; a good fit and a tight cloud end
+        it. Between the two thresholds nothing changes (hysteresis)."""
+        p, m = self.params, self.model
+        ratio = self.w_fast / self.w_slow if self.w_slow else 1.0
+        bad = self.fit < m.lost_fit or ratio < p.lost_ratio
+        good = self.fit >= m.found_fit and ratio >= p.lost_ratio
+        if bad and self._poor_since is None:
+            self._poor_since = now
+        elif good:
+            self._poor_since = None
+        self._poor_for = 0.0 if self._poor_since is None else now - self._poor_since
+        spread = self.spread
+        if self.lost:
+            self.lost = not (good and spread < p.lost_spread / 2)
+        else:
+            self.lost = self._poor_for >= p.lost_after or spread > p.lost_spread
+
+    @property
+    def spread(self) -> float:
+        """The largest position standard deviation of the particles, m."""
+        return float(math.sqrt(max(np.linalg.eigvalsh(self.covariance[:2, :2]).max(), 0.0)))
+
+    def _resample(self) -> None:
+        p, n = self.params, self.params.particles
+        inject = 0.0
+        if self.w_slow:
+            inject = min(p.inject_max, max(0.0, 1.0 - self.w_fast / self.w_slow))
+        if self.lost:
+            inject = max(inject, p.inject_max / 2)
+        ess = 1.0 / float(np.sum(self.weights ** 2))
+        count = int(round(inject * n))
+        if ess >= p.resample_ess * len(self.weights) and count == 0 and len(self.weights) == n:
+            self.injected = 0
+            return
+        keep = self.particles[low_variance_resample(self.weights, self.rng, n - count)]
+        fresh = self._recovery_poses(count)
+        self.particles = np.vstack((keep, fresh)) if count else keep
+        self.weights = np.full(n, 1.0 / n)
+        self.injected = count
+
+    def _recovery_poses(self, count: int) -> np.ndarray:
+        """Around the estimate (a slip, a bad start); once lost for `global_after` seconds,
+        half of them anywhere in free space (kidnapping)."""
+        long_lost = self.lost and self._poor_for >= self.params.global_after
+        local = count // 2 if long_lost else count
+        std_xy, std_th = self.params.local_std
+        near = np.asarray(self.pose) + self.rng.standard_normal((local, 3)) * (std_xy, std_xy,
+                                                                                 std_th)
+        near[:, 2] = wrap(near[:, 2])
+        return np.vstack((near, self._free_poses(count - local)))
+
+    def _estimate(self) -> None:
+        self.pose, self.covariance = weighted_estimate(self.particles, self.weights)
