@@ -27,7 +27,7 @@ ARRIVED = 0.02           # m, close enough to a waypoint
 CALL_DISTANCE = 1.5      # m; what the robot says while the person is farther away is a call
 FOLLOW_GAIN = 1.0        # 1/s: a follower walks faster by this much per metre too far behind
 ROBOT_STILL = 1.0        # s the robot stands before a lagging follower closes up
-CAUGHT_UP = 0.5          # m beyond the following distance that still counts as caught up
+CAUGHT_UP = 0.3          # m beyond the following distance that still counts as caught up
 GOAL_RADIUS = 1.0        # m from a follow step's goal that counts as arrived
 MIN_TRAIL = 1.0          # m the robot must drive before a follow step without goal can end
 HOP = 1.0                # m; a follower cuts to a later breadcrumb this near, in the clear
@@ -330,9 +330,15 @@ def _follow_stopped(person: SimPerson, step: Follow, state: dict, now: float) ->
 
 def _follow_arrived(person: SimPerson, step: Follow, state: dict, world: "World",
                     path: float) -> bool:
-    """The robot has stood `settle` s (at its goal, or after driving) with the person caught
-    up: the tour is over."""
-    if world.robot_still_for < step.settle - 1e-9 or path > step.distance + CAUGHT_UP:
+    """The robot has stood `settle` s (at its goal, or after driving) while the person was
+    caught up: the tour is over. (A guide waiting for a lagging person drives on as soon as
+    they are near, so it does not stand that long with them caught up.)"""
+    if path > step.distance + CAUGHT_UP:
+        state["caught_up"] = None
+        return False
+    if state.get("caught_up") is None:
+        state["caught_up"] = world.t
+    if min(world.robot_still_for, world.t - state["caught_up"]) < step.settle - 1e-9:
         return False
     body = world.body
     if step.goal is not None:

@@ -67,7 +67,7 @@ class Follow:
     lag: float = 0.0                    # m farther behind while the robot drives
     until: float = math.inf             # s of following, then give up (the step ends)
     goal: Point | None = None           # where the robot is going, to know it arrived
-    settle: float = 2.0                 # s the robot stands (near the goal) before the end
+    settle: float = 3.0                 # s the robot stands (near the goal) before the end
     timeout: float = math.inf           # s since the step began, then the step ends
 
 
@@ -312,7 +312,7 @@ class _Reader:
                       lag=self.number(entry, "lag", f"{label}.lag", 0.0, 20.0, 0.0),
                       until=self.optional(entry, "until", label, 0.0, 86400.0),
                       goal=goal,
-                      settle=self.number(entry, "settle", f"{label}.settle", 0.0, 600.0, 2.0),
+                      settle=self.number(entry, "settle", f"{label}.settle", 0.0, 600.0, 3.0),
                       timeout=self.optional(entry, "timeout", label, 0.0, 86400.0))
 
     def shop(self, entry: dict, label: str) -> Shop:
