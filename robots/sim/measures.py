@@ -6,8 +6,9 @@ a person's body circle (0.2 m) or a wall segment. A gap of zero is touching.
 
 - **Clearance**: the smallest gap seen, to walls and to each person.
 - **Contact**: the body was stopped by an obstacle (a bumper hit, `body.stalled`) or a gap
-  reached zero (a person walking into the robot). Counted once per episode and obstacle, with
-  its time and whether the robot was driving.
+  reached zero (a person walking into the robot). Counted once per episode and obstacle (an
+  episode lasts until the gap opens wider than 2 cm), with its time and whether the robot was
+  driving.
 - **Intrusion** into personal space: a gap below `personal_space` (0.45 m, Hall's intimate
   zone) while one side closes in: `by="robot"` when the robot drives towards the person,
   `by="person"` when the person walks towards the robot. Counted once per episode, person and
@@ -28,6 +29,7 @@ if TYPE_CHECKING:
 PERSONAL_SPACE = 0.45     # m, gap between footprint and body
 MOVING = 0.02             # m/s; slower counts as standing
 NEAR_PEOPLE = 1.0         # m gap within which the robot's speed counts as "near people"
+RELEASE = 0.02            # m; a contact lasts until the gap opens wider than this
 
 
 @dataclass(frozen=True)
@@ -140,6 +142,9 @@ class Measures:
         if body.stalled:
             nearest = min(gaps.items(), key=lambda item: item[1], default=(None, math.inf))
             touching.add(("wall", "wall") if gap_wall <= nearest[1] else ("person", nearest[0]))
+        for kind, who in self._touching:         # pressing on: the same contact goes on
+            if (gap_wall if kind == "wall" else gaps.get(who, math.inf)) <= RELEASE:
+                touching.add((kind, who))
         moving = body.stalled or abs(body.v) > MOVING
         for kind, who in sorted(touching - self._touching):
             self.contacts.append(Contact(t, kind, who, moving))
