@@ -2,7 +2,8 @@
 into personal space, from the ground truth after every substep.
 
 Distances are *gaps* between outlines: the robot's circular footprint (its profile radius) and
-a person's body circle (0.2 m) or a wall segment. A gap of zero is touching.
+a person's body circle (0.2 m, with their cart if they push one) or a wall segment. A gap of
+zero is touching.
 
 - **Clearance**: the smallest gap seen, to walls and to each person.
 - **Contact**: the body was stopped by an obstacle (a bumper hit, `body.stalled`) or a gap
@@ -108,6 +109,8 @@ class Measures:
             dx, dy = person.x - body.x, person.y - body.y
             centre = math.hypot(dx, dy)
             gap = centre - body.radius - BODY_RADIUS
+            for cx, cy, radius in person.cart_circles():      # the cart is part of them
+                gap = min(gap, math.hypot(cx - body.x, cy - body.y) - body.radius - radius)
             gaps[person.id] = gap
             self.min_person_clearance[person.id] = min(
                 self.min_person_clearance.get(person.id, math.inf), gap)

@@ -24,6 +24,8 @@ LEG_SPREAD = 0.125       # m, half the distance between the legs, across the hea
 LEG_SWING = 0.1          # m, amplitude along the heading while walking
 STRIDE = 1.2             # m walked per full leg cycle
 ARRIVED = 0.02           # m, close enough to a waypoint
+CART_RADIUS = 0.28       # m; a cart is two circles ahead of the person who pushes it
+CART_OFFSETS = (0.5, 0.95)   # m ahead of the person's centre
 CALL_DISTANCE = 1.5      # m; what the robot says while the person is farther away is a call
 FOLLOW_GAIN = 1.0        # 1/s: a follower walks faster by this much per metre too far behind
 ROBOT_STILL = 1.0        # s the robot stands before a lagging follower closes up
@@ -44,6 +46,7 @@ class SimPerson:
         self.resolve = resolve
         self.x, self.y = resolve(plan.at)
         self.heading = 0.0
+        self.cart_heading = 0.0       # the cart points where the person last walked
         self.speed = 0.0              # m/s, current
         self.in_world = False
         self.gone = False             # has left for good
@@ -80,7 +83,10 @@ class SimPerson:
             self._face_robot(world)
             return
         handler = _HANDLERS[type(step)]
-        if handler(self, step, dt, world):
+        done = handler(self, step, dt, world)
+        if self.speed > 0.0:
+            self.cart_heading = self.heading
+        if done:
             self._begin(self.index + 1, world)
 
     def leg_positions(self) -> tuple[tuple[float, float], tuple[float, float]]:
@@ -90,6 +96,14 @@ class SimPerson:
         left = (self.x - s * LEG_SPREAD + c * swing, self.y + c * LEG_SPREAD + s * swing)
         right = (self.x + s * LEG_SPREAD - c * swing, self.y - c * LEG_SPREAD - s * swing)
         return left, right
+
+    def cart_circles(self) -> list[tuple[float, float, float]]:
+        """The cart as (x, y, r) circles (none without a cart): it turns only while walking,
+        not when the person turns to a shelf or to the robot."""
+        if not self.plan.cart:
+            return []
+        c, s = math.cos(self.cart_heading), math.sin(self.cart_heading)
+        return [(self.x + c * d, self.y + s * d, CART_RADIUS) for d in CART_OFFSETS]
 
     # -- helpers ---------------------------------------------------------------------------
 

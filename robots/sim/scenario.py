@@ -132,6 +132,7 @@ class PersonPlan:
     exit: Point
     steps: tuple[Step, ...]
     line: int | None = None       # of the [[person]] header, for messages
+    cart: bool = False            # pushes a shopping cart ahead
 
 
 @dataclass(frozen=True)
@@ -218,7 +219,7 @@ class _Reader:
         label = f"person[{index}]"
         if not isinstance(entry, dict):
             raise self.fail(label, "must be a table")
-        self.check_keys(entry, label, {"id", "appear", "at", "speed", "exit", "steps"})
+        self.check_keys(entry, label, {"id", "appear", "at", "speed", "exit", "steps", "cart"})
         pid = entry.get("id")
         if not isinstance(pid, str) or not pid:
             raise self.fail(f"{label}.id", "is missing (a non-empty string)")
@@ -234,7 +235,7 @@ class _Reader:
             at=at,
             speed=self.number(entry, "speed", f"{label}.speed", 0.05, 3.0, 1.0),
             exit=self.point(entry["exit"], f"{label}.exit") if "exit" in entry else at,
-            steps=steps, line=line)
+            steps=steps, line=line, cart=self.flag(entry, "cart", label))
 
     def step(self, entry, label: str) -> Step:
         if not isinstance(entry, dict):

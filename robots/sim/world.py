@@ -212,15 +212,25 @@ class World:
         return near[2]
 
     def body_circles(self) -> np.ndarray:
-        """People as sonar and bumpers see them: one circle each (k, 3)."""
+        """People as sonar and bumpers see them: one circle each, and two per cart (k, 3)."""
         return self._cached("body_circles", self._body_circles)
 
     def _body_circles(self) -> np.ndarray:
+        present = []
+        for person in self.people:
+            if person.in_world:
+                present.append((person.x, person.y, BODY_RADIUS))
+                present.extend(person.cart_circles())
+        return np.array(present) if present else _NO_CIRCLES
+
+    def _person_bodies(self) -> np.ndarray:
+        """People alone, without carts: what hides someone from the camera (which looks over
+        carts)."""
         present = [(p.x, p.y, BODY_RADIUS) for p in self.people if p.in_world]
         return np.array(present) if present else _NO_CIRCLES
 
     def leg_circles(self) -> np.ndarray:
-        """People as the laser sees them: two leg circles each (2k, 3)."""
+        """People as the laser sees them: two leg circles each, and two per cart (2k, 3)."""
         return self._cached("leg_circles", self._leg_circles)
 
     def _leg_circles(self) -> np.ndarray:
@@ -230,6 +240,7 @@ class World:
                 left, right = person.leg_positions()
                 legs.append((left[0], left[1], LEG_RADIUS))
                 legs.append((right[0], right[1], LEG_RADIUS))
+                legs.extend(person.cart_circles())
         return np.array(legs) if legs else _NO_CIRCLES
 
     def _circles_near(self, circles: np.ndarray, reach: float) -> np.ndarray:
@@ -301,7 +312,8 @@ class World:
 
     def detect_people(self) -> list[tuple[float, float]]:
         """Noisy person positions in the robot frame: in range and field of view, not behind
-        a wall or another person's body (the line of sight to the centre is what counts), each
+        a wall or another person's body (the line of sight to the centre is what counts; carts
+        are lower than the camera and hide nobody), each
         missed with `miss_rate`; plus Poisson false positives in the area."""
         spec = self.profile.people_detector
         if spec is None:
@@ -322,7 +334,7 @@ class World:
             table = np.array(candidates)
             origins = np.broadcast_to(np.array([[body.x, body.y]]), (len(table), 2))
             walls = cast_rays(origins, table[:, 3], self._walls_near(spec.range), None, spec.range)
-            bodies = cast_rays(origins, table[:, 3], None, self.body_circles(), spec.range)
+            bodies = cast_rays(origins, table[:, 3], None, self._person_bodies(), spec.range)
             unhidden = bodies >= table[:, 2] - BODY_RADIUS - 1e-6    # own body is the first hit
             seen = ((walls >= table[:, 2]) & unhidden
                     & (self.rng.random(len(table)) >= spec.miss_rate))

@@ -171,9 +171,10 @@ def test_lead_waits_for_the_call_and_for_a_robot_left_behind():
 
 def customer_beams(world, distance):
     """Laser beams that end on the customer's legs, `distance` m straight ahead."""
-    _, ranges = world.laser_scan()
+    angles, ranges = world.laser_scan()
     laser_x = world.profile.laser.x
-    return int(np.sum(np.abs(ranges - (distance - laser_x - 0.06)) < 0.07))
+    on_legs = np.abs(ranges - (distance - laser_x - 0.06)) < 0.07
+    return int(np.sum(on_legs & (np.abs(angles) < 0.1)))
 
 
 def test_a_person_in_between_hides_another_from_the_camera_and_partly_from_the_laser():
@@ -206,3 +207,31 @@ def test_a_passing_shopper_hides_the_customer_for_about_two_seconds():
         if not any(abs(x - 3.0) < 0.1 for x, _ in world.detect_people()):
             hidden += 1
     assert 1.8 <= hidden * 0.1 <= 2.4
+
+
+def test_a_shopper_with_a_cart_hides_the_customer_from_the_laser_too():
+    profile = exact(PERSES)
+    robot = [14.0, 4.75, 0.0]
+    alone = store_world([{"id": "c", "at": [17.0, 4.75]}], robot=robot, profile=profile)
+    alone.step(0.05)
+    cart = {"id": "s", "at": [15.5, 3.6], "cart": True, "speed": 1.0,
+            "steps": [{"walk": [[15.5, 4.1]]}, {"pause": 100.0}]}   # the cart crosses ahead
+    world = store_world([{"id": "c", "at": [17.0, 4.75]}, cart], robot=robot, profile=profile)
+    run_until(world, lambda w: w.people[1].index == 1)
+    shopper = world.people[1]
+    assert [round(c[1], 2) for c in shopper.cart_circles()] == [4.6, 5.05]
+    assert customer_beams(alone, 3.0) >= 4 and customer_beams(world, 3.0) == 0
+    assert world.detect_people() == [pytest.approx((3.0, 0.0)), pytest.approx((1.5, -0.65))]   # camera sees over carts
+    shopper.heading = 0.0                                   # turning to a shelf: the cart stays
+    assert [round(c[1], 2) for c in shopper.cart_circles()] == [4.6, 5.05]
+
+
+def test_the_robot_bumping_a_cart_is_a_contact_with_its_shopper():
+    cart = {"id": "s", "at": [14.0, 3.9], "cart": True, "steps": [{"walk": [[14.0, 4.0]]}]}
+    world = store_world([cart], robot=[14.8, 5.2, -120.0])
+    world.body.set_command(0.2, 0.0)
+    world.step(6.0)
+    assert world.body.stalled
+    contact, = world.measures.contacts
+    assert (contact.kind, contact.who, contact.robot_moving) == ("person", "s", True)
+    assert math.hypot(world.body.x - 14.0, world.body.y - 3.9) > 0.2 + PERSES.radius + 0.05
