@@ -21,8 +21,9 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from robots.sim.people import BODY_RADIUS
-from robots.sim.raycast import point_segment_distances
 
 if TYPE_CHECKING:
     from robots.sim.world import World
@@ -93,13 +94,12 @@ class Measures:
 
     # -- updating --------------------------------------------------------------------------
 
-    def update(self, world: "World", dt: float) -> None:
-        """Measure the world as it is after a substep of `dt` seconds."""
+    def update(self, world: "World", dt: float, near_walls: np.ndarray | None = None) -> None:
+        """Measure the world as it is after a substep of `dt` seconds. `near_walls` may hold
+        the walls near the body (all within 0.5 m of its footprint); else all are searched."""
         body = world.body
-        gap_wall = math.inf
-        if len(world.floor.segments):
-            gap_wall = float(point_segment_distances(body.x, body.y,
-                                                     world.floor.segments).min()) - body.radius
+        walls = near_walls if near_walls is not None and len(near_walls) else world.floor.segments
+        gap_wall = _nearest(body.x, body.y, walls) - body.radius
         self.min_wall_clearance = min(self.min_wall_clearance, gap_wall)
         driving = abs(body.v) > MOVING
         heading = (math.cos(body.th) * math.copysign(1.0, body.v),
@@ -152,3 +152,15 @@ class Measures:
         for kind, who in sorted(touching - self._touching):
             self.contacts.append(Contact(t, kind, who, moving))
         self._touching = touching
+
+
+def _nearest(x: float, y: float, segments: np.ndarray) -> float:
+    """Distance from (x, y) to the nearest segment (floors have no zero-length walls). Plain
+    Python: it runs every substep over the few walls near the body, where numpy's call
+    overhead would dominate."""
+    best = math.inf
+    for x1, y1, x2, y2 in segments.tolist():
+        ex, ey = x2 - x1, y2 - y1
+        u = min(1.0, max(0.0, ((x - x1) * ex + (y - y1) * ey) / (ex * ex + ey * ey)))
+        best = min(best, math.hypot(x1 + u * ex - x, y1 + u * ey - y))
+    return best

@@ -33,6 +33,7 @@ CAUGHT_UP = 0.3          # m beyond the following distance that still counts as 
 GOAL_RADIUS = 1.0        # m from a follow step's goal that counts as arrived
 MIN_TRAIL = 1.0          # m the robot must drive before a follow step without goal can end
 HOP = 1.0                # m; a follower cuts to a later breadcrumb this near, in the clear
+HOP_LOOKAHEAD = 400      # breadcrumbs (40 m of trail) searched for such a cut
 
 
 class SimPerson:
@@ -318,7 +319,7 @@ def _follow(person: SimPerson, step: Follow, dt: float, world: "World") -> bool:
 def _shortcut(person: SimPerson, trail: list, index: int, world: "World") -> int:
     """The latest breadcrumb within `HOP` of the person that a straight line reaches with
     the walking clearance (the follower joins or cuts back to the trail), else `index`."""
-    ahead = np.asarray(trail[index:])
+    ahead = np.asarray(trail[index:index + HOP_LOOKAHEAD])
     near = np.flatnonzero(np.hypot(ahead[:, 0] - person.x, ahead[:, 1] - person.y) <= HOP)
     for offset in near[::-1][:4]:
         if offset == 0:

@@ -141,10 +141,11 @@ class World:
                 person.step(h, self)
             self._version += 1
             reach = self.body.radius + 0.5
-            self.body.step(h, Obstacles(self._walls_near(reach), self.body_circles()))
+            walls = self._walls_near(reach)
+            self.body.step(h, Obstacles(walls, self.body_circles()))
             self._version += 1
             self._record_trail()
-            self.measures.update(self, h)
+            self.measures.update(self, h, walls)
             for hook in self.hooks:
                 hook(self, h)
 
