@@ -211,3 +211,18 @@ def test_store_shoppers_walk_the_aisles_clear_of_the_shelves_and_leave():
     assert len(dwelt) >= 15                            # ~4 shelves each
     drawn = [p.step_state for p in world.people]
     assert drawn                                       # the run finished every script
+
+
+def trajectories(seed):
+    sim = simulation("store_shoppers", "perses", seed=seed)
+    out = []
+    for _ in range(400):
+        sim.world.step(0.25)
+        out.append(tuple((pid, round(x, 6), round(y, 6)) for pid, x, y in sim.world.ground_truth()))
+    return out
+
+
+def test_store_shoppers_are_the_same_for_a_seed_and_differ_between_seeds():
+    first = trajectories(7)
+    assert trajectories(7) == first
+    assert trajectories(8) != first
