@@ -32,6 +32,7 @@ PERSONAL_SPACE = 0.45     # m, gap between footprint and body
 MOVING = 0.02             # m/s; slower counts as standing
 NEAR_PEOPLE = 1.0         # m gap within which the robot's speed counts as "near people"
 RELEASE = 0.02            # m; a contact lasts until the gap opens wider than this
+NEAR_WALLS = 0.5          # m beyond the footprint within which World passes the walls
 
 
 @dataclass(frozen=True)
@@ -96,35 +97,48 @@ class Measures:
 
     def update(self, world: "World", dt: float, near_walls: np.ndarray | None = None) -> None:
         """Measure the world as it is after a substep of `dt` seconds. `near_walls` may hold
-        the walls near the body (all within 0.5 m of its footprint); else all are searched."""
+        every wall within `NEAR_WALLS` of the body's footprint (as `World.step` passes them);
+        without it all walls are searched."""
         body = world.body
-        walls = near_walls if near_walls is not None and len(near_walls) else world.floor.segments
-        gap_wall = _nearest(body.x, body.y, walls) - body.radius
+        if near_walls is None:
+            gap_wall = _nearest_of_many(body.x, body.y, world.floor.segments) - body.radius
+        elif len(near_walls):
+            gap_wall = _nearest(body.x, body.y, near_walls) - body.radius
+        elif self.min_wall_clearance > NEAR_WALLS:     # the exact value still counts
+            gap_wall = _nearest_of_many(body.x, body.y, world.floor.segments) - body.radius
+        else:
+            gap_wall = math.inf                        # farther than the minimum: no news
         self.min_wall_clearance = min(self.min_wall_clearance, gap_wall)
         driving = abs(body.v) > MOVING
         heading = (math.cos(body.th) * math.copysign(1.0, body.v),
                    math.sin(body.th) * math.copysign(1.0, body.v))
         gaps = {}
+        closest = math.inf
         for person in world.present_people():
             dx, dy = person.x - body.x, person.y - body.y
             centre = math.hypot(dx, dy)
             gap = centre - body.radius - BODY_RADIUS
-            for cx, cy, radius in person.cart_circles():      # the cart is part of them
-                gap = min(gap, math.hypot(cx - body.x, cy - body.y) - body.radius - radius)
+            if person.plan.cart:                                 # the cart is part of them
+                for cx, cy, radius in person.cart_circles():
+                    gap = min(gap, math.hypot(cx - body.x, cy - body.y) - body.radius - radius)
             gaps[person.id] = gap
-            self.min_person_clearance[person.id] = min(
-                self.min_person_clearance.get(person.id, math.inf), gap)
-            if gap < self.near_people:
-                self.max_speed_near_people = max(self.max_speed_near_people, abs(body.v))
-            ux, uy = (dx / centre, dy / centre) if centre > 1e-9 else (0.0, 0.0)
-            robot_closing = driving and heading[0] * ux + heading[1] * uy > 0.0
-            person_closing = (person.speed > MOVING and
-                              -(math.cos(person.heading) * ux + math.sin(person.heading) * uy) > 0.0)
-            self._intrusion(world.t, dt, person.id, "robot",
-                            gap < self.personal_space and robot_closing)
-            self._intrusion(world.t, dt, person.id, "person",
-                            gap < self.personal_space and person_closing)
-        self._contacts(world.t, body, gap_wall, gaps)
+            closest = min(closest, gap)
+            if gap < self.min_person_clearance.get(person.id, math.inf):
+                self.min_person_clearance[person.id] = gap
+            if gap < self.personal_space:
+                ux, uy = (dx / centre, dy / centre) if centre > 1e-9 else (0.0, 0.0)
+                robot_closing = driving and heading[0] * ux + heading[1] * uy > 0.0
+                person_closing = (person.speed > MOVING and -(math.cos(person.heading) * ux
+                                                              + math.sin(person.heading) * uy) > 0.0)
+                self._intrusion(world.t, dt, person.id, "robot", robot_closing)
+                self._intrusion(world.t, dt, person.id, "person", person_closing)
+            elif self._intruding:
+                self._intruding.discard((person.id, "robot"))
+                self._intruding.discard((person.id, "person"))
+        if closest < self.near_people:
+            self.max_speed_near_people = max(self.max_speed_near_people, abs(body.v))
+        if body.stalled or self._touching or gap_wall <= RELEASE or closest <= RELEASE:
+            self._contacts(world.t, body, gap_wall, gaps)
 
     def _intrusion(self, t: float, dt: float, person: str, by: str, now: bool) -> None:
         key = (person, by)
@@ -164,3 +178,13 @@ def _nearest(x: float, y: float, segments: np.ndarray) -> float:
         u = min(1.0, max(0.0, ((x - x1) * ex + (y - y1) * ey) / (ex * ex + ey * ey)))
         best = min(best, math.hypot(x1 + u * ex - x, y1 + u * ey - y))
     return best
+
+
+def _nearest_of_many(x: float, y: float, segments: np.ndarray) -> float:
+    """The same over many walls, vectorised."""
+    if not len(segments):
+        return math.inf
+    ax, ay = segments[:, 0], segments[:, 1]
+    ex, ey = segments[:, 2] - ax, segments[:, 3] - ay
+    u = np.clip(((x - ax) * ex + (y - ay) * ey) / (ex * ex + ey * ey), 0.0, 1.0)
+    return float(np.hypot(ax + u * ex - x, ay + u * ey - y).min())

@@ -20,7 +20,7 @@ from robots.exceptions import FloorError, ScenarioError
 from robots.profile import RobotProfile
 from robots.sim.body import Obstacles, UnicycleBody
 from robots.sim.floor import Floor
-from robots.sim.measures import Measures
+from robots.sim.measures import NEAR_WALLS, Measures
 from robots.sim.people import BODY_RADIUS, LEG_RADIUS, SimPerson
 from robots.sim.raycast import cast_rays, point_segment_distances
 from robots.sim.scenario import Follow, Lead, Leave, MakeWay, Scenario, Shop, Walk
@@ -140,7 +140,7 @@ class World:
             for person in self.people:
                 person.step(h, self)
             self._version += 1
-            reach = self.body.radius + 0.5
+            reach = self.body.radius + NEAR_WALLS
             walls = self._walls_near(reach)
             self.body.step(h, Obstacles(walls, self.body_circles()))
             self._version += 1
