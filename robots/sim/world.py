@@ -84,6 +84,10 @@ class World:
         self.body = UnicycleBody(x, y, th, profile.limits, profile.radius)
         self.people: list[SimPerson] = []
         if scenario is not None:
+            if scenario.floor is not None and scenario.floor != floor.name:
+                raise ScenarioError(f"{scenario.where()}: scenario.floor: the scenario is written "
+                                    f"for floor '{scenario.floor}', not '{floor.name}'; run it "
+                                    f"on '{scenario.floor}' or drop the field")
             _check_places(scenario, floor)
             self.people = [SimPerson(plan, self.resolve, np.random.default_rng([seed, index]))
                            for index, plan in enumerate(scenario.people)]

@@ -19,7 +19,7 @@ from sim_driver import Driver
 EXAMPLES = Path(__file__).resolve().parents[2] / "robots/sim/examples"
 OFFICE_EXAMPLES = ["office_follow", "office_stop_halfway", "office_walk_away",
                    "office_group_blocking"]
-STORE_EXAMPLES = ["store_lead", "store_occlusion", "store_shoppers"]
+STORE_EXAMPLES = ["store_lead", "store_occlusion", "store_shoppers", "store_walk_off"]
 
 
 def simulation(name, robot="horos", seed=0):
@@ -193,6 +193,17 @@ def test_store_occlusion_the_shopper_hides_the_customer_for_about_two_seconds():
             laser_hidden += 0.1
     assert 1.7 <= camera_hidden <= 2.4                 # his body, 1.6 s standing and passing
     assert 2.2 <= laser_hidden <= 3.2                  # his cart ahead of him, then his legs
+
+
+def test_store_walk_off_the_customer_leaves_the_store_after_one_shelf():
+    reached_coffee = False
+    for world, customer in play_store("store_walk_off"):
+        coffee = world.floor.places["shelf_coffee"][:2]
+        reached_coffee |= math.dist((customer.x, customer.y), coffee) < 0.05
+        if customer.gone:
+            break
+    assert reached_coffee and customer.gone
+    assert (customer.x, customer.y) == pytest.approx(world.floor.places["street"][:2], abs=0.03)
 
 
 def test_store_shoppers_walk_the_aisles_clear_of_the_shelves_and_leave():
