@@ -378,7 +378,22 @@ def _make_way(person: SimPerson, step: MakeWay, dt: float, world: "World") -> bo
         if near:
             person._face_robot(world)
         return False
-    return person._walk_towards(*person.resolve(step.to), dt)
+    if "to" not in state:
+        state["to"] = (person.resolve(step.to) if step.to is not None
+                       else _aside(person, step, world))
+    return person._walk_towards(*state["to"], dt)
+
+
+def _aside(person: SimPerson, step: MakeWay, world: "World") -> tuple[float, float]:
+    """`aside` m to the robot's left or right (of its heading now), shortened to stay clear of
+    walls where that is possible."""
+    sign = 1.0 if step.side == "left" else -1.0
+    dx, dy = -math.sin(world.body.th) * sign, math.cos(world.body.th) * sign
+    for share in (1.0, 0.75, 0.5, 0.25):
+        target = (person.x + dx * step.aside * share, person.y + dy * step.aside * share)
+        if world.walkable((person.x, person.y), target):
+            return target
+    return (person.x + dx * step.aside, person.y + dy * step.aside)
 
 
 def _shop(person: SimPerson, step: Shop, dt: float, world: "World") -> bool:

@@ -74,7 +74,9 @@ class Follow:
 @dataclass(frozen=True)
 class MakeWay:
     """Stand (in a group, in the way) until asked to let the robot pass, then step aside."""
-    to: Point                           # where to step aside to
+    to: Point | None = None             # where to step aside to; or, with None,
+    aside: float = 0.0                  # m to step to the robot's `side`
+    side: str | None = None             # "left" or "right" of the robot's heading
     asked: bool = True                  # react to the robot speaking while near
     near: float = 2.0                   # m, centre to centre: the robot counts as near
     delay: float = 1.0                  # s between being asked and stepping aside
@@ -116,7 +118,7 @@ STEP_OPTIONS = {
     "answer": {"delay", "reach", "timeout", "typing"},
     "follow": {"after_call", "stop_after", "stop_after_m", "stop_for", "lag", "until", "goal",
                "settle", "timeout"},
-    "make_way": {"asked", "near", "delay", "after"},
+    "make_way": {"side", "asked", "near", "delay", "after"},
     "shop": {"count", "dwell"},
     "lead": {"dwell", "after_call", "wait_beyond"},
     "sync": {"step"},
@@ -274,7 +276,18 @@ class _Reader:
         if kind == "follow":
             return self.follow(entry, label)
         if kind == "make_way":
-            return MakeWay(self.point(value, label), asked=self.flag(entry, "asked", label, True),
+            if isinstance(value, (int, float)) and not isinstance(value, bool):
+                side = entry.get("side")
+                if side not in ("left", "right"):
+                    raise self.fail(f"{label}.side", f"= {side!r} must be \"left\" or \"right\" "
+                                    "(of the robot's heading) when make_way is a distance")
+                where = {"aside": self.number(entry, kind, label, 0.1, 5.0), "side": side}
+            elif "side" in entry:
+                raise self.fail(f"{label}.side", "only goes with a distance: "
+                                "make_way = 0.8, side = \"left\"")
+            else:
+                where = {"to": self.point(value, label)}
+            return MakeWay(**where, asked=self.flag(entry, "asked", label, True),
                            near=self.number(entry, "near", f"{label}.near", 0.5, 20.0, 2.0),
                            delay=self.number(entry, "delay", f"{label}.delay", 0.0, 600.0, 1.0),
                            after=self.optional(entry, "after", label, 0.0, 86400.0))

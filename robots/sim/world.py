@@ -368,7 +368,7 @@ def _check_places(scenario: Scenario, floor: Floor) -> None:
                 fields.append((f"{label}.leave", step.to))
             elif isinstance(step, Follow) and step.goal is not None:
                 fields.append((f"{label}.follow.goal", step.goal))
-            elif isinstance(step, MakeWay):
+            elif isinstance(step, MakeWay) and step.to is not None:
                 fields.append((f"{label}.make_way", step.to))
             elif isinstance(step, Lead):
                 fields += [(f"{label}.lead", p) for p in step.waypoints]

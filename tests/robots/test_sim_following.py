@@ -197,3 +197,26 @@ def test_sync_waits_for_another_persons_step():
     assert b.index == 0 and (b.x, b.y) == (4.0, 0.5)
     world.step(0.3)
     assert b.index == 1 and a.index == 1
+
+
+@pytest.mark.parametrize("side, y", [("left", -0.8), ("right", 0.8)])
+def test_make_way_to_a_side_of_the_robot(side, y):
+    world = world_with({"id": "p", "at": [-2.0, 0.0],
+                        "steps": [{"make_way": 0.8, "side": side, "delay": 0.0}]})
+    person = world.people[0]
+    world.body.x, world.body.y, world.body.th = -0.5, 0.0, math.pi   # coming west
+    world.step(0.1)
+    world.say("Excuse me")
+    run_until(world, lambda w: person.index == 1)
+    assert (person.x, person.y) == pytest.approx((-2.0, y), abs=0.03)
+
+
+def test_make_way_to_a_side_stops_short_of_the_wall():
+    world = world_with({"id": "p", "at": [-2.0, 0.5],
+                        "steps": [{"make_way": 1.5, "side": "right", "delay": 0.0}]})
+    person = world.people[0]
+    world.body.x, world.body.y, world.body.th = -0.5, 0.0, math.pi
+    world.step(0.1)
+    world.say("Excuse me")
+    run_until(world, lambda w: person.index == 1)
+    assert 0.5 < person.y <= 1.2 - 0.3 + 1e-9 and person.x == pytest.approx(-2.0)

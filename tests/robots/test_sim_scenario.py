@@ -195,8 +195,12 @@ def test_two_people_one_answers_the_other_stands_by():
     ('{ follow = 1.2, goal = 5 }', r"steps\[0\].follow.goal: = 5 must be a place"),
     ('{ follow = 1.2, speed = 2 }', r"steps\[0\].follow: unknown option 'speed'; allowed: "
                                     r"after_call, goal, lag"),
-    ('{ make_way = 3 }', r"steps\[0\].make_way: = 3 must be a place name or \[x, y\]"),
+    ('{ make_way = true }', r"steps\[0\].make_way: = True must be a place name or \[x, y\]"),
     ('{ make_way = [1, 1], near = 0.1 }', r"steps\[0\].make_way.near: = 0.1 is outside"),
+    ('{ make_way = 0.8 }', r"steps\[0\].make_way.side: = None must be \"left\" or \"right\""),
+    ('{ make_way = 0.8, side = "up" }', r"make_way.side: = 'up' must be \"left\" or"),
+    ('{ make_way = [1, 1], side = "left" }', r"make_way.side: only goes with a distance"),
+    ('{ make_way = 9, side = "left" }', r"steps\[0\].make_way: = 9 is outside .* 5.0"),
     ('{ shop = [] }', r"steps\[0\].shop: = \[\] must be a list of places .* or a place-name "
                       r"prefix"),
     ('{ shop = "shelf_", count = 0 }', r"steps\[0\].shop.count: = 0 must be a whole number"),
@@ -241,6 +245,7 @@ def test_new_steps_parse_with_their_defaults(tmp_path):
     assert steps[0].distance == 1.2 and steps[0].settle == 3.0 and steps[0].until == math.inf
     assert steps[1] == Follow(distance=2.0, stop_after_m=3.0, stop_for=4.0, goal="g")
     assert steps[2] == MakeWay((1.0, 2.0))
+    assert steps[2].asked and steps[2].near == 2.0 and steps[2].delay == 1.0
     assert steps[3] == Shop(prefix="shelf_", count=3, dwell=(5.0, 5.0))
     assert steps[4] == Shop(places=("p", (1.0, 2.0)), dwell=(1.0, 2.0))
     assert steps[5] == Lead(("p",), after_call=True)
