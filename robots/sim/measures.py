@@ -128,8 +128,8 @@ class Measures:
             if gap < self.personal_space:
                 ux, uy = (dx / centre, dy / centre) if centre > 1e-9 else (0.0, 0.0)
                 robot_closing = driving and heading[0] * ux + heading[1] * uy > 0.0
-                person_closing = (person.speed > MOVING and -(math.cos(person.heading) * ux
-                                                              + math.sin(person.heading) * uy) > 0.0)
+                towards = -(math.cos(person.heading) * ux + math.sin(person.heading) * uy)
+                person_closing = person.speed > MOVING and towards > 0.0
                 self._intrusion(world.t, dt, person.id, "robot", robot_closing)
                 self._intrusion(world.t, dt, person.id, "person", person_closing)
             elif self._intruding:

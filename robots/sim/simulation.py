@@ -1,5 +1,6 @@
 """A simulation: the World built from a profile, a floor (the scenario's `floor`, else the
-office) and a scenario, kept in step with a clock. The tick loop calls `advance(clock.now())`; in --fast runs the clock is simulated.
+office) and a scenario, kept in step with a clock. The tick loop calls `advance(clock.now())`;
+in --fast runs the clock is simulated.
 """
 from __future__ import annotations
 

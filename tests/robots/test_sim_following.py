@@ -189,9 +189,10 @@ def test_a_blocking_group_stops_the_robot_until_it_makes_way():
 
 
 def test_sync_waits_for_another_persons_step():
-    world = world_with({"id": "a", "at": [3.0, 0.0], "steps": [{"pause": 4.0}, {"walk": [[5.0, 0.0]]}]},
-                       {"id": "b", "at": [4.0, 0.5], "steps": [{"sync": "a", "step": 1},
-                                                              {"walk": [[4.0, -0.5]]}]})
+    world = world_with({"id": "a", "at": [3.0, 0.0],
+                        "steps": [{"pause": 4.0}, {"walk": [[5.0, 0.0]]}]},
+                       {"id": "b", "at": [4.0, 0.5],
+                        "steps": [{"sync": "a", "step": 1}, {"walk": [[4.0, -0.5]]}]})
     a, b = world.people
     world.step(3.9)
     assert b.index == 0 and (b.x, b.y) == (4.0, 0.5)
