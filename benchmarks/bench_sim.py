@@ -1,11 +1,13 @@
 """Micro-benchmark of the simulated world: the cost of one 0.1 s tick of the L0 simulation
-(world.step + sonar + laser + person detection) with 10 people walking the hallway.
+(world.step + sonar + laser + person detection) with 10 people walking the office hallway, or
+10 shoppers (half with carts) walking between random shelves of the store.
 
-Prints median and p99 in microseconds for each part and for the whole tick, and two ratios
-measured in the same run: 10 people against an empty world, and the vectorised ray caster
-against a plain Python loop over rays and walls (the baseline it replaces).
+Prints median and p99 in microseconds for each part and for the whole tick, and three ratios
+measured in the same run: 10 people against an empty world, the world with its evaluation
+measures against the same world without them, and the vectorised ray caster against a plain
+Python loop over rays and walls (the baseline it replaces).
 
-    python benchmarks/bench_sim.py [--ticks N] [--robot horos|perses]
+    python benchmarks/bench_sim.py [--ticks N] [--robot horos|perses] [--floor office|store]
 """
 from __future__ import annotations
 
@@ -31,6 +33,17 @@ def ten_walkers() -> dict:
                        "speed": 0.6 + 0.08 * i,
                        "steps": [{"walk": [[9.0, y], [-9.0, y]] * 20}]})
     return {"scenario": {"name": "bench", "duration": 600.0}, "person": people}
+
+
+def ten_shoppers() -> dict:
+    """Ten shoppers in the store, every second one with a cart, each visiting 50 random
+    shelves (enough for any run) and dwelling 1..4 s at each."""
+    people = [{"id": f"s{i}", "appear": 0.0, "at": "street", "speed": 0.7 + 0.06 * i,
+               "cart": i % 2 == 0,
+               "steps": [{"shop": "shelf_", "count": 50, "dwell": [1.0, 4.0]}]}
+              for i in range(10)]
+    return {"scenario": {"name": "bench", "duration": 600.0, "floor": "store"},
+            "person": people}
 
 
 def time_tick(world: World, ticks: int) -> dict[str, np.ndarray]:
@@ -86,18 +99,24 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--ticks", type=int, default=3000)
     parser.add_argument("--robot", default="horos")
+    parser.add_argument("--floor", default="office", choices=("office", "store"))
     args = parser.parse_args()
     profile = load_profile(args.robot)
-    floor = load_floor("office")
+    floor = load_floor(args.floor)
+    people = ten_walkers() if args.floor == "office" else ten_shoppers()
 
-    crowd = World(floor, profile, parse_scenario(ten_walkers(), "<bench>"), seed=1)
+    crowd = World(floor, profile, parse_scenario(people, "<bench>"), seed=1)
     empty = World(floor, profile, None, seed=1)
+    unmeasured = World(floor, profile, parse_scenario(people, "<bench>"), seed=1)
+    unmeasured.measures.update = lambda world, dt, walls=None: None
     time_tick(crowd, 200)                                  # warm up
     time_tick(empty, 200)
+    time_tick(unmeasured, 200)
     crowded = time_tick(crowd, args.ticks)
     alone = time_tick(empty, args.ticks)
+    bare = time_tick(unmeasured, args.ticks)
 
-    print(f"simulated world, robot {args.robot}, floor office "
+    print(f"simulated world, robot {args.robot}, floor {args.floor} "
           f"({len(floor.segments)} walls), {args.ticks} ticks of 0.1 s")
     print(f"{'part':8s} {'median us':>10s} {'p99 us':>10s}   (10 people)")
     for name, values in crowded.items():
@@ -105,6 +124,9 @@ def main() -> None:
     ratio = np.median(crowded["tick"]) / np.median(alone["tick"])
     print(f"empty world tick median {np.median(alone['tick']):.1f} us; "
           f"10 people cost x{ratio:.2f} of it")
+    measured = np.median(crowded["step"]) / np.median(bare["step"])
+    print(f"world.step with measures / without: x{measured:.2f} "
+          f"(median {np.median(bare['step']):.1f} us without)")
 
     laser = profile.laser
     angles = laser.heading + np.linspace(-laser.fov / 2, laser.fov / 2, laser.beams)

@@ -31,7 +31,7 @@ class SimulatedBase(Base):
             profile = kw.get("profile") or load_profile("horos")
             profile = replace(profile, limits=limits)
             self.simulation = Simulation(profile, kw.get("scenario"), kw.get("seed", 0),
-                                         self.clock, kw.get("floor", "office"))
+                                         self.clock, kw.get("floor"))
             world = self.simulation.world
         self.world = world
         self.is_open = False

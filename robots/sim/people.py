@@ -1,5 +1,6 @@
 """Simulated people: each follows its scenario script (walk, pause, approach the robot, answer
-on the touch screen, wait to be called, leave), reacting to what the robot shows and says.
+on the touch screen, wait to be called, leave; follow the robot, make way for it, shop, lead
+the robot), reacting to what the robot shows and says and to where it drives.
 
 A person is a point that walks at its own speed; the sensors see it as a body circle (sonar,
 bumpers) or as two swinging leg circles (laser), see `robots.sim.world`.
@@ -9,8 +10,10 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Callable
 
-from robots.sim.scenario import (Answer, Approach, Leave, Pause, PersonPlan, Point, Walk,
-                                 WaitForCall)
+import numpy as np
+
+from robots.sim.scenario import (Answer, Approach, Follow, Lead, Leave, MakeWay, Pause,
+                                 PersonPlan, Point, Shop, Sync, Walk, WaitForCall)
 
 if TYPE_CHECKING:
     from robots.sim.world import World
@@ -21,18 +24,30 @@ LEG_SPREAD = 0.125       # m, half the distance between the legs, across the hea
 LEG_SWING = 0.1          # m, amplitude along the heading while walking
 STRIDE = 1.2             # m walked per full leg cycle
 ARRIVED = 0.02           # m, close enough to a waypoint
+CART_RADIUS = 0.28       # m; a cart is two circles ahead of the person who pushes it
+CART_OFFSETS = (0.5, 0.95)   # m ahead of the person's centre
 CALL_DISTANCE = 1.5      # m; what the robot says while the person is farther away is a call
+FOLLOW_GAIN = 1.0        # 1/s: a follower walks faster by this much per metre too far behind
+ROBOT_STILL = 1.0        # s the robot stands before a lagging follower closes up
+CAUGHT_UP = 0.3          # m beyond the following distance that still counts as caught up
+GOAL_RADIUS = 1.0        # m from a follow step's goal that counts as arrived
+MIN_TRAIL = 1.0          # m the robot must drive before a follow step without goal can end
+HOP = 1.0                # m; a follower cuts to a later breadcrumb this near, in the clear
+HOP_LOOKAHEAD = 400      # breadcrumbs (40 m of trail) searched for such a cut
 
 
 class SimPerson:
     """One scripted person. `in_world` is False before `appear` and after `leave`."""
 
-    def __init__(self, plan: PersonPlan, resolve: Callable[[Point], tuple[float, float]]) -> None:
+    def __init__(self, plan: PersonPlan, resolve: Callable[[Point], tuple[float, float]],
+                 rng: np.random.Generator | None = None) -> None:
         self.plan = plan
+        self.rng = rng if rng is not None else np.random.default_rng(0)   # shop's draws
         self.id = plan.id
         self.resolve = resolve
         self.x, self.y = resolve(plan.at)
         self.heading = 0.0
+        self.cart_heading = 0.0       # the cart points where the person last walked
         self.speed = 0.0              # m/s, current
         self.in_world = False
         self.gone = False             # has left for good
@@ -69,7 +84,10 @@ class SimPerson:
             self._face_robot(world)
             return
         handler = _HANDLERS[type(step)]
-        if handler(self, step, dt, world):
+        done = handler(self, step, dt, world)
+        if self.speed > 0.0:
+            self.cart_heading = self.heading
+        if done:
             self._begin(self.index + 1, world)
 
     def leg_positions(self) -> tuple[tuple[float, float], tuple[float, float]]:
@@ -79,6 +97,14 @@ class SimPerson:
         left = (self.x - s * LEG_SPREAD + c * swing, self.y + c * LEG_SPREAD + s * swing)
         right = (self.x + s * LEG_SPREAD - c * swing, self.y - c * LEG_SPREAD - s * swing)
         return left, right
+
+    def cart_circles(self) -> list[tuple[float, float, float]]:
+        """The cart as (x, y, r) circles (none without a cart): it turns only while walking,
+        not when the person turns to a shelf or to the robot."""
+        if not self.plan.cart:
+            return []
+        c, s = math.cos(self.cart_heading), math.sin(self.cart_heading)
+        return [(self.x + c * d, self.y + s * d, CART_RADIUS) for d in CART_OFFSETS]
 
     # -- helpers ---------------------------------------------------------------------------
 
@@ -95,6 +121,42 @@ class SimPerson:
         self.index = index
         self.step_started = world.t
         self.step_state = {"utterances": len(world.utterances)}
+
+    def _called(self, world: "World") -> bool:
+        """The robot said something since this step began, or called while the person was
+        away (the rule of `wait_for_call`)."""
+        return len(world.utterances) > self.step_state["utterances"] or self.calls_heard > 0
+
+    def _walk_path(self, path: list[tuple[float, float]], index: int, travel: float,
+                   dt: float) -> int:
+        """Walk up to `travel` metres along `path[index:]`; the index of the next point."""
+        moved = 0.0
+        while index < len(path) and travel - moved > 1e-12:
+            tx, ty = path[index]
+            dx, dy = tx - self.x, ty - self.y
+            gap = math.hypot(dx, dy)
+            if gap > 1e-9:
+                self.heading = math.atan2(dy, dx)
+            if gap <= travel - moved:
+                self.x, self.y = tx, ty
+                moved += gap
+                index += 1
+            else:
+                share = (travel - moved) / gap
+                self.x += dx * share
+                self.y += dy * share
+                moved = travel
+        self.speed = moved / dt
+        self.phase = (self.phase + 2 * math.pi * moved / STRIDE) % (2 * math.pi)
+        return index
+
+    def _route_to(self, where: Point, world: "World") -> list[tuple[float, float]]:
+        return world.route((self.x, self.y), self.resolve(where))
+
+    def _face_place(self, where: Point, world: "World") -> None:
+        """Face a named place's heading (a shelf, a door); points have none."""
+        if isinstance(where, str):
+            self.heading = world.floor.place(where)[2]
 
     def _walk_towards(self, tx: float, ty: float, dt: float, stop_at: float = 0.0) -> bool:
         """Walk at the person's speed until `stop_at` from (tx, ty); True once there."""
@@ -127,6 +189,8 @@ class SimPerson:
 
 def _walk(person: SimPerson, step: Walk, dt: float, world: "World") -> bool:
     state = person.step_state
+    if step.route:
+        return _walk_routed(person, list(step.waypoints), dt, world)
     waypoint = state.setdefault("waypoint", 0)
     tx, ty = person.resolve(step.waypoints[waypoint])
     if person._walk_towards(tx, ty, dt):
@@ -147,7 +211,8 @@ def _approach(person: SimPerson, step: Approach, dt: float, world: "World") -> b
 
 
 def _answer(person: SimPerson, step: Answer, dt: float, world: "World") -> bool:
-    """Press the next button on each prompt not yet answered, `delay` s after it appeared."""
+    """Press the next button on each prompt not yet answered, `delay` s after it appeared; on
+    a typed prompt a value that is not a button is typed, `typing` s per character more."""
     state = person.step_state
     given = state.setdefault("given", 0)
     if given >= len(step.buttons):
@@ -161,10 +226,13 @@ def _answer(person: SimPerson, step: Answer, dt: float, world: "World") -> bool:
     screen = world.screen
     if screen.prompt is None:
         return False
-    prompt_id = screen.prompt[0]
-    if prompt_id in person.answered or world.t - screen.shown_at < step.delay - 1e-9:
-        return False
+    prompt_id, _, buttons = screen.prompt
     button = step.buttons[given]
+    delay = step.delay
+    if screen.typed and button not in buttons:
+        delay += step.typing * len(button)        # typing takes longer than a press
+    if prompt_id in person.answered or world.t - screen.shown_at < delay - 1e-9:
+        return False
     screen.press(prompt_id, button)
     person.answered.add(prompt_id)
     person.pressed.append((world.t, prompt_id, button))
@@ -184,13 +252,217 @@ def _wait_for_call(person: SimPerson, step: WaitForCall, dt: float, world: "Worl
 
 
 def _leave(person: SimPerson, step: Leave, dt: float, world: "World") -> bool:
-    tx, ty = person.resolve(step.to if step.to is not None else person.plan.exit)
-    if person._walk_towards(tx, ty, dt):
+    target = step.to if step.to is not None else person.plan.exit
+    if step.route:
+        there = _walk_routed(person, [target], dt, world)
+    else:
+        there = person._walk_towards(*person.resolve(target), dt)
+    if there:
         person.in_world = False
         person.gone = True
         person.index = len(person.steps)
     return False
 
 
+def _walk_routed(person: SimPerson, targets: list[Point], dt: float, world: "World") -> bool:
+    """Walk to each target in turn around walls (`world.route`); True once at the last."""
+    state = person.step_state
+    target = state.setdefault("target", 0)
+    if target >= len(targets):
+        return True
+    if "path" not in state:
+        state["path"], state["next"] = person._route_to(targets[target], world), 0
+    state["next"] = person._walk_path(state["path"], state["next"], person.plan.speed * dt, dt)
+    if state["next"] >= len(state["path"]):
+        state["target"] = target + 1
+        del state["path"]
+    return state["target"] >= len(targets)
+
+
+def _follow(person: SimPerson, step: Follow, dt: float, world: "World") -> bool:
+    """Walk along the robot's trail, `distance` behind it (plus `lag` while it drives), at
+    most at the person's speed; stop once, give up, or end when the robot has arrived."""
+    state, now = person.step_state, world.t
+    if now - person.step_started >= step.timeout - 1e-9:
+        return True
+    if "started" not in state:
+        if step.after_call and not person._called(world):
+            person._face_robot(world)
+            return False
+        state.update(started=now, next=len(world.trail) - 1, first=len(world.trail) - 1,
+                     walked=0.0, stop=None)
+    if now - state["started"] >= step.until - 1e-9:
+        return True
+    if _follow_stopped(person, step, state, now):
+        return False
+    trail, cumulative = world.trail, world.trail_lengths
+    index = state["next"] = _shortcut(person, trail, state["next"], world)
+    tx, ty = trail[index]
+    path = (math.hypot(tx - person.x, ty - person.y) + cumulative[-1] - cumulative[index]
+            + math.hypot(world.body.x - trail[-1][0], world.body.y - trail[-1][1]))
+    robot_still = world.robot_still_for >= ROBOT_STILL
+    target = step.distance + (0.0 if robot_still else step.lag)
+    if _follow_arrived(person, step, state, world, path):
+        return True
+    behind = path - target
+    if behind <= ARRIVED or person._distance_to_robot(world) <= step.distance:
+        person._face_robot(world)
+        return False
+    pace = min(person.plan.speed, abs(world.body.v) + FOLLOW_GAIN * behind)
+    before = (person.x, person.y)
+    state["next"] = person._walk_path(trail, index, min(pace * dt, behind), dt)
+    state["next"] = min(state["next"], len(trail) - 1)
+    state["walked"] += math.hypot(person.x - before[0], person.y - before[1])
+    return False
+
+
+def _shortcut(person: SimPerson, trail: list, index: int, world: "World") -> int:
+    """The latest breadcrumb within `HOP` of the person that a straight line reaches with
+    the walking clearance (the follower joins or cuts back to the trail), else `index`."""
+    ahead = np.asarray(trail[index:index + HOP_LOOKAHEAD])
+    near = np.flatnonzero(np.hypot(ahead[:, 0] - person.x, ahead[:, 1] - person.y) <= HOP)
+    for offset in near[::-1][:4]:
+        if offset == 0:
+            break
+        if world.walkable((person.x, person.y), trail[index + int(offset)]):
+            return index + int(offset)
+    return index
+
+
+def _follow_stopped(person: SimPerson, step: Follow, state: dict, now: float) -> bool:
+    """True while the person stands in the one stop of `stop_after`/`stop_after_m`."""
+    if state["stop"] is None:
+        due = (now - state["started"] >= step.stop_after - 1e-9
+               or state["walked"] >= step.stop_after_m - 1e-9)
+        if not due:
+            return False
+        state["stop"] = now
+    if state["stop"] is not False and now - state["stop"] < step.stop_for - 1e-9:
+        return True
+    state["stop"] = False          # stopped and came on: never again in this step
+    return False
+
+
+def _follow_arrived(person: SimPerson, step: Follow, state: dict, world: "World",
+                    path: float) -> bool:
+    """The robot has stood `settle` s (at its goal, or after driving) while the person was
+    caught up: the tour is over. (A guide waiting for a lagging person drives on as soon as
+    they are near, so it does not stand that long with them caught up.)"""
+    if path > step.distance + CAUGHT_UP:
+        state["caught_up"] = None
+        return False
+    if state.get("caught_up") is None:
+        state["caught_up"] = world.t
+    if min(world.robot_still_for, world.t - state["caught_up"]) < step.settle - 1e-9:
+        return False
+    body = world.body
+    if step.goal is not None:
+        gx, gy = person.resolve(step.goal)
+        return math.hypot(body.x - gx, body.y - gy) <= GOAL_RADIUS
+    lengths = world.trail_lengths
+    return lengths[-1] - lengths[state["first"]] >= MIN_TRAIL
+
+
+def _make_way(person: SimPerson, step: MakeWay, dt: float, world: "World") -> bool:
+    """Stand until the robot, within `near`, says something (then `delay` s later) or until
+    `after` s have passed; then step aside to `to`. Without either the person stays."""
+    state, now = person.step_state, world.t
+    near = person._distance_to_robot(world) <= step.near
+    said = len(world.utterances) - state.setdefault("heard", state["utterances"])
+    state["heard"] = len(world.utterances)
+    if "asked" not in state and step.asked and near and said > 0:
+        state["asked"] = now
+    going = (now - state.get("asked", math.inf) >= step.delay - 1e-9
+             or now - person.step_started >= step.after - 1e-9)
+    if not going:
+        if near:
+            person._face_robot(world)
+        return False
+    if "to" not in state:
+        state["to"] = (person.resolve(step.to) if step.to is not None
+                       else _aside(person, step, world))
+    return person._walk_towards(*state["to"], dt)
+
+
+def _aside(person: SimPerson, step: MakeWay, world: "World") -> tuple[float, float]:
+    """`aside` m to the robot's left or right (of its heading now), shortened to stay clear of
+    walls where that is possible."""
+    sign = 1.0 if step.side == "left" else -1.0
+    dx, dy = -math.sin(world.body.th) * sign, math.cos(world.body.th) * sign
+    for share in (1.0, 0.75, 0.5, 0.25):
+        target = (person.x + dx * step.aside * share, person.y + dy * step.aside * share)
+        if world.walkable((person.x, person.y), target):
+            return target
+    return (person.x + dx * step.aside, person.y + dy * step.aside)
+
+
+def _shop(person: SimPerson, step: Shop, dt: float, world: "World") -> bool:
+    """Walk to each shelf place around the shelves and dwell there facing the shelf."""
+    state, now = person.step_state, world.t
+    if "places" not in state:
+        state.update(places=list(step.places) or _draw_places(person, step, world), at=0,
+                     dwell_until=None)
+    places = state["places"]
+    if state["at"] >= len(places):
+        return True
+    place = places[state["at"]]
+    if state["dwell_until"] is None:
+        if not _walk_routed(person, [place], dt, world):
+            return False
+        state.pop("target", None)
+        person._face_place(place, world)
+        low, high = step.dwell
+        state["dwell_until"] = now + (low if high <= low else float(person.rng.uniform(low, high)))
+    if now < state["dwell_until"] - 1e-9:
+        return False
+    state["at"] += 1
+    state["dwell_until"] = None
+    return state["at"] >= len(places)
+
+
+def _draw_places(person: SimPerson, step: Shop, world: "World") -> list[str]:
+    """`count` places with the prefix, never the same twice in a row, from the person's rng."""
+    names = sorted(n for n in world.floor.places if n.startswith(step.prefix))
+    drawn: list[str] = []
+    for _ in range(step.count):
+        choices = [n for n in names if not drawn or n != drawn[-1]] or names
+        drawn.append(choices[int(person.rng.integers(len(choices)))])
+    return drawn
+
+
+def _lead(person: SimPerson, step: Lead, dt: float, world: "World") -> bool:
+    """Walk the waypoints around walls at the person's pace, dwelling at each; wait while the
+    robot is farther than `wait_beyond`."""
+    state, now = person.step_state, world.t
+    if "dwell_until" not in state:
+        if step.after_call and not person._called(world):
+            person._face_robot(world)
+            return False
+        state["dwell_until"] = None
+    if state["dwell_until"] is not None:
+        if now < state["dwell_until"] - 1e-9:
+            return False
+        state["dwell_until"] = None
+        if state["target"] >= len(step.waypoints):
+            return True
+    if person._distance_to_robot(world) > step.wait_beyond:
+        person._face_robot(world)
+        return False
+    before = state.get("target", 0)
+    done = _walk_routed(person, list(step.waypoints), dt, world)
+    if state["target"] > before and step.dwell > 0:
+        person._face_place(step.waypoints[before], world)
+        state["dwell_until"] = now + step.dwell
+        return False
+    return done
+
+
+def _sync(person: SimPerson, step: Sync, dt: float, world: "World") -> bool:
+    """Stand until the other person has begun step `step` (or has gone for good)."""
+    other = next(p for p in world.people if p.id == step.person)
+    return other.gone or other.index >= step.step
+
+
 _HANDLERS = {Walk: _walk, Pause: _pause, Approach: _approach, Answer: _answer,
-             WaitForCall: _wait_for_call, Leave: _leave}
+             WaitForCall: _wait_for_call, Leave: _leave, Follow: _follow, MakeWay: _make_way,
+             Shop: _shop, Lead: _lead, Sync: _sync}

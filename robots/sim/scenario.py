@@ -23,6 +23,7 @@ Pose = Union[str, tuple[float, float, float]]    # a place name or (x, y, headin
 @dataclass(frozen=True)
 class Walk:
     waypoints: tuple[Point, ...]
+    route: bool = False           # walk around walls instead of straight
 
 
 @dataclass(frozen=True)
@@ -37,10 +38,11 @@ class Approach:
 
 @dataclass(frozen=True)
 class Answer:
-    buttons: tuple[str, ...]      # one per prompt, in order
+    buttons: tuple[str, ...]      # one per prompt, in order (typed text on a typed prompt)
     delay: float = 2.0            # s after the prompt appears
     reach: float = 1.0            # m; farther away the person first steps closer
     timeout: float = math.inf     # s; give up and go on with the next step
+    typing: float = 0.2           # s per character typed (typed prompts, value not a button)
 
 
 @dataclass(frozen=True)
@@ -51,10 +53,76 @@ class WaitForCall:
 @dataclass(frozen=True)
 class Leave:
     to: Point | None = None       # None: the person's exit
+    route: bool = False           # walk around walls instead of straight
 
 
-Step = Union[Walk, Pause, Approach, Answer, WaitForCall, Leave]
-STEP_KINDS = ("walk", "pause", "approach", "answer", "wait_for_call", "leave")
+@dataclass(frozen=True)
+class Follow:
+    """Follow the robot along its trail, as a visitor follows a guide."""
+    distance: float = 1.2               # m kept to the robot, along its trail
+    after_call: bool = False            # start only once the robot has said something
+    stop_after: float = math.inf        # s of following, then stand `stop_for` s (once)
+    stop_after_m: float = math.inf      # or m walked while following
+    stop_for: float = math.inf          # s standing before coming on (inf: for good)
+    lag: float = 0.0                    # m farther behind while the robot drives
+    until: float = math.inf             # s of following, then give up (the step ends)
+    goal: Point | None = None           # where the robot is going, to know it arrived
+    settle: float = 3.0                 # s the robot stands (near the goal) before the end
+    timeout: float = math.inf           # s since the step began, then the step ends
+
+
+@dataclass(frozen=True)
+class MakeWay:
+    """Stand (in a group, in the way) until asked to let the robot pass, then step aside."""
+    to: Point | None = None             # where to step aside to; or, with None,
+    aside: float = 0.0                  # m to step to the robot's `side`
+    side: str | None = None             # "left" or "right" of the robot's heading
+    asked: bool = True                  # react to the robot speaking while near
+    near: float = 2.0                   # m, centre to centre: the robot counts as near
+    delay: float = 1.0                  # s between being asked and stepping aside
+    after: float = math.inf             # s; step aside by then anyway
+
+
+@dataclass(frozen=True)
+class Shop:
+    """Walk between shelf places (around the shelves), dwelling at each."""
+    places: tuple[Point, ...] = ()      # in order; or drawn by `prefix`
+    prefix: str | None = None           # draw `count` places whose name starts with this
+    count: int = 3
+    dwell: tuple[float, float] = (5.0, 5.0)   # s at each place, uniform in [low, high]
+
+
+@dataclass(frozen=True)
+class Lead:
+    """Walk a route (around walls) at the person's pace, for the robot to follow."""
+    waypoints: tuple[Point, ...]
+    dwell: float = 0.0                  # s standing at each waypoint
+    after_call: bool = False            # start only once the robot has said something
+    wait_beyond: float = math.inf       # m; stand and wait while the robot is farther
+
+
+@dataclass(frozen=True)
+class Sync:
+    """Stand until another person has begun one of their steps (or has gone)."""
+    person: str
+    step: int = 0                       # index into that person's steps, from 0
+
+
+Step = Union[Walk, Pause, Approach, Answer, WaitForCall, Leave, Follow, MakeWay, Shop, Lead,
+             Sync]
+STEP_KINDS = ("walk", "pause", "approach", "answer", "wait_for_call", "leave", "follow",
+              "make_way", "shop", "lead", "sync")
+STEP_OPTIONS = {
+    "walk": {"route"},
+    "leave": {"route"},
+    "answer": {"delay", "reach", "timeout", "typing"},
+    "follow": {"after_call", "stop_after", "stop_after_m", "stop_for", "lag", "until", "goal",
+               "settle", "timeout"},
+    "make_way": {"side", "asked", "near", "delay", "after"},
+    "shop": {"count", "dwell"},
+    "lead": {"dwell", "after_call", "wait_beyond"},
+    "sync": {"step"},
+}
 
 
 @dataclass(frozen=True)
@@ -66,6 +134,7 @@ class PersonPlan:
     exit: Point
     steps: tuple[Step, ...]
     line: int | None = None       # of the [[person]] header, for messages
+    cart: bool = False            # pushes a shopping cart ahead
 
 
 @dataclass(frozen=True)
@@ -76,6 +145,7 @@ class Scenario:
     robot: Pose
     people: tuple[PersonPlan, ...]
     source: Path | None = None
+    floor: str | None = None      # the floor the scenario is written for (None: any)
 
     def where(self, person_index: int | None = None) -> str:
         """'file:line' of the scenario or of one person's header, for messages."""
@@ -123,7 +193,11 @@ class _Reader:
         head = data.get("scenario", {})
         if not isinstance(head, dict):
             raise self.fail("scenario", "must be a table")
-        self.check_keys(head, "scenario", {"name", "description", "duration", "robot"})
+        self.check_keys(head, "scenario", {"name", "description", "duration", "robot", "floor"})
+        floor = head.get("floor")
+        if floor is not None and (not isinstance(floor, str) or not floor):
+            raise self.fail("scenario.floor", f"= {floor!r} must be a floor name such as "
+                            "\"office\" or \"store\"")
         duration = self.number(head, "duration", "scenario.duration", 1.0, 86400.0, 120.0)
         robot = self.pose(head.get("robot", "robot_home"), "scenario.robot")
         people_data = data.get("person", [])
@@ -135,9 +209,11 @@ class _Reader:
         for pid in ids:
             if ids.count(pid) > 1:
                 raise self.fail("person.id", f"'{pid}' is used twice; ids must be unique")
+        self.check_syncs(people)
         return Scenario(name=str(head.get("name", self.path.stem)),
                         description=str(head.get("description", "")),
-                        duration=duration, robot=robot, people=people, source=self.path)
+                        duration=duration, robot=robot, people=people, source=self.path,
+                        floor=floor)
 
     def person(self, entry, index: int) -> PersonPlan:
         line = self.person_lines[index] if index < len(self.person_lines) else None
@@ -145,7 +221,7 @@ class _Reader:
         label = f"person[{index}]"
         if not isinstance(entry, dict):
             raise self.fail(label, "must be a table")
-        self.check_keys(entry, label, {"id", "appear", "at", "speed", "exit", "steps"})
+        self.check_keys(entry, label, {"id", "appear", "at", "speed", "exit", "steps", "cart"})
         pid = entry.get("id")
         if not isinstance(pid, str) or not pid:
             raise self.fail(f"{label}.id", "is missing (a non-empty string)")
@@ -161,7 +237,7 @@ class _Reader:
             at=at,
             speed=self.number(entry, "speed", f"{label}.speed", 0.05, 3.0, 1.0),
             exit=self.point(entry["exit"], f"{label}.exit") if "exit" in entry else at,
-            steps=steps, line=line)
+            steps=steps, line=line, cart=self.flag(entry, "cart", label))
 
     def step(self, entry, label: str) -> Step:
         if not isinstance(entry, dict):
@@ -172,16 +248,14 @@ class _Reader:
                             f"found {', '.join(sorted(entry)) or 'nothing'}")
         kind = kinds[0]
         label = f"{label}.{kind}"
-        options = {"answer": {"delay", "reach", "timeout"}}.get(kind, set())
+        options = STEP_OPTIONS.get(kind, set())
         extra = set(entry) - {kind} - options
         if extra:
             allowed = ", ".join(sorted(options)) or "none"
             raise self.fail(label, f"unknown option {sorted(extra)[0]!r}; allowed: {allowed}")
         value = entry[kind]
         if kind == "walk":
-            if not isinstance(value, list) or not value:
-                raise self.fail(label, "must be a non-empty list of places or [x, y] points")
-            return Walk(tuple(self.point(p, f"{label}[{i}]") for i, p in enumerate(value)))
+            return Walk(self.points(value, label), route=self.flag(entry, "route", label))
         if kind == "pause":
             return Pause(self.number(entry, kind, label, 0.0, 86400.0))
         if kind == "approach":
@@ -189,15 +263,131 @@ class _Reader:
         if kind == "answer":
             if (not isinstance(value, list) or not value
                     or not all(isinstance(b, str) and b for b in value)):
-                raise self.fail(label, "must be a non-empty list of button labels (strings)")
+                raise self.fail(label, "must be a non-empty list of button labels or typed "
+                                "texts (strings)")
             return Answer(tuple(value),
                           delay=self.number(entry, "delay", f"{label}.delay", 0.0, 600.0, 2.0),
                           reach=self.number(entry, "reach", f"{label}.reach", 0.3, 5.0, 1.0),
                           timeout=self.number(entry, "timeout", f"{label}.timeout", 0.0,
-                                              86400.0) if "timeout" in entry else math.inf)
+                                              86400.0) if "timeout" in entry else math.inf,
+                          typing=self.number(entry, "typing", f"{label}.typing", 0.0, 5.0, 0.2))
         if kind == "wait_for_call":
             return WaitForCall(self.number(entry, kind, label, 0.0, 86400.0))
-        return Leave(self.point(value, label) if value not in (True, "exit") else None)
+        if kind == "follow":
+            return self.follow(entry, label)
+        if kind == "make_way":
+            if isinstance(value, (int, float)) and not isinstance(value, bool):
+                side = entry.get("side")
+                if side not in ("left", "right"):
+                    raise self.fail(f"{label}.side", f"= {side!r} must be \"left\" or \"right\" "
+                                    "(of the robot's heading) when make_way is a distance")
+                where = {"aside": self.number(entry, kind, label, 0.1, 5.0), "side": side}
+            elif "side" in entry:
+                raise self.fail(f"{label}.side", "only goes with a distance: "
+                                "make_way = 0.8, side = \"left\"")
+            else:
+                where = {"to": self.point(value, label)}
+            return MakeWay(**where, asked=self.flag(entry, "asked", label, True),
+                           near=self.number(entry, "near", f"{label}.near", 0.5, 20.0, 2.0),
+                           delay=self.number(entry, "delay", f"{label}.delay", 0.0, 600.0, 1.0),
+                           after=self.optional(entry, "after", label, 0.0, 86400.0))
+        if kind == "shop":
+            return self.shop(entry, label)
+        if kind == "sync":
+            if not isinstance(value, str) or not value:
+                raise self.fail(label, f"= {value!r} must be the id of another person")
+            index = entry.get("step", 0)
+            if isinstance(index, bool) or not isinstance(index, int) or not 0 <= index <= 10000:
+                raise self.fail(f"{label}.step", f"= {index!r} must be a step index 0 .. 10000")
+            return Sync(value, index)
+        if kind == "lead":
+            return Lead(self.points(value, label),
+                        dwell=self.number(entry, "dwell", f"{label}.dwell", 0.0, 3600.0, 0.0),
+                        after_call=self.flag(entry, "after_call", label),
+                        wait_beyond=self.optional(entry, "wait_beyond", label, 0.5, 100.0))
+        return Leave(self.point(value, label) if value not in (True, "exit") else None,
+                     route=self.flag(entry, "route", label))
+
+    def follow(self, entry: dict, label: str) -> Follow:
+        value = entry["follow"]
+        distance = 1.2 if value is True else self.number(entry, "follow", label, 0.5, 5.0)
+        stop_after = self.optional(entry, "stop_after", label, 0.0, 86400.0)
+        stop_after_m = self.optional(entry, "stop_after_m", label, 0.0, 10000.0)
+        if "stop_after" in entry and "stop_after_m" in entry:
+            raise self.fail(f"{label}.stop_after_m", "give either stop_after (s) or "
+                            "stop_after_m (m), not both")
+        if "stop_for" in entry and not ("stop_after" in entry or "stop_after_m" in entry):
+            raise self.fail(f"{label}.stop_for", "needs stop_after (s) or stop_after_m (m): "
+                            "when to stop")
+        goal = self.point(entry["goal"], f"{label}.goal") if "goal" in entry else None
+        return Follow(distance=distance, after_call=self.flag(entry, "after_call", label),
+                      stop_after=stop_after, stop_after_m=stop_after_m,
+                      stop_for=self.optional(entry, "stop_for", label, 0.0, 86400.0),
+                      lag=self.number(entry, "lag", f"{label}.lag", 0.0, 20.0, 0.0),
+                      until=self.optional(entry, "until", label, 0.0, 86400.0),
+                      goal=goal,
+                      settle=self.number(entry, "settle", f"{label}.settle", 0.0, 600.0, 3.0),
+                      timeout=self.optional(entry, "timeout", label, 0.0, 86400.0))
+
+    def shop(self, entry: dict, label: str) -> Shop:
+        value = entry["shop"]
+        dwell = entry.get("dwell", 5.0)
+        if isinstance(dwell, list):
+            if (len(dwell) != 2 or not all(_is_number(v) for v in dwell)
+                    or not 0.0 <= dwell[0] <= dwell[1] <= 3600.0):
+                raise self.fail(f"{label}.dwell", f"= {dwell!r} must be seconds or [low, high] "
+                                "with 0 <= low <= high <= 3600")
+            dwell = (float(dwell[0]), float(dwell[1]))
+        else:
+            seconds = self.number(entry, "dwell", f"{label}.dwell", 0.0, 3600.0, 5.0)
+            dwell = (seconds, seconds)
+        if isinstance(value, str) and value:
+            count = entry.get("count", 3)
+            if isinstance(count, bool) or not isinstance(count, int) or not 1 <= count <= 1000:
+                raise self.fail(f"{label}.count", f"= {count!r} must be a whole number 1 .. 1000")
+            return Shop(prefix=value, count=count, dwell=dwell)
+        if "count" in entry:
+            raise self.fail(f"{label}.count", "only goes with a prefix: shop = \"shelf_\"")
+        if not isinstance(value, list) or not value:
+            raise self.fail(label, f"= {value!r} must be a list of places or [x, y] points, "
+                            "or a place-name prefix such as \"shelf_\"")
+        return Shop(places=self.points(value, label), dwell=dwell)
+
+    def check_syncs(self, people: tuple[PersonPlan, ...]) -> None:
+        """A sync names another person and one of their steps."""
+        plans = {p.id: p for p in people}
+        for index, plan in enumerate(people):
+            for number, step in enumerate(plan.steps):
+                if not isinstance(step, Sync):
+                    continue
+                line = self.person_lines[index] if index < len(self.person_lines) else None
+                self.where = f"{self.path}:{line}" if line else str(self.path)
+                label = f"person '{plan.id}'.steps[{number}].sync"
+                other = plans.get(step.person)
+                if other is None or other is plan:
+                    raise self.fail(label, f"= {step.person!r} is not another person; people: "
+                                    f"{', '.join(sorted(plans))}")
+                if step.step >= max(1, len(other.steps)):
+                    raise self.fail(f"{label}.step", f"= {step.step}: '{other.id}' has "
+                                    f"{len(other.steps)} steps (0 .. {len(other.steps) - 1})")
+        self.where = str(self.path)
+
+    def points(self, value, label: str) -> tuple[Point, ...]:
+        if not isinstance(value, list) or not value:
+            raise self.fail(label, "must be a non-empty list of places or [x, y] points")
+        return tuple(self.point(p, f"{label}[{i}]") for i, p in enumerate(value))
+
+    def flag(self, table: dict, key: str, label: str, default: bool = False) -> bool:
+        value = table.get(key, default)
+        if not isinstance(value, bool):
+            raise self.fail(f"{label}.{key}", f"= {value!r} must be true or false")
+        return value
+
+    def optional(self, table: dict, key: str, label: str, low: float, high: float) -> float:
+        """A number within [low, high] if the key is there, else infinity (never)."""
+        if key not in table:
+            return math.inf
+        return self.number(table, key, f"{label}.{key}", low, high)
 
     def check_keys(self, table: dict, label: str, allowed: set[str]) -> None:
         unknown = set(table) - allowed
@@ -230,3 +420,7 @@ class _Reader:
                 and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)):
             return (float(value[0]), float(value[1]), math.radians(value[2]))
         raise self.fail(label, f"= {value!r} must be a place name or [x, y, heading_deg]")
+
+
+def _is_number(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)

@@ -1,5 +1,6 @@
-"""A simulation: the World built from a profile, a floor and a scenario, kept in step with a
-clock. The tick loop calls `advance(clock.now())`; in --fast runs the clock is simulated.
+"""A simulation: the World built from a profile, a floor (the scenario's `floor`, else the
+office) and a scenario, kept in step with a clock. The tick loop calls `advance(clock.now())`;
+in --fast runs the clock is simulated.
 """
 from __future__ import annotations
 
@@ -17,10 +18,13 @@ class Simulation:
     """Owns the World; steps it up to the clock's time and hands out its devices."""
 
     def __init__(self, profile: RobotProfile, scenario_path: str | Path | None = None,
-                 seed: int = 0, clock=None, floor: str | Path | Floor = "office") -> None:
+                 seed: int = 0, clock=None, floor: str | Path | Floor | None = None) -> None:
         self.profile = profile
         self.clock = clock
         self.scenario = load_scenario(scenario_path) if scenario_path is not None else None
+        if floor is None:       # the scenario's own floor, else the office
+            floor = (self.scenario.floor if self.scenario is not None
+                     and self.scenario.floor else "office")
         plan = floor if isinstance(floor, Floor) else load_floor(floor)
         self.world = World(plan, profile, self.scenario, seed)
         body = self.world.body

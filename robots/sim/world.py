@@ -1,8 +1,12 @@
 """The simulated world: a floor, the robot's body, scripted people, and what the robot's
-sensors and devices make of them. One `numpy.random.Generator` drives every random draw (the
-wheel odometry has its own stream, `robots.sim.odometry`), so a run is the same for the same
-seed and the same sequence of calls. `body` is the ground truth; `odometry` is what the base
-reports.
+sensors and devices make of them. One `numpy.random.Generator` drives every sensor's random
+draw, so a run is the same for the same seed and the same sequence of calls; the wheel odometry
+(`robots.sim.odometry`) and each person (a shopper's places and dwell times) draw from
+generators of their own, seeded from the same seed, so what they do does not depend on how often
+the robot reads its sensors. `body` is the ground truth; `odometry` is what the base reports.
+
+The world also keeps the robot's true trail (for people who follow it) and the measures an
+evaluation needs (`World.measures`, see `robots.sim.measures`).
 """
 from __future__ import annotations
 
@@ -17,15 +21,19 @@ from robots.exceptions import FloorError, ScenarioError
 from robots.profile import RobotProfile
 from robots.sim.body import Obstacles, UnicycleBody
 from robots.sim.floor import Floor
+from robots.sim.measures import NEAR_WALLS, Measures
 from robots.sim.odometry import WheelOdometry, odometry_rng
 from robots.sim.people import BODY_RADIUS, LEG_RADIUS, SimPerson
 from robots.sim.raycast import cast_rays, point_segment_distances
-from robots.sim.scenario import Leave, Scenario, Walk
+from robots.sim.scenario import Follow, Lead, Leave, MakeWay, Scenario, Shop, Walk
+from robots.sim.walkways import walk_grid
 
 MAX_SUBSTEP = 0.05          # s
 SONAR_RAY_SPREAD = (-1 / 3, 0.0, 1 / 3)   # rays across each cone, as fractions of the cone
 SECONDS_PER_CHARACTER = 0.06
 WALL_CACHE_MARGIN = 0.5     # m the body may move before the walls near it are chosen again
+TRAIL_SPACING = 0.1         # m between the breadcrumbs of the robot's trail
+STILL_SPEED = 0.02          # m/s; slower, the robot stands (turning on the spot included)
 _NO_CIRCLES = np.zeros((0, 3))
 
 
@@ -79,14 +87,23 @@ class World:
         self.odometry = WheelOdometry((x, y, th), profile.odometry, odometry_rng(seed))
         self.people: list[SimPerson] = []
         if scenario is not None:
+            if scenario.floor is not None and scenario.floor != floor.name:
+                raise ScenarioError(f"{scenario.where()}: scenario.floor: the scenario is written "
+                                    f"for floor '{scenario.floor}', not '{floor.name}'; run it "
+                                    f"on '{scenario.floor}' or drop the field")
             _check_places(scenario, floor)
-            self.people = [SimPerson(plan, self.resolve) for plan in scenario.people]
+            self.people = [SimPerson(plan, self.resolve, np.random.default_rng([seed, index]))
+                           for index, plan in enumerate(scenario.people)]
         self.screen = ScreenState()
         self.utterances: list[tuple[float, str]] = []
         self.speaking_until = 0.0
         self.head_pan = 0.0
         self.head_tilt = 0.0
         self.hooks: list[Callable[["World", float], None]] = []
+        self.trail: list[tuple[float, float]] = [(x, y)]   # the body's true path, every 0.1 m
+        self.trail_lengths: list[float] = [0.0]            # m driven up to each breadcrumb
+        self.measures = Measures()
+        self._still_since = 0.0
         self._walls = floor.segments
         self._sonar_rays = self._sonar_ray_table()
         self._laser_offsets = self._laser_angles()
@@ -130,12 +147,39 @@ class World:
             for person in self.people:
                 person.step(h, self)
             self._version += 1
-            reach = self.body.radius + 0.5
-            self.body.step(h, Obstacles(self._walls_near(reach), self.body_circles()))
+            reach = self.body.radius + NEAR_WALLS
+            walls = self._walls_near(reach)
+            self.body.step(h, Obstacles(walls, self.body_circles()))
             self.odometry.step(self.body.v, self.body.w, h)
             self._version += 1
+            self._record_trail()
+            self.measures.update(self, h, walls)
             for hook in self.hooks:
                 hook(self, h)
+
+    def _record_trail(self) -> None:
+        body = self.body
+        if abs(body.v) > STILL_SPEED:
+            self._still_since = self.t
+        last = self.trail[-1]
+        step = math.hypot(body.x - last[0], body.y - last[1])
+        if step >= TRAIL_SPACING:
+            self.trail.append((body.x, body.y))
+            self.trail_lengths.append(self.trail_lengths[-1] + step)
+
+    @property
+    def robot_still_for(self) -> float:
+        """Seconds since the robot last drove faster than 0.02 m/s (turning counts as still)."""
+        return self.t - self._still_since
+
+    def route(self, start: tuple[float, float], goal: tuple[float, float]
+              ) -> list[tuple[float, float]]:
+        """A person's way from start to goal around walls: the points to walk through."""
+        return walk_grid(self.floor).route(start, goal)
+
+    def walkable(self, start: tuple[float, float], goal: tuple[float, float]) -> bool:
+        """True when a person walks the straight line start–goal clear of every wall."""
+        return walk_grid(self.floor).clear(start, goal)
 
     @property
     def bumpers(self) -> int:
@@ -177,15 +221,25 @@ class World:
         return near[2]
 
     def body_circles(self) -> np.ndarray:
-        """People as sonar and bumpers see them: one circle each (k, 3)."""
+        """People as sonar and bumpers see them: one circle each, and two per cart (k, 3)."""
         return self._cached("body_circles", self._body_circles)
 
     def _body_circles(self) -> np.ndarray:
+        present = []
+        for person in self.people:
+            if person.in_world:
+                present.append((person.x, person.y, BODY_RADIUS))
+                present.extend(person.cart_circles())
+        return np.array(present) if present else _NO_CIRCLES
+
+    def _person_bodies(self) -> np.ndarray:
+        """People alone, without carts: what hides someone from the camera (which looks over
+        carts)."""
         present = [(p.x, p.y, BODY_RADIUS) for p in self.people if p.in_world]
         return np.array(present) if present else _NO_CIRCLES
 
     def leg_circles(self) -> np.ndarray:
-        """People as the laser sees them: two leg circles each (2k, 3)."""
+        """People as the laser sees them: two leg circles each, and two per cart (2k, 3)."""
         return self._cached("leg_circles", self._leg_circles)
 
     def _leg_circles(self) -> np.ndarray:
@@ -195,6 +249,7 @@ class World:
                 left, right = person.leg_positions()
                 legs.append((left[0], left[1], LEG_RADIUS))
                 legs.append((right[0], right[1], LEG_RADIUS))
+                legs.extend(person.cart_circles())
         return np.array(legs) if legs else _NO_CIRCLES
 
     def _circles_near(self, circles: np.ndarray, reach: float) -> np.ndarray:
@@ -266,7 +321,9 @@ class World:
 
     def detect_people(self) -> list[tuple[float, float]]:
         """Noisy person positions in the robot frame: in range and field of view, not behind
-        a wall, each missed with `miss_rate`; plus Poisson false positives in the area."""
+        a wall or another person's body (the line of sight to the centre is what counts; carts
+        are lower than the camera and hide nobody), each
+        missed with `miss_rate`; plus Poisson false positives in the area."""
         spec = self.profile.people_detector
         if spec is None:
             return []
@@ -286,7 +343,10 @@ class World:
             table = np.array(candidates)
             origins = np.broadcast_to(np.array([[body.x, body.y]]), (len(table), 2))
             walls = cast_rays(origins, table[:, 3], self._walls_near(spec.range), None, spec.range)
-            seen = (walls >= table[:, 2]) & (self.rng.random(len(table)) >= spec.miss_rate)
+            bodies = cast_rays(origins, table[:, 3], None, self._person_bodies(), spec.range)
+            unhidden = bodies >= table[:, 2] - BODY_RADIUS - 1e-6    # own body is the first hit
+            seen = ((walls >= table[:, 2]) & unhidden
+                    & (self.rng.random(len(table)) >= spec.miss_rate))
             noise = self.rng.normal(0.0, spec.noise, (len(table), 2))
             found = [(float(x), float(y)) for x, y in table[seen, :2] + noise[seen]]
         for _ in range(self.rng.poisson(spec.false_rate)):
@@ -305,10 +365,25 @@ def _check_places(scenario: Scenario, floor: Floor) -> None:
     for index, plan in enumerate(scenario.people):
         fields = [("at", plan.at), ("exit", plan.exit)]
         for number, step in enumerate(plan.steps):
+            label = f"steps[{number}]"
             if isinstance(step, Walk):
-                fields += [(f"steps[{number}].walk", p) for p in step.waypoints]
+                fields += [(f"{label}.walk", p) for p in step.waypoints]
             elif isinstance(step, Leave) and step.to is not None:
-                fields.append((f"steps[{number}].leave", step.to))
+                fields.append((f"{label}.leave", step.to))
+            elif isinstance(step, Follow) and step.goal is not None:
+                fields.append((f"{label}.follow.goal", step.goal))
+            elif isinstance(step, MakeWay) and step.to is not None:
+                fields.append((f"{label}.make_way", step.to))
+            elif isinstance(step, Lead):
+                fields += [(f"{label}.lead", p) for p in step.waypoints]
+            elif isinstance(step, Shop):
+                fields += [(f"{label}.shop", p) for p in step.places]
+                if step.prefix is not None and not any(name.startswith(step.prefix)
+                                                       for name in floor.places):
+                    raise ScenarioError(
+                        f"{scenario.where(index)}: person '{plan.id}'.{label}.shop: floor "
+                        f"'{floor.name}' has no place starting with '{step.prefix}'; places: "
+                        f"{', '.join(sorted(floor.places))}")
         for name, where in fields:
             if isinstance(where, str) and where not in floor.places:
                 raise ScenarioError(

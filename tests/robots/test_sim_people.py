@@ -176,3 +176,27 @@ def test_leave_to_exit_goes_to_the_exit_place():
     person = world.people[0]
     run_until(world, lambda w: person.gone)
     assert (person.x, person.y) == pytest.approx((9.5, 0.0), abs=0.03)
+
+
+def test_answer_types_values_that_are_not_buttons_on_a_typed_prompt():
+    world = world_with([{"approach": 0.5},
+                        {"answer": ["mlik", "yes", "7"], "delay": 1.0, "typing": 0.5},
+                        {"pause": 100.0}])
+    person = world.people[0]
+    run_until(world, lambda w: person.index == 1)
+    world.screen.show("product", "What are you looking for?", ("dairy", "bakery"), world.t,
+                      typed=True)
+    shown = world.t
+    run_until(world, lambda w: len(w.screen.presses) == 1, dt=0.05)
+    assert world.t - shown == pytest.approx(1.0 + 0.5 * 4, abs=0.06)   # typed, 4 characters
+    assert world.screen.take_press() == ("product", "mlik")
+    world.screen.show("more", "Anything else?", ("yes", "no"), world.t, typed=True)
+    shown = world.t
+    run_until(world, lambda w: len(w.screen.presses) == 1, dt=0.05)
+    assert world.t - shown == pytest.approx(1.0, abs=0.06)             # a button: pressed
+    assert world.screen.take_press() == ("more", "yes")
+    world.screen.show("q", "How many?", ("1", "2"), world.t)          # not typed: as before
+    shown = world.t
+    run_until(world, lambda w: len(w.screen.presses) == 1, dt=0.05)
+    assert world.t - shown == pytest.approx(1.0, abs=0.06)
+    assert world.screen.take_press() == ("q", "7")

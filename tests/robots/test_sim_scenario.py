@@ -180,3 +180,100 @@ def test_two_people_one_answers_the_other_stands_by():
     assert answers == {"q1": "no", "q2": "5", "q3": "yes"}
     alice, carol = world.people
     assert alice.gone and carol.gone and carol.pressed == []
+
+
+# -- the steps for guiding and shopping ----------------------------------------------------
+
+@pytest.mark.parametrize("steps, message", [
+    ('{ follow = 0.2 }', r"steps\[0\].follow: = 0.2 is outside the allowed range 0.5 .. 5.0"),
+    ('{ follow = 1.2, after_call = "yes" }', r"steps\[0\].follow.after_call: = 'yes' must be "
+                                             r"true or false"),
+    ('{ follow = 1.2, stop_for = 5 }', r"steps\[0\].follow.stop_for: needs stop_after"),
+    ('{ follow = 1.2, stop_after = 5, stop_after_m = 3 }',
+     r"steps\[0\].follow.stop_after_m: give either stop_after \(s\) or stop_after_m"),
+    ('{ follow = 1.2, lag = -1 }', r"steps\[0\].follow.lag: = -1 is outside"),
+    ('{ follow = 1.2, goal = 5 }', r"steps\[0\].follow.goal: = 5 must be a place"),
+    ('{ follow = 1.2, speed = 2 }', r"steps\[0\].follow: unknown option 'speed'; allowed: "
+                                    r"after_call, goal, lag"),
+    ('{ make_way = true }', r"steps\[0\].make_way: = True must be a place name or \[x, y\]"),
+    ('{ make_way = [1, 1], near = 0.1 }', r"steps\[0\].make_way.near: = 0.1 is outside"),
+    ('{ make_way = 0.8 }', r"steps\[0\].make_way.side: = None must be \"left\" or \"right\""),
+    ('{ make_way = 0.8, side = "up" }', r"make_way.side: = 'up' must be \"left\" or"),
+    ('{ make_way = [1, 1], side = "left" }', r"make_way.side: only goes with a distance"),
+    ('{ make_way = 9, side = "left" }', r"steps\[0\].make_way: = 9 is outside .* 5.0"),
+    ('{ shop = [] }', r"steps\[0\].shop: = \[\] must be a list of places .* or a place-name "
+                      r"prefix"),
+    ('{ shop = "shelf_", count = 0 }', r"steps\[0\].shop.count: = 0 must be a whole number"),
+    ('{ shop = ["a"], count = 2 }', r"steps\[0\].shop.count: only goes with a prefix"),
+    ('{ shop = "shelf_", dwell = [5, 2] }', r"steps\[0\].shop.dwell: = \[5, 2\] must be "
+                                            r"seconds or \[low, high\]"),
+    ('{ lead = [] }', r"steps\[0\].lead: must be a non-empty list of places"),
+    ('{ lead = ["a"], wait_beyond = 0.1 }', r"steps\[0\].lead.wait_beyond: = 0.1 is outside"),
+    ('{ answer = ["milk"], typing = -1 }', r"steps\[0\].answer.typing: = -1 is outside"),
+    ('{ walk = ["a"], route = 1 }', r"steps\[0\].walk.route: = 1 must be true or false"),
+    ('{ sync = "nobody" }', r"steps\[0\].sync: = 'nobody' is not another person; people: a"),
+    ('{ sync = "a" }', r"steps\[0\].sync: = 'a' is not another person"),
+])
+def test_bad_new_steps_name_file_line_and_field(tmp_path, steps, message):
+    path = write(tmp_path, f'[scenario]\nname = "x"\n\n[[person]]\nid = "a"\nat = "x"\n'
+                           f'steps = [{steps}]\n')
+    with pytest.raises(ScenarioError, match=message) as error:
+        load_scenario(path)
+    assert f"{path}:4: person 'a'" in str(error.value)
+
+
+def test_sync_step_must_exist_in_the_other_persons_script(tmp_path):
+    path = write(tmp_path, '[[person]]\nid = "a"\nat = "x"\nsteps = [{ pause = 1 }]\n'
+                           '[[person]]\nid = "b"\nat = "x"\nsteps = [{ sync = "a", step = 3 }]\n')
+    with pytest.raises(ScenarioError, match=r"s.toml:5: person 'b'.steps\[0\].sync.step: = 3: "
+                                            r"'a' has 1 steps \(0 .. 0\)"):
+        load_scenario(path)
+
+
+def test_new_steps_parse_with_their_defaults(tmp_path):
+    from robots.sim.scenario import Follow, Lead, MakeWay, Shop, Sync
+    path = write(tmp_path, '[scenario]\nfloor = "store"\n[[person]]\nid = "a"\nat = "x"\n'
+                           'steps = [{ follow = true }, { follow = 2, stop_after_m = 3, '
+                           'stop_for = 4, goal = "g" }, { make_way = [1, 2] }, '
+                           '{ shop = "shelf_" }, { shop = ["p", [1, 2]], dwell = [1, 2] }, '
+                           '{ lead = ["p"], after_call = true }]\n'
+                           '[[person]]\nid = "b"\nat = "x"\nsteps = [{ sync = "a", step = 5 }]\n')
+    scenario = load_scenario(path)
+    assert scenario.floor == "store"
+    steps = scenario.people[0].steps
+    assert steps[0] == Follow()
+    assert steps[0].distance == 1.2 and steps[0].settle == 3.0 and steps[0].until == math.inf
+    assert steps[1] == Follow(distance=2.0, stop_after_m=3.0, stop_for=4.0, goal="g")
+    assert steps[2] == MakeWay((1.0, 2.0))
+    assert steps[2].asked and steps[2].near == 2.0 and steps[2].delay == 1.0
+    assert steps[3] == Shop(prefix="shelf_", count=3, dwell=(5.0, 5.0))
+    assert steps[4] == Shop(places=("p", (1.0, 2.0)), dwell=(1.0, 2.0))
+    assert steps[5] == Lead(("p",), after_call=True)
+    assert scenario.people[1].steps == (Sync("a", 5),)
+
+
+def test_new_steps_places_are_checked_against_the_floor(tmp_path):
+    path = write(tmp_path, '[[person]]\nid = "a"\nat = "hall_east"\n'
+                           'steps = [{ follow = 1.2, goal = "room_n9" }]\n')
+    with pytest.raises(ScenarioError, match=r"s.toml:1: person 'a'.steps\[0\].follow.goal: "
+                                            r"floor 'office' has no place 'room_n9'"):
+        World(load_floor(), load_profile("horos"), load_scenario(path))
+    path = write(tmp_path, '[[person]]\nid = "a"\nat = "hall_east"\n'
+                           'steps = [{ shop = "shelf_" }]\n')
+    with pytest.raises(ScenarioError, match=r"steps\[0\].shop: floor 'office' has no place "
+                                            r"starting with 'shelf_'"):
+        World(load_floor(), load_profile("horos"), load_scenario(path))
+
+
+def test_simulation_takes_the_scenarios_floor(tmp_path):
+    path = write(tmp_path, '[scenario]\nfloor = "store"\n[[person]]\nid = "a"\nat = "entrance"\n')
+    assert Simulation(load_profile("perses"), path).world.floor.name == "store"
+    bare = write(tmp_path, '[scenario]\nname = "x"\n')
+    assert Simulation(load_profile("perses"), bare).world.floor.name == "office"
+
+
+def test_a_scenario_for_another_floor_is_refused_by_name(tmp_path):
+    path = write(tmp_path, '[scenario]\nfloor = "store"\n')
+    with pytest.raises(ScenarioError, match=r"s.toml: scenario.floor: the scenario is written "
+                                            r"for floor 'store', not 'office'"):
+        Simulation(load_profile("perses"), path, floor="office")

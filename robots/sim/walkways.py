@@ -1,0 +1,155 @@
+"""Where simulated people can walk, and the way between two points around walls and shelves.
+
+People of `shop`, `lead` and routed `walk`/`leave` steps do not walk through shelves: they take
+the shortest way on a grid of cells whose centres keep `clearance` from every wall (Dijkstra
+from the goal, over 8 neighbours, with scipy's sparse graph routines), shortened by pulling
+the string wherever the straight line between two points keeps that clearance too. The grid is
+built once per floor and the search once per goal cell; both are cached.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import dijkstra
+
+from robots.sim.floor import Floor
+
+CELL = 0.1                 # m
+CLEARANCE = 0.3            # m from a person's centre to any wall (body radius 0.2 + margin)
+_GOAL_CACHE = 64           # searches kept per grid
+_GRIDS: dict[tuple, "WalkGrid"] = {}
+
+
+class WalkGrid:
+    """Free cells of a floor for a person's centre, and shortest ways between points."""
+
+    def __init__(self, floor: Floor, cell: float = CELL, clearance: float = CLEARANCE) -> None:
+        self.cell = cell
+        self.clearance = clearance
+        xmin, ymin, xmax, ymax = floor.bounds
+        self.origin = (xmin, ymin)
+        self.cols = max(1, int(math.ceil((xmax - xmin) / cell)))
+        self.rows = max(1, int(math.ceil((ymax - ymin) / cell)))
+        xs = xmin + (np.arange(self.cols) + 0.5) * cell
+        ys = ymin + (np.arange(self.rows) + 0.5) * cell
+        gx, gy = np.meshgrid(xs, ys)
+        self.free = _wall_distance(gx.ravel(), gy.ravel(), floor.segments) >= clearance
+        self.free = self.free.reshape(self.rows, self.cols)
+        self._graph = self._build_graph()
+        self._searches: dict[int, np.ndarray] = {}
+
+    def route(self, start: tuple[float, float], goal: tuple[float, float]
+              ) -> list[tuple[float, float]]:
+        """Points to walk through from `start` to `goal` (goal last, start left out). Without
+        a way (start or goal walled in) the straight line: people are never stuck."""
+        if self.clear(start, goal):
+            return [goal]
+        a, b = self._nearest_free(start), self._nearest_free(goal)
+        if a is None or b is None:
+            return [goal]
+        predecessors = self._search(b)
+        if a != b and predecessors[a] < 0:
+            return [goal]
+        cells = [a]
+        while cells[-1] != b:
+            cells.append(int(predecessors[cells[-1]]))
+        points = [self._centre(c) for c in cells[1:-1]] + [goal]
+        return self._pull_string(start, points)
+
+    def clear(self, a: tuple[float, float], b: tuple[float, float]) -> bool:
+        """True when every point of the straight line a–b lies in a free cell."""
+        length = math.hypot(b[0] - a[0], b[1] - a[1])
+        samples = max(2, int(length / (self.cell / 2)) + 2)
+        s = np.linspace(0.0, 1.0, samples)
+        rows, cols = self._cells(a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]))
+        inside = (rows >= 0) & (rows < self.rows) & (cols >= 0) & (cols < self.cols)
+        return bool(inside.all() and self.free[rows, cols].all())
+
+    # -- helpers ---------------------------------------------------------------------------
+
+    def _cells(self, x, y) -> tuple[np.ndarray, np.ndarray]:
+        cols = np.floor((np.asarray(x) - self.origin[0]) / self.cell).astype(int)
+        rows = np.floor((np.asarray(y) - self.origin[1]) / self.cell).astype(int)
+        return rows, cols
+
+    def _centre(self, index: int) -> tuple[float, float]:
+        row, col = divmod(index, self.cols)
+        return (self.origin[0] + (col + 0.5) * self.cell, self.origin[1] + (row + 0.5) * self.cell)
+
+    def _nearest_free(self, point: tuple[float, float]) -> int | None:
+        """Index of the free cell nearest to the point (the point's own cell when free)."""
+        rows, cols = self._cells(point[0], point[1])
+        row, col = int(rows), int(cols)
+        if 0 <= row < self.rows and 0 <= col < self.cols and self.free[row, col]:
+            return row * self.cols + col
+        free_rows, free_cols = np.nonzero(self.free)
+        if free_rows.size == 0:
+            return None
+        nearest = int(np.argmin((free_rows - row) ** 2 + (free_cols - col) ** 2))
+        return int(free_rows[nearest]) * self.cols + int(free_cols[nearest])
+
+    def _build_graph(self):
+        """Sparse graph of free cells to their free 8 neighbours (edge length in m)."""
+        index = np.arange(self.rows * self.cols).reshape(self.rows, self.cols)
+        sources, targets, weights = [], [], []
+        for dr, dc in ((0, 1), (1, 0), (1, 1), (1, -1)):
+            r0, r1 = max(0, -dr), self.rows - max(0, dr)
+            c0, c1 = max(0, -dc), self.cols - max(0, dc)
+            here = self.free[r0:r1, c0:c1]
+            there = self.free[r0 + dr:r1 + dr, c0 + dc:c1 + dc]
+            both = here & there
+            if dr and dc:       # diagonal: both side cells free, so no corner is cut
+                both &= self.free[r0 + dr:r1 + dr, c0:c1] & self.free[r0:r1, c0 + dc:c1 + dc]
+            sources.append(index[r0:r1, c0:c1][both])
+            targets.append(index[r0 + dr:r1 + dr, c0 + dc:c1 + dc][both])
+            weights.append(np.full(int(both.sum()), math.hypot(dr, dc) * self.cell))
+        size = self.rows * self.cols
+        return coo_matrix((np.concatenate(weights),
+                           (np.concatenate(sources), np.concatenate(targets))),
+                          shape=(size, size)).tocsr()
+
+    def _search(self, goal: int) -> np.ndarray:
+        """Predecessors towards `goal` for every cell (-9999 where unreachable)."""
+        found = self._searches.get(goal)
+        if found is None:
+            _, found = dijkstra(self._graph, directed=False, indices=goal,
+                                return_predecessors=True)
+            if len(self._searches) >= _GOAL_CACHE:
+                self._searches.pop(next(iter(self._searches)))
+            self._searches[goal] = found
+        return found
+
+    def _pull_string(self, start, points: list) -> list[tuple[float, float]]:
+        """Drop the points the straight line can skip while keeping the clearance."""
+        out, anchor, i = [], start, 0
+        while i < len(points):
+            j = i
+            while j + 1 < len(points) and self.clear(anchor, points[j + 1]):
+                j += 1
+            out.append(points[j])
+            anchor, i = points[j], j + 1
+        return out
+
+
+def walk_grid(floor: Floor) -> WalkGrid:
+    """The (cached) walk grid of a floor."""
+    key = (floor.name, floor.segments.tobytes())
+    grid = _GRIDS.get(key)
+    if grid is None:
+        grid = _GRIDS[key] = WalkGrid(floor)
+    return grid
+
+
+def _wall_distance(x: np.ndarray, y: np.ndarray, segments: np.ndarray) -> np.ndarray:
+    """Distance from each point to the nearest segment, in chunks of segments."""
+    best = np.full(x.shape, np.inf)
+    for x1, y1, x2, y2 in segments:
+        ex, ey = x2 - x1, y2 - y1
+        u = np.clip(((x - x1) * ex + (y - y1) * ey) / (ex * ex + ey * ey), 0.0, 1.0)
+        best = np.minimum(best, np.hypot(x1 + u * ex - x, y1 + u * ey - y))
+    return best
+
+
+__all__ = ["WalkGrid", "walk_grid"]
