@@ -22,6 +22,9 @@ from robots.link.lockstep import LockStep
 from robots.link.pty import PtyPair
 
 
+OVERRUN_AFTER = 0.5      # s a pty may stay full before the emulator drops what it sends
+
+
 class PtyTransport:
     """The emulator's end of a raw pty. `line_ok` can veto reads (e.g. the wrong baud rate)."""
     has_sessions = False         # a serial line stays: CLOSE does not hang it up
@@ -43,11 +46,12 @@ class PtyTransport:
             return b""                     # a UART at the wrong line speed sees only noise
         return data
 
-    def write(self, data: bytes) -> None:
+    def write(self, data: bytes) -> int:
+        """Bytes written; a line nobody has read for OVERRUN_AFTER s drops the rest."""
         try:
-            self.pty.write(data)
+            return self.pty.write(data, timeout=OVERRUN_AFTER)
         except (LinkError, OSError, ValueError):
-            pass                           # unplugged: the reader notices
+            return 0                       # unplugged: the reader notices
 
     def close(self) -> None:
         self.pty.close()
@@ -191,9 +195,9 @@ class EmulatorHost:
         transport = self._transport
         if not data or transport is None or self.muted:
             return
+        written = transport.write(data)
         if self.lockstep is not None:
-            self.lockstep.to_host.wrote(len(data))
-        transport.write(data)
+            self.lockstep.to_host.wrote(len(data) if written is None else written)
 
     def _spawn(self, target: Callable[[], None], name: str) -> None:
         thread = threading.Thread(target=target, name=name, daemon=True)

@@ -40,15 +40,22 @@ class PtyPair:
         """The baud rate the driver set on its side, as a termios constant (e.g. termios.B9600)."""
         return termios.tcgetattr(self._slave_fd)[5]
 
-    def write(self, data: bytes) -> None:
-        """Write everything (the master side of a pty accepts a few KB without blocking)."""
-        view = memoryview(data)
+    def write(self, data: bytes, timeout: float | None = None) -> int:
+        """Write everything and return how much was written. With `timeout`, give up on the
+        rest after that long without room: a line nobody reads overruns, it does not hang the
+        writer (the emulator writes from the thread that steps the world)."""
+        view, written = memoryview(data), 0
         while view:
+            if timeout is not None:
+                _, room, _ = select.select([], [self.master_fd], [], timeout)
+                if not room:
+                    return written
             try:
                 n = os.write(self.master_fd, view)
             except OSError as exc:
                 raise LinkError(f"pty {self.slave_name}: write failed: {exc}") from exc
-            view = view[n:]
+            view, written = view[n:], written + n
+        return written
 
     def read(self, size: int = 4096, timeout: float | None = None) -> bytes:
         """Whatever arrived (up to `size` bytes), waiting at most `timeout` s; b"" on timeout."""
