@@ -11,12 +11,12 @@ No calls, no attribute access beyond dotted names, no indexing: there is nothing
 """
 from __future__ import annotations
 
-import math
-
 from ..exceptions import ConditionError
-from .lexer import Token, tokenize
+from ..graph.diagnostics import did_you_mean
+from .hints import unit_alias, unit_on_name, unit_suggestion, word_operator
+from .lexer import Token, scan
 from .nodes import And, Compare, Literal, Name, Node, Not, Or
-from .units import UNITS
+from .units import UNITS, NumberError, exact
 
 MAX_DEPTH = 100   # nesting deeper than this is an error, not a RecursionError
 
@@ -31,16 +31,19 @@ def parse(text: str) -> Node:
 class _Parser:
     def __init__(self, text: str) -> None:
         self.text = text
-        self.tokens = tokenize(text)
+        self.tokens = scan(text)
         self.index = 0
         self.depth = 0
 
     @property
     def current(self) -> Token:
-        return self.tokens[self.index]
+        token = self.tokens[self.index]
+        if token.kind == "ERROR":          # a stray character, reached in reading order
+            raise ConditionError(token.text, token.offset, self.text)
+        return token
 
     def advance(self) -> Token:
-        token = self.tokens[self.index]
+        token = self.current
         self.index += 1
         return token
 
@@ -61,7 +64,22 @@ class _Parser:
         if token.kind == "OP":
             return ("comparisons cannot be chained: write 'a < x and x < b' instead of "
                     "'a < x < b'")
+        hint = self.word_operator_hint()
+        if hint:
+            return hint
+        if token.kind == "LPAREN":
+            return f"expected 'and' or 'or' before '(', found {_describe(token)}"
         return f"expected 'and', 'or' or the end of the condition, found {_describe(token)}"
+
+    def word_operator_hint(self) -> str | None:
+        """`is`, `is not`, `equals`, `not in`… where an operator belongs: what to write."""
+        words = []
+        for token in self.tokens[self.index:]:
+            if token.kind not in ("NAME", "KEYWORD"):
+                break
+            words.append(token.text)
+        found = word_operator(words)
+        return found[1] if found else None
 
     def or_expr(self) -> Node:
         return self._joined("or", self.and_expr, Or)
@@ -91,6 +109,10 @@ class _Parser:
 
     def comparison(self) -> Node:
         left = self.primary()
+        if self.current.kind in ("NAME", "KEYWORD"):
+            hint = self.word_operator_hint()
+            if hint:
+                raise self.fail(hint)
         if self.current.kind != "OP":
             return left
         op = self.advance().text
@@ -99,6 +121,10 @@ class _Parser:
 
     def primary(self) -> Node:
         token = self.current
+        if token.kind == "KEYWORD" and token.text in ("and", "or"):
+            raise self.fail(self._missing_operand(token))
+        if token.kind == "END" and self.index and self.tokens[self.index - 1].kind == "KEYWORD":
+            raise self.fail(self._missing_operand(self.tokens[self.index - 1]))
         if token.kind == "NUMBER":
             return self.number()
         if token.kind == "STRING":
@@ -114,30 +140,61 @@ class _Parser:
         raise self.fail(f"expected a percept name, a number, a string, true/false or '(', "
                         f"found {_describe(token)}")
 
+    def _missing_operand(self, keyword: Token) -> str:
+        before = self.tokens[self.index - 1] if self.index else None
+        if self.current.kind == "END" and keyword is before:
+            return (f"the condition ends after '{keyword.text}': add what must "
+                    f"{'also ' if keyword.text == 'and' else ''}hold, or delete "
+                    f"'{keyword.text}'")
+        if before is None or before.kind in ("LPAREN", "KEYWORD"):
+            where = "at the start" if before is None else f"after '{before.text}'"
+            return (f"'{keyword.text}' {where} has nothing to join: put a condition on each "
+                    f"side, e.g. user.present {keyword.text} time_in_state > 5s")
+        return f"expected a condition after '{before.text}', found '{keyword.text}'"
+
     def number(self) -> Literal:
         token = self.advance()
-        value = float(token.text)
-        if not math.isfinite(value):
-            raise self.fail(f"number {token.text} is too large", token)
+        try:
+            value = exact(token.text)
+        except NumberError as problem:
+            raise self.fail(str(problem), token) from None
         unit_token = self.current
         if unit_token.kind == "NAME" and unit_token.offset == token.end:
             if unit_token.text not in UNITS:
-                raise self.fail(f"unknown unit '{unit_token.text}': use one of "
-                                f"{', '.join(UNITS)}", unit_token)
+                raise self.fail(_unit_message(token.text, unit_token.text), unit_token)
             self.advance()
             return Literal(value, unit_token.text, token.offset, unit_token.end)
         if unit_token.kind == "NAME" and unit_token.text in UNITS:
             raise self.fail(f"write the unit right after the number: "
                             f"{token.text}{unit_token.text}", unit_token)
+        if unit_token.kind == "NAME" and unit_alias(unit_token.text):
+            raise self.fail(f"unknown unit '{unit_token.text}', and a unit goes right after "
+                            f"the number: write {unit_suggestion(token.text, unit_token.text)}",
+                            unit_token)
+        if unit_token.kind == "NUMBER":
+            raise self.fail(f"two numbers in a row: write one number without spaces, e.g. "
+                            f"{token.text}{unit_token.text.lstrip('-')}", unit_token)
         return Literal(value, None, token.offset, token.end)
 
     def name(self) -> Name:
         token = self.advance()
         following = self.current
         if following.kind == "LPAREN":
+            unit = self.tokens[self.index + 1]
+            if unit.kind == "NAME" and self.tokens[self.index + 2].kind == "RPAREN" and \
+                    (unit.text in UNITS or unit_alias(unit.text)):
+                raise self.fail(unit_on_name(token.text, unit.text), following)
             raise self.fail(f"'{token.text}(' looks like a call: conditions cannot call "
                             "anything", following)
-        if following.kind in ("NAME", "NUMBER", "STRING"):
+        if following.kind in ("NAME", "KEYWORD") and following.text != "and" and \
+                following.text != "or":
+            hint = self.word_operator_hint()
+            if hint:
+                raise self.fail(hint, following)
+            if following.text in UNITS or unit_alias(following.text):
+                raise self.fail(unit_on_name(token.text, following.text), following)
+        if following.kind in ("NAME", "NUMBER", "STRING", "KEYWORD") and \
+                following.text not in ("and", "or"):
             raise self.fail(f"expected a comparison, 'and', 'or' or ')' after '{token.text}', "
                             f"found {_describe(following)}", following)
         return Name(token.text, token.offset, token.end)
@@ -160,6 +217,13 @@ class _Parser:
         self.depth += 1
         if self.depth > MAX_DEPTH:
             raise self.fail(f"nested more than {MAX_DEPTH} levels deep: simplify the condition")
+
+
+def _unit_message(number: str, word: str) -> str:
+    suggestion = unit_suggestion(number, word)
+    if suggestion:
+        return f"unknown unit '{word}': write {suggestion}"
+    return f"unknown unit '{word}'{did_you_mean(word, UNITS)}: use one of {', '.join(UNITS)}"
 
 
 def _describe(token: Token) -> str:
