@@ -209,7 +209,8 @@ class _Checker:
                 if dimension(left.unit) != dimension(right.unit):
                     raise self.fail(f"unit mismatch: {_literal_words(left)} vs "
                                     f"{_literal_words(right)}", node)
-                a, b = a * UNITS[left.unit][1], b * UNITS[right.unit][1]
+                # each side as the run time would hold it: in the base unit, rounded once
+                a, b = (to_float(a * UNITS[left.unit][1]), to_float(b * UNITS[right.unit][1]))
         elif node.op not in ("==", "!="):
             raise self.fail(f"only == and != compare {_literal_kind(left)}s", node)
         return Const(bool(_FOLD[node.op](a, b)))

@@ -5,10 +5,10 @@ unit factors, and rounded to a float once. So the same quantity written in two u
 very same float (`70cm` and `0.7m` are both the float nearest to 0.7), in the checker and at run
 time alike, since both read the one converted constant.
 
-Angles: π is irrational, so `deg` ↔ `rad` uses π rounded to the nearest float (`math.pi`), exactly
-as a fraction, then one rounding. Equal angles written in degrees always compare equal; an angle
-in degrees never equals one written in radians except 0 (no decimal number of radians is a whole
-number of degrees' worth of π), so write both sides of a comparison in one unit.
+Angles: π is irrational, so `deg` ↔ `rad` multiplies by π/180 with π the float `math.pi` (taken
+exactly as a fraction), then rounds once. Equal angles written in degrees therefore always give
+the same float; an angle in degrees equals one in radians when both round to the same float
+(`180deg` and `3.141592653589793rad` do). To compare angles exactly, write them in one unit.
 """
 from __future__ import annotations
 
