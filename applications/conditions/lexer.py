@@ -176,12 +176,13 @@ def _stray_message(text: str, position: int, tokens: list[Token]) -> str:
     glued_number = previous is not None and previous.kind == "NUMBER" and previous.end == position
     if glued_number and char in ",_" and text[position + 1:position + 2].isdigit():
         return _separator_message(text, previous.offset, position)
-    if glued_number:
+    if previous is not None and previous.kind == "NUMBER":
         word = _WORD.match(text, position)
         spelled = word.group() if word else char
         suggestion = unit_suggestion(previous.text, spelled)
         if suggestion:
-            return f"unknown unit '{spelled}': write {suggestion}"
+            joint = ": write " if glued_number else ", and a unit goes right after the number: write "
+            return f"unknown unit '{spelled}'{joint}{suggestion}"
     if char in TYPOGRAPHIC_QUOTES:
         return _quote_message(text, position)
     symbol = symbol_at(text, position)

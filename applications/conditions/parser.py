@@ -11,13 +11,16 @@ No calls, no attribute access beyond dotted names, no indexing: there is nothing
 """
 from __future__ import annotations
 
+import re
+
 from ..exceptions import ConditionError
 from ..graph.diagnostics import did_you_mean
-from .hints import unit_alias, unit_on_name, unit_suggestion, word_operator
+from .hints import KEYWORDS, unit_alias, unit_on_name, unit_suggestion, word_operator
 from .lexer import Token, scan
 from .nodes import And, Compare, Literal, Name, Node, Not, Or
 from .units import UNITS, NumberError, exact
 
+_WORD = re.compile(r"[A-Za-z]+(?:[ \t]+[A-Za-z]+){0,2}")   # up to three words
 MAX_DEPTH = 100   # nesting deeper than this is an error, not a RecursionError
 
 
@@ -34,6 +37,11 @@ class _Parser:
         self.tokens = scan(text)
         self.index = 0
         self.depth = 0
+
+    @property
+    def peek(self) -> Token:
+        """The current token, even an ERROR one (to look for a better hint before it)."""
+        return self.tokens[self.index]
 
     @property
     def current(self) -> Token:
@@ -75,6 +83,10 @@ class _Parser:
         """`is`, `is not`, `equals`, `not in`… where an operator belongs: what to write."""
         words = []
         for token in self.tokens[self.index:]:
+            if token.kind == "ERROR":          # e.g. `IS NOT`: NOT is a keyword in capitals
+                word = _WORD.match(self.text, token.offset)
+                if word and word.group().split()[0].lower() in KEYWORDS:
+                    words.extend(word.group().split())
             if token.kind not in ("NAME", "KEYWORD"):
                 break
             words.append(token.text)
@@ -109,7 +121,7 @@ class _Parser:
 
     def comparison(self) -> Node:
         left = self.primary()
-        if self.current.kind in ("NAME", "KEYWORD"):
+        if self.peek.kind in ("NAME", "KEYWORD", "ERROR"):
             hint = self.word_operator_hint()
             if hint:
                 raise self.fail(hint)
@@ -178,6 +190,10 @@ class _Parser:
 
     def name(self) -> Name:
         token = self.advance()
+        if self.peek.kind == "ERROR":
+            hint = self.word_operator_hint()
+            if hint:
+                raise self.fail(hint, self.peek)
         following = self.current
         if following.kind == "LPAREN":
             unit = self.tokens[self.index + 1]
