@@ -14,11 +14,13 @@ _WHOLE = re.compile(r"[0-9]+")
 
 
 class NumberSlip(ValueError):
-    """Not a whole number; `offset` is the index of the first offending character."""
+    """Not a whole number; `offset` is the index of the first offending character, `meant` the
+    number it clearly stands for (١ is 1, 2.0 is 2), so later checks can go on with it."""
 
-    def __init__(self, message: str, offset: int = 0) -> None:
+    def __init__(self, message: str, offset: int = 0, meant: int | None = None) -> None:
         super().__init__(message)
         self.offset = offset
+        self.meant = meant
 
 
 def whole_number(value: str, attribute: str, meaning: str = "") -> int:
@@ -35,10 +37,10 @@ def whole_number(value: str, attribute: str, meaning: str = "") -> int:
     converted = ascii_equivalent(text)
     if converted and _WHOLE.fullmatch(converted):
         raise NumberSlip(f"{attribute} is written with digits other than 0-9 ({text!r}): "
-                         f"write {attribute}=\"{int(converted)}\"", start + bad)
+                         f"write {attribute}=\"{int(converted)}\"", start + bad, int(converted))
     if re.fullmatch(r"-[0-9]+", text):
         raise NumberSlip(f"{wanted}, not {text}: the lowest, 0, is tried first", start)
     if re.fullmatch(r"[0-9]+[.,]0*", text):
-        raise NumberSlip(f"{wanted}: write {attribute}=\"{int(re.split('[.,]', text)[0])}\"",
-                         start + bad)
+        meant = int(re.split("[.,]", text)[0])
+        raise NumberSlip(f"{wanted}: write {attribute}=\"{meant}\"", start + bad, meant)
     raise NumberSlip(f"{wanted}, not {value!r}", start + bad)

@@ -31,6 +31,7 @@ SCXML_NAMES = {"id": "name", "target": "to", "cond": "when", "event": None}   # 
 SCXML_NAMESPACE = "http://www.w3.org/2005/07/scxml"
 ALWAYS = "true"     # the condition of a transition written without `when`
 NO_FOREIGN = Foreign()
+UNUSABLE = object()     # a priority written so that its order cannot be known
 
 
 @dataclass
@@ -188,9 +189,9 @@ class _Reader:
         location = self.source.element(element)
         final = self.boolean(element, "final")
         transitions = [t for t in map(self.transition, self.children(element)) if t is not None]
-        if not complete and element.get("name") is None:
+        if not complete and self.written(element, "name") is None:
             return None
-        return DraftState(name=element.get("name", "").strip(),
+        return DraftState(name=(self.written(element, "name") or "").strip(),
                           behavior=element.get("behavior", "").strip(), final=final,
                           location=location,
                           behavior_location=self.source.value(element, "behavior"),
@@ -202,32 +203,35 @@ class _Reader:
             return False
         if value.strip() in ("true", "1"):
             return True
-        if value.strip() not in ("false", "0"):
+        if value.strip() not in ("false", "0"):   # reported; goes on with what it means
             meant = {"yes": "true", "no": "false", "on": "true", "off": "false"}.get(
                 value.strip().lower(), value.strip().lower())
             fix = f": write {name}=\"{meant}\"" if meant in ("true", "false") else \
                 f": write {name}=\"true\" or leave it out (false)"
             self.report(f"'{name}' must be true or false, not {value!r}{fix}",
                         self.source.value(element, name), "bad-value")
+            return meant == "true"
         return False
 
     def transition(self, element: etree._Element) -> DraftTransition | None:
         complete = self.check_attributes(element)
         self.children(element)          # a transition has none: this reports any there are
         priority = self.priority(element)
-        when = element.get("when")
+        when = self.written(element, "when")
         condition = self.condition(element, when if when is not None else ALWAYS)
         if condition is None and not complete:
             return None
-        return DraftTransition(target=(element.get("to") or "").strip(),
+        if priority is UNUSABLE:        # reported; its order is unknown, so not analysed
+            priority, condition = None, None
+        return DraftTransition(target=(self.written(element, "to") or "").strip(),
                                when=when if when is not None else ALWAYS,
                                condition=condition, priority=priority,
                                location=self.source.element(element),
-                               target_location=self.source.value(element, "to"),
-                               when_location=self.source.value(element, "when"),
+                               target_location=self.source.value(element, _spelled(element, "to")),
+                               when_location=self.source.value(element, _spelled(element, "when")),
                                foreign=self.foreign(element))
 
-    def priority(self, element: etree._Element) -> int | None:
+    def priority(self, element: etree._Element) -> int | None | object:
         value = element.get("priority")
         if value is None:
             return None
@@ -236,10 +240,17 @@ class _Reader:
         except NumberSlip as slip:
             self.report(str(slip), self.source.value(element, "priority", slip.offset),
                         "bad-value")
-            return None
+            return UNUSABLE if slip.meant is None else slip.meant
+
+    @staticmethod
+    def written(element: etree._Element, name: str) -> str | None:
+        """The attribute, or the SCXML spelling written instead (reported already), so the
+        checks after it see what was meant rather than a cascade of follow-up errors."""
+        return element.get(_spelled(element, name))
 
     def condition(self, element: etree._Element, when: str) -> CompiledCondition | None:
-        location = self.source.value(element, "when")
+        spelled = _spelled(element, "when")
+        location = self.source.value(element, spelled)
         if when in self.compiled:
             compiled = self.compiled[when].relocated(location)
         else:
@@ -248,11 +259,11 @@ class _Reader:
                                                                    self.declarations)
             except ConditionError as problem:
                 self.report(f"in condition: {problem.reason}",
-                            self.source.value(element, "when", problem.offset), "condition")
+                            self.source.value(element, spelled, problem.offset), "condition")
                 return None
         for slip in compiled.warnings:
             self.diagnostics.append(warning(f"in condition: {slip.reason}",
-                                            self.source.value(element, "when", slip.offset),
+                                            self.source.value(element, spelled, slip.offset),
                                             "condition"))
         return compiled
 
@@ -275,6 +286,15 @@ def _is_foreign(name: str) -> bool:
 
 def _written(element: etree._Element) -> str:
     return etree.QName(element).localname if _is_foreign(element.tag) else element.tag
+
+
+def _spelled(element: etree._Element, name: str) -> str:
+    """`name`, or its SCXML spelling when only that is written (id for name, cond for when)."""
+    if element.get(name) is None:
+        scxml = next((a for a, ours in SCXML_NAMES.items() if ours == name), None)
+        if scxml and element.get(scxml) is not None:
+            return scxml
+    return name
 
 
 def _scxml_message(filename: str) -> str:
