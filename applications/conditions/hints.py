@@ -51,6 +51,14 @@ BOOLEAN_WORDS: dict[str, str] = {
     "null": "false", "nil": "false",
 }
 
+# Numbers written as words.
+NUMBER_WORDS: dict[str, int] = {word: number for number, word in enumerate(
+    ("zero", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten",
+     "eleven", "twelve"))}
+
+# Characters of arithmetic, which conditions do not do.
+ARITHMETIC = "+*/^"
+
 # Unit spellings -> (the unit to write, how many of it one of the spelling is).
 UNIT_ALIASES: dict[str, tuple[str, Fraction]] = {
     **dict.fromkeys(("sec", "secs", "second", "seconds", "sek"), ("s", Fraction(1))),

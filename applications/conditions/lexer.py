@@ -11,7 +11,7 @@ import re
 from typing import NamedTuple
 
 from ..exceptions import ConditionError
-from .hints import (KEYWORDS, OPERATORS, SYMBOLS, TYPOGRAPHIC_QUOTES, ascii_equivalent,
+from .hints import (ARITHMETIC, KEYWORDS, OPERATORS, SYMBOLS, TYPOGRAPHIC_QUOTES, ascii_equivalent,
                     keyword_case, symbol_at, unit_alias, unit_on_name, unit_suggestion)
 from .units import UNITS
 
@@ -207,6 +207,15 @@ def _stray_message(text: str, position: int, tokens: list[Token]) -> str:
         inside = re.match(r"\[\s*([^\]\s]*)\s*\]", text[position:])
         if inside and (inside.group(1) in UNITS or unit_alias(inside.group(1))):
             return unit_on_name(previous.text, inside.group(1))
+    if glued_number and char == ":" and re.match(r":[0-9]{2}(?![0-9])", text[position:]):
+        minutes, seconds = int(previous.text.lstrip("-")), int(text[position + 1:position + 3])
+        return (f"'{previous.text}:{text[position + 1:position + 3]}' is not a number: write "
+                f"{minutes * 60 + seconds}s")
+    if char in ARITHMETIC:
+        return ("conditions do no arithmetic: write the result as one number with its unit, "
+                "e.g. 0.5 or 90s")
+    if char == ";":
+        return "join conditions with 'and' or 'or', not ';'"
     if char == "%":
         return "there is no percent unit: write the plain number (e.g. 0.5 for 50%)"
     return (f"unexpected character {char!r}: conditions are made of percept names, numbers with "

@@ -37,6 +37,7 @@ class _Parser:
         self.tokens = scan(text)
         self.index = 0
         self.depth = 0
+        self.last_name: str | None = None      # the percept compared last, for hints
 
     @property
     def peek(self) -> Token:
@@ -135,6 +136,10 @@ class _Parser:
         token = self.current
         if token.kind == "KEYWORD" and token.text in ("and", "or"):
             raise self.fail(self._missing_operand(token))
+        if token.kind == "OP" and self.last_name is not None and self.index and \
+                self.tokens[self.index - 1].kind == "KEYWORD":
+            raise self.fail(f"'{token.text}' needs something on its left: repeat the percept, "
+                            f"e.g. {self.last_name} {token.text} …")
         if token.kind == "END" and self.index and self.tokens[self.index - 1].kind == "KEYWORD":
             raise self.fail(self._missing_operand(self.tokens[self.index - 1]))
         if token.kind == "NUMBER":
@@ -213,6 +218,7 @@ class _Parser:
                 following.text not in ("and", "or"):
             raise self.fail(f"expected a comparison, 'and', 'or' or ')' after '{token.text}', "
                             f"found {_describe(following)}", following)
+        self.last_name = token.text
         return Name(token.text, token.offset, token.end)
 
     def parenthesised(self) -> Node:

@@ -10,7 +10,7 @@ from typing import Any, NamedTuple
 
 from ..exceptions import ConditionError
 from ..graph.diagnostics import did_you_mean
-from .hints import BOOLEAN_WORDS, unit_alias
+from .hints import BOOLEAN_WORDS, NUMBER_WORDS, unit_alias
 from .nodes import And, Compare, Literal, Name, Node, Not, Or
 from .typed import All, AnyOf, Cmp, Const, Flag, Neg, Typed, Value, Var
 from .units import (DIMENSION_WORDS, UNITS, NumberError, decimal_text, dimension, in_unit,
@@ -99,6 +99,8 @@ class _Checker:
             unit = glued.group(1) if glued.group(1) in UNITS else unit_alias(glued.group(1))[0]
             return (f"unknown percept '{name}': the unit goes after the number: write "
                     f"{glued.group(2)}{unit}")
+        if name.lower() in NUMBER_WORDS:
+            return f"'{name}' is a word, not a number: write {NUMBER_WORDS[name.lower()]}"
         if other is not None and op in ("==", "!=") and "." not in name:
             if other.type == "bool" and name.lower() in BOOLEAN_WORDS:
                 return (f"'{other.name}' is true/false: write {other.name} {op} "

@@ -208,6 +208,12 @@ def test_digits_of_other_scripts_get_the_ascii_digit(digit) -> None:
     ("user.distance < 0. 75", 20, "e.g. 0.75"),
     ("people.count > ١", 16, "write 1"),
     ("people.count > 1e400", 16, "too large"),
+    ("people.count >= one", 17, "write 1"),
+    ("time_in_state > 1:30", 18, "write 90s"),
+    ("user.distance < 1/2", 18, "conditions do no arithmetic"),
+    ("people.count > 1 + 1", 18, "conditions do no arithmetic"),
+    ("user.distance < 0.5m; user.present", 21, "join conditions with 'and' or 'or'"),
+    ("user.distance < 0.75m and > 0.5m", 27, "repeat the percept, e.g. user.distance >"),
     # names
     ("user. distance < 1", 5, "write user.distance"),
     ("user .distance < 1", 6, "write user.distance"),
