@@ -275,3 +275,21 @@ def test_any_unicode_text_compiles_or_raises_condition_error(text) -> None:
         compile_condition(text, declarations=DECLARATIONS)
     except ConditionError as problem:
         assert 0 <= problem.offset <= len(text) and problem.reason
+
+
+def _documented_slips() -> list[tuple[str, str]]:
+    """The rows of the condition table in docs/graph-language.md ('Common slips')."""
+    import re
+    from pathlib import Path
+    doc = (Path(__file__).parents[2] / "docs" / "graph-language.md").read_text()
+    section = doc.split("## Common slips", 1)[1].split("Slips in the XML", 1)[0]
+    return re.findall(r"^\| `([^`]+)` \| (.+?) \|$", section, re.MULTILINE)
+
+
+def test_the_docs_list_the_slips() -> None:
+    assert len(_documented_slips()) >= 40
+
+
+@pytest.mark.parametrize("text, message", _documented_slips())
+def test_every_documented_slip_gets_the_documented_message(text, message) -> None:
+    assert message.replace("…", "").strip() in error_of(text).reason
