@@ -207,8 +207,9 @@ def _stray_message(text: str, position: int, tokens: list[Token]) -> str:
         inside = re.match(r"\[\s*([^\]\s]*)\s*\]", text[position:])
         if inside and (inside.group(1) in UNITS or unit_alias(inside.group(1))):
             return unit_on_name(previous.text, inside.group(1))
-    if glued_number and char == ":" and re.match(r":[0-9]{2}(?![0-9])", text[position:]):
-        minutes, seconds = int(previous.text.lstrip("-")), int(text[position + 1:position + 3])
+    if glued_number and char == ":" and re.fullmatch(r"[0-9]+", previous.text) and \
+            re.match(r":[0-9]{2}(?![0-9])", text[position:]):
+        minutes, seconds = int(previous.text), int(text[position + 1:position + 3])
         return (f"'{previous.text}:{text[position + 1:position + 3]}' is not a number: write "
                 f"{minutes * 60 + seconds}s")
     if char in ARITHMETIC:
@@ -232,7 +233,7 @@ def _foreign_run(text: str, position: int) -> str:
 
 def _separator_message(text: str, start: int, position: int) -> str:
     """A decimal comma (0,75m) or a thousands separator (1,000 1_000 1'000 1.000,5) in a number."""
-    number = re.match(r"-?[0-9]+(?:[,_'.][0-9]+)*", text[start:]).group()
+    number = re.match(r"-?\.?[0-9]+(?:[,_'.][0-9]+)*", text[start:]).group()
     unit = _NAME.match(text, start + len(number))
     unit_text = unit.group() if unit else ""
     separators = re.findall(r"[,_'.]", number)

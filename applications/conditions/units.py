@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 import re
 from fractions import Fraction
+from functools import lru_cache
 
 # unit -> (dimension, exact factor to the dimension's base unit)
 UNITS: dict[str, tuple[str, Fraction]] = {
@@ -43,6 +44,7 @@ def dimension(unit: str) -> str:
     return UNITS[unit][0]
 
 
+@lru_cache(maxsize=4096)       # graphs repeat their numbers; Fractions are immutable
 def exact(text: str) -> Fraction:
     """The exact value of a decimal literal (ASCII digits, optional '-', '.', exponent);
     NumberError for text that is no such number or is absurdly long, large or small."""

@@ -293,3 +293,13 @@ def test_the_docs_list_the_slips() -> None:
 @pytest.mark.parametrize("text, message", _documented_slips())
 def test_every_documented_slip_gets_the_documented_message(text, message) -> None:
     assert message.replace("…", "").strip() in error_of(text).reason
+
+
+@settings(max_examples=1500, deadline=None)
+@given(st.text(alphabet="0123456789.,_'-:eE smhcind°<>=!\"", max_size=14))
+def test_any_mangled_number_compiles_or_raises_condition_error(tail) -> None:
+    text = f"user.distance < {tail}"
+    try:
+        compile_condition(text, declarations=DECLARATIONS)
+    except ConditionError as problem:
+        assert 0 <= problem.offset <= len(text) and problem.reason
