@@ -22,7 +22,6 @@ SYMBOLS: dict[str, str] = {
     "!==": "!=", "<>": "!=", "≠": "!=", "=!": "!=", "/=": "!=", "~=": "!=",
     "=<": "<=", "≤": "<=", "≦": "<=", "⩽": "<=",
     "=>": ">=", "≥": ">=", "≧": ">=", "⩾": ">=",
-    "<<": "<", ">>": ">",
 }
 
 # Words written where a comparison operator belongs (lower case; phrases as tuples).

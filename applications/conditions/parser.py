@@ -140,8 +140,14 @@ class _Parser:
                 self.tokens[self.index - 1].kind == "KEYWORD":
             raise self.fail(f"'{token.text}' needs something on its left: repeat the percept, "
                             f"e.g. {self.last_name} {token.text} …")
-        if token.kind == "END" and self.index and self.tokens[self.index - 1].kind == "KEYWORD":
-            raise self.fail(self._missing_operand(self.tokens[self.index - 1]))
+        before = self.tokens[self.index - 1] if self.index else None
+        if token.kind == "END" and before is not None and before.kind == "KEYWORD":
+            raise self.fail(self._missing_operand(before))
+        if (token.kind in ("END", "RPAREN") or token.text in ("and", "or", "not")) and \
+                before is not None and before.kind == "OP":
+            raise self.fail(f"'{before.text}' needs a value on its right, e.g. "
+                            f"{self.last_name or 'user.distance'} {before.text} "
+                            f"{'true' if before.text in ('==', '!=') else '1'}")
         if token.kind == "NUMBER":
             return self.number()
         if token.kind == "STRING":
@@ -167,7 +173,7 @@ class _Parser:
             where = "at the start" if before is None else f"after '{before.text}'"
             return (f"'{keyword.text}' {where} has nothing to join: put a condition on each "
                     f"side, e.g. user.present {keyword.text} time_in_state > 5s")
-        return f"expected a condition after '{before.text}', found '{keyword.text}'"
+        return f"expected a value after '{before.text}', found '{keyword.text}'"
 
     def number(self) -> Literal:
         token = self.advance()
