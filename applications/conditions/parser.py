@@ -69,7 +69,7 @@ class _Parser:
     def _unexpected_after_expression(self) -> str:
         token = self.current
         if token.kind == "RPAREN":
-            return "')' without a matching '('"
+            return "')' without a matching '(': delete it, or add the '(' where the group starts"
         if token.kind == "OP":
             return ("comparisons cannot be chained: write 'a < x and x < b' instead of "
                     "'a < x < b'")
@@ -212,7 +212,8 @@ class _Parser:
                     (unit.text in UNITS or unit_alias(unit.text)):
                 raise self.fail(unit_on_name(token.text, unit.text), following)
             raise self.fail(f"'{token.text}(' looks like a call: conditions cannot call "
-                            "anything", following)
+                            "anything; compare a percept with a value, e.g. user.distance < 1m",
+                            following)
         if following.kind in ("NAME", "KEYWORD") and following.text != "and" and \
                 following.text != "or":
             hint = self.word_operator_hint()
@@ -237,7 +238,7 @@ class _Parser:
         if self.current.kind != "RPAREN":
             raise self.fail(f"'(' at column {opening.offset + 1} is not closed: add ')'"
                             if self.current.kind == "END" else
-                            f"expected ')', found {_describe(self.current)}")
+                            f"expected ')', 'and' or 'or', found {_describe(self.current)}")
         self.advance()
         return node
 

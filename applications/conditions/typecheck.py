@@ -17,6 +17,7 @@ from .units import (DIMENSION_WORDS, UNITS, NumberError, decimal_text, dimension
                     to_float)
 
 NUMERIC = frozenset({"int", "float"})
+_LITERALS_ONLY = "compare a percept with a value, e.g. user.distance < 1m"
 _FOLD = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge,
          "==": operator.eq, "!=": operator.ne}
 
@@ -120,7 +121,8 @@ class _Checker:
         if not isinstance(left, (Name, Literal)) or not isinstance(right, (Name, Literal)):
             inner = left if not isinstance(left, (Name, Literal)) else right
             raise self.fail("only percepts and values can be compared; a condition in "
-                            "parentheses cannot be an operand of '" + node.op + "'", inner)
+                            "parentheses cannot be an operand of '" + node.op + "': put the "
+                            "comparison inside the parentheses", inner)
         if isinstance(left, Name) and isinstance(right, Name):
             return self.compare_names(node)
         name, literal = (left, right) if isinstance(left, Name) else (right, left)
@@ -136,10 +138,13 @@ class _Checker:
         right = self.resolve(node.right, left, node.op)
         if _kind(left.type) != _kind(right.type):
             raise self.fail(f"cannot compare '{left.name}' ({_type_words(left)}) with "
-                            f"'{right.name}' ({_type_words(right)})", node)
+                            f"'{right.name}' ({_type_words(right)}): compare each with a value "
+                            f"of its own kind, e.g. {_example(left)}", node)
         if left.unit != right.unit:
             raise self.fail(f"cannot compare '{left.name}' in {left.unit or 'no unit'} with "
-                            f"'{right.name}' in {right.unit or 'no unit'}", node)
+                            f"'{right.name}' in {right.unit or 'no unit'}: percepts compared "
+                            "with each other need the same unit; compare each with a value",
+                            node)
         self.check_operator(left, node.op, node)
         return Cmp(node.op, left, right)
 
@@ -204,17 +209,18 @@ class _Checker:
         left, right = node.left, node.right
         if _literal_kind(left) != _literal_kind(right):
             raise self.fail(f"cannot compare {_literal_words(left)} with "
-                            f"{_literal_words(right)}", node)
+                            f"{_literal_words(right)}: {_LITERALS_ONLY}", node)
         a, b = left.value, right.value
         if isinstance(a, Fraction):
             if left.unit and right.unit:
                 if dimension(left.unit) != dimension(right.unit):
                     raise self.fail(f"unit mismatch: {_literal_words(left)} vs "
-                                    f"{_literal_words(right)}", node)
+                                    f"{_literal_words(right)}: {_LITERALS_ONLY}", node)
                 # each side as the run time would hold it: in the base unit, rounded once
                 a, b = (to_float(a * UNITS[left.unit][1]), to_float(b * UNITS[right.unit][1]))
         elif node.op not in ("==", "!="):
-            raise self.fail(f"only == and != compare {_literal_kind(left)}s", node)
+            raise self.fail(f"only == and != compare {_literal_kind(left)}s: "
+                            f"{_LITERALS_ONLY}", node)
         return Const(bool(_FOLD[node.op](a, b)))
 
 
@@ -249,6 +255,7 @@ _QUOTED_NUMBER = re.compile(r"\s*(-?[0-9]*\.?[0-9]+)\s*([a-z]*)\s*")
 
 def _not_a_boolean(var: Var, literal: Literal, op: str) -> str:
     value = literal.value
+    op = op if op in ("==", "!=") else "=="
     if isinstance(value, str) and value.strip().lower() in ("true", "false", *BOOLEAN_WORDS):
         word = value.strip().lower()
         meant = BOOLEAN_WORDS.get(word, word)

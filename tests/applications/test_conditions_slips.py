@@ -196,6 +196,9 @@ def test_digits_of_other_scripts_get_the_ascii_digit(digit) -> None:
     ('people.count == "3"', 17, "without quotes, e.g. 3"),
     ('user.distance < "0.75m"', 17, "without quotes, e.g. 0.75m"),
     ("user.present == 1", 17, "write user.present == true"),
+    ("survey.done > 1", 15, "write survey.done == true"),
+    ("user.present ==", 16, "'==' needs a value on its right, e.g. user.present == true"),
+    ("user.distance < 1 )", 19, "delete it, or add the '('"),
     ('user.present == "true"', 17, "write user.present == true"),
     # numbers
     ("user.distance < 0,75m", 18, "write 0.75m"),
