@@ -161,8 +161,10 @@ def word_operator(words: list[str]) -> tuple[int, str] | None:
                     return 1, ("'not' goes in front of what it negates (not user.present); to "
                                "compare, write '!='")
                 if wrap:
-                    return len(phrase), f"'{written}' is not an operator here: write '{table[phrase]}'"
-                return len(phrase), f"'{written}' is not part of the condition language: {table[phrase]}"
+                    return len(phrase), (f"'{written}' is not an operator here: write "
+                                         f"'{table[phrase]}'")
+                return len(phrase), (f"'{written}' is not part of the condition language: "
+                                     f"{table[phrase]}")
     return None
 
 

@@ -181,7 +181,8 @@ def _stray_message(text: str, position: int, tokens: list[Token]) -> str:
         spelled = word.group() if word else char
         suggestion = unit_suggestion(previous.text, spelled)
         if suggestion:
-            joint = ": write " if glued_number else ", and a unit goes right after the number: write "
+            joint = (": write " if glued_number else
+                     ", and a unit goes right after the number: write ")
             return f"unknown unit '{spelled}'{joint}{suggestion}"
     if char in TYPOGRAPHIC_QUOTES:
         return _quote_message(text, position)

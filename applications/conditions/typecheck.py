@@ -107,7 +107,8 @@ class _Checker:
                 return (f"'{other.name}' is true/false: write {other.name} {op} "
                         f"{BOOLEAN_WORDS[name.lower()]}, or use it alone")
             if other.type == "str":
-                close = "" if name in (other.values or ()) else did_you_mean(name, other.values or ())
+                values = other.values or ()
+                close = "" if name in values else did_you_mean(name, values)
                 return (f"unknown percept '{name}': to compare with the text {name}, put it in "
                         f'quotes: {other.name} {op} "{name}"{close}')
         close = did_you_mean(name, self.declarations)

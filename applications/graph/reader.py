@@ -171,7 +171,8 @@ class _Reader:
                         self.source.attribute(element, name), "unknown-attribute")
         complete = True
         for name in REQUIRED[element.tag]:
-            if element.get(name) is None and any(SCXML_NAMES.get(a) == name for a in element.attrib):
+            if element.get(name) is None and any(SCXML_NAMES.get(a) == name
+                                                 for a in element.attrib):
                 complete = False       # reported once, as the SCXML attribute written instead
             elif element.get(name) is None:
                 complete = False

@@ -45,8 +45,9 @@ def error_of(text: str) -> ConditionError:
 
 def assert_slip(text: str, column: int, *fragments: str) -> None:
     problem = error_of(text)
-    assert (problem.column, *(f in problem.reason for f in fragments)) == \
-        (column, *(True for _ in fragments)), f"{text!r} -> column {problem.column}: {problem.reason}"
+    found = (problem.column, *(f in problem.reason for f in fragments))
+    assert found == (column, *(True for _ in fragments)), \
+        f"{text!r} -> column {problem.column}: {problem.reason}"
 
 
 # ---------------------------------------------------------------- every table entry
@@ -103,7 +104,8 @@ def test_units_in_the_wrong_case(unit) -> None:
 @pytest.mark.parametrize("case", [str.upper, str.title])
 def test_keywords_in_the_wrong_case(keyword, case) -> None:
     written = case(keyword)
-    text = {"and": f"user.present {written} survey.done", "or": f"user.present {written} survey.done",
+    text = {"and": f"user.present {written} survey.done",
+            "or": f"user.present {written} survey.done",
             "not": f"{written} user.present", "true": f"user.present == {written}",
             "false": f"user.present == {written}"}[keyword]
     assert_slip(text, text.index(written) + 1, f"write '{keyword}'", "lower case")
