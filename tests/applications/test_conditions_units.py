@@ -203,3 +203,32 @@ def test_absurd_numbers_are_errors_not_crashes(text, fragment) -> None:
     with pytest.raises(ConditionError) as caught:
         compile_condition(text)
     assert fragment in caught.value.reason
+
+
+ANGLE_OPS = ["<", "<=", ">", ">=", "==", "!="]
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.integers(-3600, 3600), st.integers(-6300, 6300), st.sampled_from(ANGLE_OPS),
+       st.sampled_from(ANGLE_OPS), st.sampled_from(["deg", "rad"]))
+def test_degrees_against_radians_the_checker_and_the_run_time_agree(degrees, centiradians,
+                                                                    first_op, second_op,
+                                                                    percept_unit) -> None:
+    """No exact equality across deg/rad, but whatever the checker says holds at run time, at
+    the converted constants and the floats right next to them."""
+    decl = {"head.pan": Spec("head.pan", "float", percept_unit, (-1e4, 1e4))}
+    first = compile_condition(f"head.pan {first_op} {degrees / 10}deg", declarations=decl)
+    second = compile_condition(f"head.pan {second_op} {centiradians / 100}rad",
+                               declarations=decl)
+    verdict = can_both_be_true(first, second)
+    if verdict.status == OVERLAP:
+        witness = dict(verdict.witness)
+        assert first.evaluate(witness, 0) and second.evaluate(witness, 0)
+    else:
+        assert verdict.status == EXCLUSIVE
+        constants = [first.tree.right.value, second.tree.right.value]
+        probes = [f(c) for c in constants for f in (lambda c: c, lambda c: math.nextafter(c, -1e9),
+                                                     lambda c: math.nextafter(c, 1e9))]
+        for value in probes:
+            values = {"head.pan": value}
+            assert not (first.evaluate(values, 0) and second.evaluate(values, 0))
