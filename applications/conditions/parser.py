@@ -194,6 +194,10 @@ class _Parser:
             raise self.fail(f"unknown unit '{unit_token.text}', and a unit goes right after "
                             f"the number: write {unit_suggestion(token.text, unit_token.text)}",
                             unit_token)
+        if unit_token.kind == "NUMBER" and unit_token.offset == token.end:
+            raise self.fail(f"'{token.text}{unit_token.text}' is not a number: a number has at "
+                            "most one decimal point and a sign only in front, e.g. -1.5",
+                            unit_token)
         if unit_token.kind == "NUMBER":
             raise self.fail(f"two numbers in a row: write one number without spaces, e.g. "
                             f"{token.text}{unit_token.text.lstrip('-')}", unit_token)

@@ -211,6 +211,7 @@ def test_digits_of_other_scripts_get_the_ascii_digit(digit) -> None:
     ("people.count > 1'000", 17, "write 1000"),
     ("people.count > 1 000", 18, "e.g. 1000"),
     ("user.distance < 0. 75", 20, "e.g. 0.75"),
+    ("user.distance < 1.2.3", 20, "at most one decimal point"),
     ("people.count > ١", 16, "write 1"),
     ("people.count > 1e400", 16, "too large"),
     ("people.count >= one", 17, "write 1"),
@@ -260,7 +261,7 @@ SLIP_PIECES = sorted({*SYMBOLS, *UNIT_ALIASES, *(" ".join(p) for p in WORD_OPERA
                       "m", "s", "min", "[", "]", "\\", "%", "\u00a0", "é", "½", "²"})
 
 
-@settings(max_examples=1500, deadline=None)
+@settings(max_examples=500, deadline=None)
 @given(st.lists(st.tuples(st.sampled_from(SLIP_PIECES), st.sampled_from(["", " ", "  "])),
                 max_size=10))
 def test_any_mix_of_slips_compiles_or_raises_condition_error(pieces) -> None:
@@ -273,7 +274,7 @@ def test_any_mix_of_slips_compiles_or_raises_condition_error(pieces) -> None:
     assert isinstance(condition.evaluate({}, 0.0), bool)
 
 
-@settings(max_examples=1000, deadline=None)
+@settings(max_examples=400, deadline=None)
 @given(st.text(max_size=30))
 def test_any_unicode_text_compiles_or_raises_condition_error(text) -> None:
     try:
@@ -300,7 +301,7 @@ def test_every_documented_slip_gets_the_documented_message(text, message) -> Non
     assert message.replace("…", "").strip() in error_of(text).reason
 
 
-@settings(max_examples=1500, deadline=None)
+@settings(max_examples=500, deadline=None)
 @given(st.text(alphabet="0123456789.,_'-:eE smhcind°<>=!\"", max_size=14))
 def test_any_mangled_number_compiles_or_raises_condition_error(tail) -> None:
     text = f"user.distance < {tail}"
