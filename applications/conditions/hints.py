@@ -58,6 +58,20 @@ NUMBER_WORDS: dict[str, int] = {word: number for number, word in enumerate(
 # Characters of arithmetic, which conditions do not do.
 ARITHMETIC = "+*/^"
 
+# Other stray characters with a likely intent.
+STRAY: dict[str, str] = {
+    ";": "join conditions with 'and' or 'or', not ';'",
+    ",": "join conditions with 'and' or 'or', not ','",
+    "#": "a condition has no comments: put notes in an XML comment <!-- … --> next to it",
+    "%": "there is no percent unit: write the plain number (e.g. 0.5 for 50%)",
+    "{": "conditions have no placeholders or blocks: write a comparison, e.g. user.distance < 1m",
+    "}": "conditions have no placeholders or blocks: write a comparison, e.g. user.distance < 1m",
+    "$": "percept names are written without '$': e.g. user.distance",
+    "@": "percept names are written without '@': e.g. user.distance",
+    "?": "conditions have no '?': write the comparison that must hold, e.g. user.present",
+    "\\": "'\\' may only escape a quote inside a string: write e.g. \"say \\\"hi\\\"\"",
+}
+
 # Unit spellings -> (the unit to write, how many of it one of the spelling is).
 UNIT_ALIASES: dict[str, tuple[str, Fraction]] = {
     **dict.fromkeys(("sec", "secs", "second", "seconds", "sek"), ("s", Fraction(1))),

@@ -11,7 +11,7 @@ import re
 from typing import NamedTuple
 
 from ..exceptions import ConditionError
-from .hints import (ARITHMETIC, KEYWORDS, OPERATORS, SYMBOLS, TYPOGRAPHIC_QUOTES, ascii_equivalent,
+from .hints import (ARITHMETIC, KEYWORDS, OPERATORS, STRAY, SYMBOLS, TYPOGRAPHIC_QUOTES, ascii_equivalent,
                     keyword_case, symbol_at, unit_alias, unit_on_name, unit_suggestion)
 from .units import UNITS
 
@@ -216,10 +216,8 @@ def _stray_message(text: str, position: int, tokens: list[Token]) -> str:
     if char in ARITHMETIC:
         return ("conditions do no arithmetic: write the result as one number with its unit, "
                 "e.g. 0.5 or 90s")
-    if char == ";":
-        return "join conditions with 'and' or 'or', not ';'"
-    if char == "%":
-        return "there is no percent unit: write the plain number (e.g. 0.5 for 50%)"
+    if char in STRAY:
+        return STRAY[char]
     return (f"unexpected character {char!r}: conditions are made of percept names, numbers with "
             "units, strings, comparisons, and/or/not and parentheses")
 

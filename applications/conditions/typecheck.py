@@ -186,8 +186,10 @@ class _Checker:
         if literal.unit is not None and var.unit is None:
             raise self.fail(f"'{var.name}' has no unit, but {_literal_words(literal)} has one: "
                             f"write the bare number", literal)
-        if literal.unit is not None and (var.unit not in UNITS or
-                                         dimension(var.unit) != dimension(literal.unit)):
+        if literal.unit is not None and var.unit not in UNITS:
+            raise self.fail(f"'{var.name}' is in {var.unit}, which conditions write as a bare "
+                            f"number: write e.g. {var.name} < {_number_words(literal)}", literal)
+        if literal.unit is not None and dimension(var.unit) != dimension(literal.unit):
             wanted = dimension(var.unit) if var.unit in UNITS else var.unit
             if literal.unit == "m" and wanted == "time":
                 raise self.fail(f"'m' is metres; minutes are written 'min': write "

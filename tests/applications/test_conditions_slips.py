@@ -13,9 +13,9 @@ from hypothesis import strategies as st
 
 from applications.conditions import ConditionError, compile_condition
 from applications.conditions.condition import default_declarations
-from applications.conditions.hints import (BOOLEAN_WORDS, KEYWORDS, OPERATORS, SYMBOLS,
-                                           TYPOGRAPHIC_QUOTES, UNIT_ALIASES, WORD_OPERATORS,
-                                           WORD_PHRASES)
+from applications.conditions.hints import (ARITHMETIC, BOOLEAN_WORDS, KEYWORDS, NUMBER_WORDS,
+                                           OPERATORS, STRAY, SYMBOLS, TYPOGRAPHIC_QUOTES,
+                                           UNIT_ALIASES, WORD_OPERATORS, WORD_PHRASES)
 
 
 @dataclass(frozen=True)
@@ -121,6 +121,30 @@ def test_yes_no_on_off_for_true_false(word) -> None:
 @pytest.mark.parametrize("quote", list(TYPOGRAPHIC_QUOTES))
 def test_typographic_quotes(quote) -> None:
     assert_slip(f"dialog.answer == {quote}yes{quote}", 18, "straight quotes", '"yes"')
+
+
+@pytest.mark.parametrize("char", sorted(STRAY))
+def test_every_stray_character_says_what_was_meant(char) -> None:
+    assert_slip(f"user.present {char} survey.done", 14, STRAY[char])
+
+
+@pytest.mark.parametrize("char", list(ARITHMETIC))
+def test_arithmetic_says_to_write_the_result(char) -> None:
+    assert_slip(f"people.count > 1 {char} 1", 18, "write the result as one number")
+
+
+@pytest.mark.parametrize("word", sorted(NUMBER_WORDS))
+def test_numbers_written_as_words(word) -> None:
+    assert_slip(f"people.count >= {word}", 17, f"write {NUMBER_WORDS[word]}")
+
+
+def test_a_percept_in_a_unit_the_language_cannot_write_takes_bare_numbers() -> None:
+    declarations = {"battery.level": Spec("battery.level", "float", "%", (0, 100))}
+    with pytest.raises(ConditionError) as caught:
+        compile_condition("battery.level < 20cm", declarations=declarations)
+    assert caught.value.column == 17 and "write e.g. battery.level < 20" in caught.value.reason
+    assert compile_condition("battery.level < 20", declarations=declarations).evaluate(
+        {"battery.level": 10.0}, 0) is True
 
 
 @pytest.mark.parametrize("digit", ["١", "१", "১", "๑", "１", "𝟏", "¹"])
