@@ -1,5 +1,7 @@
 """Candidate values of one percept: few enough to try, yet one per case that matters.
 
+A string percept that declares its values (an answer with offered choices) takes only those.
+
 The constants a percept is compared with cut its declared range into intervals; every value
 inside one interval compares the same way with every constant. So the constants themselves, one
 value inside each interval, the ends of the range and *absent* cover all cases exactly.
@@ -17,6 +19,8 @@ def domain(var: Var, constants: set) -> list:
     """Candidates for `var`, readable ones first (they become witnesses), absent last."""
     if var.type == "bool":
         values: list = [True, False]
+    elif var.type == "str" and var.values is not None:
+        values = _known_strings(var.values, constants)
     elif var.type == "str":
         values = sorted(c for c in constants if isinstance(c, str)) + [_other_string(constants)]
     else:
@@ -25,6 +29,14 @@ def domain(var: Var, constants: set) -> list:
     if var.name != TIME_IN_STATE:
         values.append(ABSENT)
     return values
+
+
+def _known_strings(possible: tuple[str, ...], constants: set) -> list:
+    """A string percept with a finite set of values: those the conditions name, and one of the
+    others (all others compare alike with every constant); names outside the set cannot occur."""
+    named = [value for value in possible if value in constants]
+    others = [value for value in possible if value not in constants]
+    return named + others[:1]
 
 
 def _other_string(constants: set) -> str:

@@ -9,6 +9,7 @@ from . import typecheck
 from .compiler import compile_tree
 from .nodes import Node, Or
 from .parser import parse
+from .typecheck import ConditionWarning
 from .typed import TIME_IN_STATE, AnyOf, Typed, variables
 
 
@@ -16,10 +17,12 @@ class CompiledCondition:
     """A condition ready to evaluate each tick. Equal when the text is equal."""
 
     __slots__ = ("text", "syntax", "tree", "names", "uses_time", "location", "_evaluate",
-                 "derived")
+                 "derived", "warnings")
 
-    def __init__(self, text: str, syntax: Node, tree: Typed, location: Any | None) -> None:
+    def __init__(self, text: str, syntax: Node, tree: Typed, location: Any | None,
+                 warnings: tuple[ConditionWarning, ...] = ()) -> None:
         self.text = text
+        self.warnings = warnings          # compiles, but probably not what was meant
         self.syntax = syntax
         self.tree = tree
         read = variables(tree)
@@ -78,13 +81,15 @@ def compile_condition(text: str, location: Any | None = None,
     """Parse, type-check and compile `text`. ConditionError (with the column) when it is wrong.
 
     `location` is where the condition text starts in its file, used in the error message.
+    `.warnings` of the result lists what compiles but is probably a slip (reason, offset).
     """
     declarations = default_declarations() if declarations is None else declarations
+    warnings: list[ConditionWarning] = []
     try:
         syntax = parse(text)
-        tree = typecheck.check(syntax, text, declarations)
+        tree = typecheck.check(syntax, text, declarations, warnings)
     except ConditionError as problem:
         if location is None:
             raise
         raise ConditionError(problem.reason, problem.offset, text, location) from None
-    return CompiledCondition(text, syntax, tree, location)
+    return CompiledCondition(text, syntax, tree, location, tuple(warnings))

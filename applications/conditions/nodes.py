@@ -8,7 +8,7 @@ from typing import Union
 
 @dataclass(frozen=True)
 class Literal:
-    value: object          # float, str or bool; numbers are stored as written (before units)
+    value: object          # Fraction, str or bool; numbers exactly as written (before units)
     unit: str | None       # "s", "ms", "min", "m", "cm", "deg" or None
     offset: int
     end: int
@@ -80,5 +80,6 @@ def _literal_text(node: Literal) -> str:
     if isinstance(node.value, str):
         escaped = node.value.replace("\\", "\\\\").replace('"', '\\"')
         return f'"{escaped}"'
-    number = repr(node.value)
+    from .units import decimal_text
+    number = decimal_text(node.value)
     return f"{number}{node.unit}" if node.unit else number

@@ -14,6 +14,7 @@ class Var:
     type: str                              # "bool", "int", "float", "str"
     unit: str | None
     range: tuple[float, float] | None
+    values: tuple[str, ...] | None = None  # a string percept's possible values; None = any
 
 
 @dataclass(frozen=True)

@@ -13,9 +13,10 @@ from lxml import etree
 
 from ..conditions import CompiledCondition, compile_condition
 from ..exceptions import ConditionError
-from .diagnostics import Diagnostic, did_you_mean, error
+from .diagnostics import Diagnostic, did_you_mean, error, warning
 from .location import Location
 from .model import Foreign, Param
+from .numbers import NumberSlip, whole_number
 from .schema import schema_problems
 from .source import SourceMap
 
@@ -28,8 +29,11 @@ ATTRIBUTES = {"application": ("name", "initial", "robot"),
               "param": ("name", "value", "from", "lookup")}
 REQUIRED = {"application": ("name", "initial"), "state": ("name", "behavior"),
             "transition": ("to",), "param": ("name",)}
+SCXML_NAMES = {"id": "name", "target": "to", "cond": "when", "event": None}   # SCXML -> ours
+SCXML_NAMESPACE = "http://www.w3.org/2005/07/scxml"
 ALWAYS = "true"     # the condition of a transition written without `when`
 NO_FOREIGN = Foreign()
+UNUSABLE = object()     # a priority written so that its order cannot be known
 
 
 @dataclass
@@ -95,6 +99,10 @@ class _Reader:
         self.diagnostics.append(error(message, location, code))
 
     def application(self, root: etree._Element) -> Draft | None:
+        if root.tag in ("scxml", f"{{{SCXML_NAMESPACE}}}scxml"):
+            self.report(_scxml_message(self.source.filename), self.source.element(root),
+                        "scxml-file")
+            return None
         if root.tag != ROOT:
             self.report(f"the root element must be <{ROOT}>, not <{_written(root)}>",
                         self.source.element(root), "unknown-element")
@@ -162,11 +170,14 @@ class _Reader:
             if _is_foreign(name) or name in known:
                 continue
             self.report(f"unknown attribute '{name}' on <{element.tag}>"
-                        f"{did_you_mean(name, known)}; allowed: {', '.join(known)}",
+                        f"{_attribute_hint(name, known)}; allowed: {', '.join(known)}",
                         self.source.attribute(element, name), "unknown-attribute")
         complete = True
         for name in REQUIRED[element.tag]:
-            if element.get(name) is None:
+            if element.get(name) is None and any(SCXML_NAMES.get(a) == name
+                                                 for a in element.attrib):
+                complete = False       # reported once, as the SCXML attribute written instead
+            elif element.get(name) is None:
                 complete = False
                 self.report(f"<{element.tag}> is missing the '{name}' attribute"
                             f"{_required_hint(element.tag, name)}",
@@ -186,9 +197,9 @@ class _Reader:
                                                         if c.tag == "transition")) if t is not None]
         params = [p for p in map(self.param, (c for c in children if c.tag == "param"))
                   if p is not None]
-        if not complete and element.get("name") is None:
+        if not complete and self.written(element, "name") is None:
             return None
-        return DraftState(name=element.get("name", "").strip(),
+        return DraftState(name=(self.written(element, "name") or "").strip(),
                           behavior=element.get("behavior", "").strip(), final=final,
                           location=location,
                           behavior_location=self.source.value(element, "behavior"),
@@ -221,49 +232,69 @@ class _Reader:
             return False
         if value.strip() in ("true", "1"):
             return True
-        if value.strip() not in ("false", "0"):
-            self.report(f"'{name}' must be true or false, not {value!r}",
+        if value.strip() not in ("false", "0"):   # reported; goes on with what it means
+            meant = {"yes": "true", "no": "false", "on": "true", "off": "false"}.get(
+                value.strip().lower(), value.strip().lower())
+            fix = f": write {name}=\"{meant}\"" if meant in ("true", "false") else \
+                f": write {name}=\"true\" or leave it out (false)"
+            self.report(f"'{name}' must be true or false, not {value!r}{fix}",
                         self.source.value(element, name), "bad-value")
+            return meant == "true"
         return False
 
     def transition(self, element: etree._Element) -> DraftTransition | None:
         complete = self.check_attributes(element)
         self.children(element)          # a transition has none: this reports any there are
         priority = self.priority(element)
-        when = element.get("when")
+        when = self.written(element, "when")
         condition = self.condition(element, when if when is not None else ALWAYS)
         if condition is None and not complete:
             return None
-        return DraftTransition(target=(element.get("to") or "").strip(),
+        if priority is UNUSABLE:        # reported; its order is unknown, so not analysed
+            priority, condition = None, None
+        return DraftTransition(target=(self.written(element, "to") or "").strip(),
                                when=when if when is not None else ALWAYS,
                                condition=condition, priority=priority,
                                location=self.source.element(element),
-                               target_location=self.source.value(element, "to"),
-                               when_location=self.source.value(element, "when"),
+                               target_location=self.source.value(element, _spelled(element, "to")),
+                               when_location=self.source.value(element, _spelled(element, "when")),
                                foreign=self.foreign(element))
 
-    def priority(self, element: etree._Element) -> int | None:
+    def priority(self, element: etree._Element) -> int | None | object:
         value = element.get("priority")
         if value is None:
             return None
-        text = value.strip()
-        if not text.isdigit():
-            self.report(f"priority must be a whole number ≥ 0 (lower number is tried first), "
-                        f"not {value!r}", self.source.value(element, "priority"), "bad-value")
-            return None
-        return int(text)
+        try:
+            return whole_number(value, "priority", " (lower number is tried first)")
+        except NumberSlip as slip:
+            self.report(str(slip), self.source.value(element, "priority", slip.offset),
+                        "bad-value")
+            return UNUSABLE if slip.meant is None else slip.meant
+
+    @staticmethod
+    def written(element: etree._Element, name: str) -> str | None:
+        """The attribute, or the SCXML spelling written instead (reported already), so the
+        checks after it see what was meant rather than a cascade of follow-up errors."""
+        return element.get(_spelled(element, name))
 
     def condition(self, element: etree._Element, when: str) -> CompiledCondition | None:
-        location = self.source.value(element, "when")
+        spelled = _spelled(element, "when")
+        location = self.source.value(element, spelled)
         if when in self.compiled:
-            return self.compiled[when].relocated(location)
-        try:
-            self.compiled[when] = compile_condition(when, location, self.declarations)
-            return self.compiled[when]
-        except ConditionError as problem:
-            self.report(f"in condition: {problem.reason}",
-                        self.source.value(element, "when", problem.offset), "condition")
-            return None
+            compiled = self.compiled[when].relocated(location)
+        else:
+            try:
+                compiled = self.compiled[when] = compile_condition(when, location,
+                                                                   self.declarations)
+            except ConditionError as problem:
+                self.report(f"in condition: {problem.reason}",
+                            self.source.value(element, spelled, problem.offset), "condition")
+                return None
+        for slip in compiled.warnings:
+            self.diagnostics.append(warning(f"in condition: {slip.reason}",
+                                            self.source.value(element, spelled, slip.offset),
+                                            "condition"))
+        return compiled
 
     def foreign(self, element: etree._Element) -> Foreign:
         """Markup in other namespaces on and under `element`, kept for round trips."""
@@ -284,6 +315,35 @@ def _is_foreign(name: str) -> bool:
 
 def _written(element: etree._Element) -> str:
     return etree.QName(element).localname if _is_foreign(element.tag) else element.tag
+
+
+def _spelled(element: etree._Element, name: str) -> str:
+    """`name`, or its SCXML spelling when only that is written (id for name, cond for when)."""
+    if element.get(name) is None:
+        scxml = next((a for a, ours in SCXML_NAMES.items() if ours == name), None)
+        if scxml and element.get(scxml) is not None:
+            return scxml
+    return name
+
+
+def _scxml_message(filename: str) -> str:
+    if filename.endswith(".scxml"):
+        command = f"interbot import {filename} -o FOLDER"
+        return (f"this is an SCXML state chart, not a graph.xml: convert it with `{command}`")
+    return ("this is an SCXML state chart saved as a graph.xml: rename it, e.g. to chart.scxml, "
+            "and convert it with `interbot import chart.scxml -o FOLDER` (it writes "
+            "FOLDER/graph.xml)")
+
+
+def _attribute_hint(name: str, known: tuple[str, ...]) -> str:
+    """SCXML's spelling of our attribute (id, target, cond), or a close known name."""
+    if name in SCXML_NAMES:
+        ours = SCXML_NAMES[name]
+        if ours in known:
+            return f" (SCXML's '{name}' is written '{ours}' here)"
+        if ours is None:
+            return " (interbot transitions have no events: the condition in 'when' decides)"
+    return did_you_mean(name, known)
 
 
 def _required_hint(tag: str, name: str) -> str:

@@ -16,6 +16,7 @@ from ..conditions import ConditionError, compile_condition
 from ..exceptions import ApplicationError
 from .diagnostics import Diagnostic, error
 from .model import Application, Foreign, State, Transition
+from .numbers import NumberSlip, whole_number
 from .source import SourceMap
 from .xmlsafe import parse_xml_bytes, read_bytes, source_text
 
@@ -165,8 +166,7 @@ class _Importer:
             self.report("event-triggered transitions are outside the subset: interbot "
                         "transitions fire on conditions (cond=\"…\"); remove event=", element)
         when = element.get("cond") or "true"
-        priority_text = element.get(_I + "priority")
-        priority = int(priority_text) if priority_text and priority_text.isdigit() else None
+        priority = self.priority(element)
         location = self.source.element(element)
         try:
             condition = compile_condition(when, self.source.value(element, "cond"))
@@ -177,6 +177,19 @@ class _Importer:
             return None
         return Transition(target.strip(), when, condition, priority, location,
                           _foreign_of(element, skip=(_I + "priority",)))
+
+
+    def priority(self, element: etree._Element) -> int | None:
+        """interbot:priority, ASCII digits only (int() takes ١ and isdigit() takes ²)."""
+        text = element.get(_I + "priority")
+        if text is None:
+            return None
+        try:
+            return whole_number(text, "interbot:priority", " (lower number is tried first)")
+        except NumberSlip as slip:
+            self.diagnostics.append(error(str(slip), self.source.value(
+                element, _I + "priority", slip.offset), "bad-value"))
+            return slip.meant
 
 
 def _foreign(name: str) -> bool:

@@ -86,6 +86,12 @@ def _syntax_message(problem: etree.XMLSyntaxError) -> str:
                 "(e.g. when=\"user.distance &lt; 0.75m\")")
     if "xmlParseEntityRef" in text or "EntityRef" in text:
         return f"malformed XML: {text} — write &amp; for a literal &"
+    if "attributes construct error" in text:
+        return (f"malformed XML: {text} — a quote inside an attribute ends it: write strings "
+                "in the other quotes (when=\"dialog.answer == 'yes'\") or as &quot;; and "
+                "separate attributes by spaces, each written name=\"value\"")
+    if "AttValue" in text:
+        return f"malformed XML: {text} — attribute values are quoted: priority=\"1\""
     return f"malformed XML: {text}"
 
 

@@ -3,6 +3,7 @@ small reference interpreter written here, independently of the implementation.""
 from __future__ import annotations
 
 import operator
+from fractions import Fraction
 
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -15,9 +16,10 @@ from applications.conditions.parser import parse
 
 OPS = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge,
        "==": operator.eq, "!=": operator.ne}
-NUMERIC = {"user.distance": ("m", {"m": 1.0, "cm": 0.01}),
+NUMERIC = {"user.distance": ("m", {"m": Fraction(1), "cm": Fraction(1, 100)}),
            "people.count": (None, {}),
-           "time_in_state": ("s", {"s": 1.0, "ms": 0.001, "min": 60.0})}
+           "time_in_state": ("s", {"s": Fraction(1), "ms": Fraction(1, 1000),
+                                   "min": Fraction(60)})}
 FLAGS = ["user.present", "survey.done", "user.left"]
 
 numbers = st.sampled_from([0, 0.5, 0.75, 1, 2, 3, 15, 30, 100])
@@ -68,8 +70,8 @@ def reference(expr, values: dict, t: float) -> bool:
         actual = t if name == "time_in_state" else values.get(name)
         if actual is None:
             return False
-        factor = NUMERIC[name][1].get(unit, 1.0) if unit else 1.0
-        return OPS[op](actual, value * factor)
+        factor = NUMERIC[name][1].get(unit, 1) if unit else 1
+        return OPS[op](actual, float(Fraction(str(value)) * factor))   # exact, rounded once
     if kind == "not":
         return not reference(expr[1], values, t)
     if kind == "and":
@@ -160,3 +162,12 @@ def test_never_true_verdict_is_sound(expr, values, t) -> None:
     condition = compile_condition(render(expr))
     if condition.evaluate(values, t):
         assert can_be_true(condition).status != EXCLUSIVE
+
+
+@settings(max_examples=300, deadline=None)
+@given(expressions, boundary_values, boundary_times)
+def test_compiled_conditions_agree_with_the_reference_at_the_boundaries(expr, values, t) -> None:
+    """Percept values exactly at the constants (0.0075 m is 0.75cm): the unit conversion must
+    land on the very float the reference computes exactly."""
+    condition = compile_condition(render(expr))
+    assert condition.evaluate(values, t) is reference(expr, values, t)

@@ -120,3 +120,22 @@ def test_a_final_state_with_transitions_round_trips(tmp_path: Path) -> None:
     chart.write_text(export_scxml(original))
     assert 'interbot:final="true"' in chart.read_text()
     assert import_scxml(chart) == original
+
+
+@pytest.mark.parametrize("written, fix", [("²", 'write interbot:priority="2"'),
+                                          ("١", 'write interbot:priority="1"'),
+                                          ("high", "not 'high'")])
+def test_a_priority_in_other_digits_is_an_error_with_the_fix_not_a_crash(tmp_path: Path,
+                                                                         written, fix) -> None:
+    chart = tmp_path / "chart.scxml"
+    chart.write_text(f"""<scxml xmlns="{SCXML}" xmlns:interbot="urn:interbot:graph" initial="A">
+  <state id="A">
+    <onentry><send event="Idle" type="urn:interbot:behavior"/></onentry>
+    <transition target="A" cond="user.present" interbot:priority="{written}"/>
+  </state>
+</scxml>""", encoding="utf-8")
+    with pytest.raises(ScxmlImportError) as caught:
+        import_scxml(chart)
+    (problem,) = caught.value.diagnostics
+    assert (problem.location.line, problem.location.column) == (4, 67)
+    assert fix in problem.message
