@@ -90,6 +90,7 @@ class RobotProfile:
     touch_screen: bool
     speech: bool
     people_detector: DetectorSpec | None
+    speech_input: bool = False      # a microphone for spoken answers ([speech] input)
 
     @property
     def capabilities(self) -> frozenset[str]:
@@ -105,6 +106,8 @@ class RobotProfile:
             caps.add("touch_screen")
         if self.speech:
             caps.add("speech_out")
+        if self.speech_input:
+            caps.add("speech_in")
         if self.people_detector is not None:
             caps.add("people_detector")
         return frozenset(caps)
@@ -188,6 +191,7 @@ class _ProfileReader:
             touch_screen=bool(self.data.get("screen", {}).get("touch", False)),
             speech=bool(self.data.get("speech", {}).get("output", True)),
             people_detector=self.detector(),
+            speech_input=bool(self.data.get("speech", {}).get("input", False)),
         )
 
     def limits(self) -> Limits:
