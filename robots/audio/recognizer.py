@@ -102,37 +102,48 @@ class AnswerRecognizer(SpeechRecognizer):
 
     # --- the decoder thread ---------------------------------------------------------------
     def _run(self) -> None:
+        """Cut the sound into utterances (pocketsphinx's endpointer) and judge each one against
+        the answers wanted when it began; a change of question drops the utterance under way."""
+        from pocketsphinx import Endpointer
+        endpointer = Endpointer(sample_rate=self.source.rate)
+        size = endpointer.frame_bytes
         decoder, generation, wanted = self.decoder, -1, None
-        in_utterance = speaking = False
+        buffer, decoding = b"", False
         while not self._stop.is_set():
             with self._lock:
                 if generation != self._generation:
                     generation, wanted = self._generation, self._wanted
-                    if in_utterance:
+                    if decoding:
                         decoder.end_utt()
-                        in_utterance = speaking = False
+                        decoding = False
                     if wanted is not None:
                         decoder.add_jsgf_string("answers", _grammar(wanted[1]))
                         decoder.activate_search("answers")
             chunk = self.source.read(CHUNK)
             if chunk is None:
                 break
-            if not chunk or wanted is None:
-                continue
-            if not in_utterance:
-                decoder.start_utt()
-                in_utterance = True
-            decoder.process_raw(chunk, False, False)
-            if decoder.get_in_speech():
-                speaking = True
-            elif speaking:               # speech just ended: judge the utterance
-                decoder.end_utt()
-                in_utterance = speaking = False
-                self._judge(wanted)
-        if in_utterance:
+            buffer += chunk
+            while len(buffer) >= size:
+                frame, buffer = buffer[:size], buffer[size:]
+                was_speaking = endpointer.in_speech
+                speech = endpointer.process(frame)
+                if speech is None or wanted is None:
+                    continue
+                if not was_speaking:
+                    decoder.start_utt()
+                    decoding = True
+                if decoding:
+                    decoder.process_raw(speech, False, False)
+                    if not endpointer.in_speech:
+                        decoder.end_utt()
+                        decoding = False
+                        self._judge(wanted)
+        if decoding:
+            rest = endpointer.end_stream(buffer[:size]) if endpointer.in_speech else None
+            if rest:
+                decoder.process_raw(rest, False, False)
             decoder.end_utt()
-            if speaking and wanted is not None:
-                self._judge(wanted)
+            self._judge(wanted)
 
     def _judge(self, wanted: tuple[str, dict[str, str]]) -> None:
         hypothesis = self.decoder.hyp()

@@ -99,8 +99,12 @@ def build_app(content: ScreenContent, guard: Guard) -> Starlette:
             hub.waiting.discard(wake)
             sender.cancel()
 
+    async def no_icon(request) -> Response:
+        return Response(status_code=204)
+
     app = Starlette(routes=[
         Route("/", page),
+        Route("/favicon.ico", no_icon),
         Route("/picture/{number:int}", picture),
         WebSocketRoute("/ws", socket),
         Mount("/static", StaticFiles(directory=STATIC), name="static"),
