@@ -103,3 +103,23 @@ def test_a_spoken_answer_counts_like_a_press_and_says_where_it_came_from():
     answers = [e.fields for e in events.drain() if e.kind == "answer"]
     assert [(a["question"], a["answer"], a["source"]) for a in answers] == [
         ("q1", "no", "voice"), ("q2", "2", "touch")]
+
+
+def test_yes_said_aloud_answers_the_question_on_screen(tmp_path):
+    import subprocess
+
+    from robots.audio.recognizer import AnswerRecognizer
+    from robots.audio.source import WavFileSource
+
+    said = tmp_path / "yes.wav"
+    subprocess.run(["espeak-ng", "-v", "en-us", "-w", str(said), "yes"], check=True)
+    ears = AnswerRecognizer(WavFileSource(said))
+    screen, events = FakeScreen(), EventLog()
+    skill = Questionnaire(Blackboard("test"), events, screen, ears)
+    skill.load(QUESTIONS, 0.0)
+    skill.ask_next(1.0)                 # shows q1 and starts listening for yes / no
+    ears.wait(60.0)                     # the file has been heard to its end
+    skill.sense(2.0)
+    ears.close()
+    answers = [e.fields for e in events.drain() if e.kind == "answer"]
+    assert [(a["question"], a["answer"], a["source"]) for a in answers] == [("q1", "yes", "voice")]
