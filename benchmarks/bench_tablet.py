@@ -169,7 +169,7 @@ def main() -> None:
     print(summary("question -> buttons visible", visible))
     print(summary("touch -> answer on blackboard (10 Hz)", clicked))
     print(summary("touch -> press queued (baseline)", queued))
-    print(f"{"screen updates while changing":<38} {renders / seconds:7.1f} Hz "
+    print(f"{'screen updates while changing':<38} {renders / seconds:7.1f} Hz "
           f"(caption changed at ~{changes[0] / (seconds + 0.5):.0f} Hz)")
 
 
