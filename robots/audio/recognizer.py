@@ -12,6 +12,7 @@ import logging
 import queue
 import re
 import threading
+from collections import deque
 
 from robots.devices import AudioSource, SpeechRecognizer
 from robots.exceptions import RobotError
@@ -56,23 +57,16 @@ class AnswerRecognizer(SpeechRecognizer):
         for phone in PHONES:
             self.decoder.add_word(f"filler_{phone.lower()}", phone, False)
         self._lock = threading.Lock()
-        self._wanted: tuple[str, dict[str, str]] | None = None
+        self._wanted: tuple[str, tuple[str, ...]] | None = None
         self._generation = 0
         self._heard: queue.Queue[tuple[str, str]] = queue.Queue()
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
-        self.rejected: list[str] = []        # what was heard but was not an answer (diagnosis)
+        self.rejected: deque[str] = deque(maxlen=50)   # heard, but not an answer (diagnosis)
 
     def listen(self, prompt_id: str, choices: tuple[str, ...]) -> None:
-        forms = {}
-        for choice in choices:
-            form = spoken_forms(choice)
-            if form and all(self.decoder.lookup_word(w) for w in form.split()):
-                forms[form] = choice
-            else:
-                log.info("listening: '%s' cannot be said (not in the English dictionary)", choice)
         with self._lock:
-            self._wanted = (str(prompt_id), forms) if forms else None
+            self._wanted = (str(prompt_id), tuple(str(c) for c in choices))
             self._generation += 1
         if self._thread is None:
             self._thread = threading.Thread(target=self._run, name="recognizer", daemon=True)
@@ -112,7 +106,7 @@ class AnswerRecognizer(SpeechRecognizer):
         while not self._stop.is_set():
             with self._lock:
                 if generation != self._generation:
-                    generation, wanted = self._generation, self._wanted
+                    generation, wanted = self._generation, self._sayable(self._wanted)
                     if decoding:
                         decoder.end_utt()
                         decoding = False
@@ -144,6 +138,20 @@ class AnswerRecognizer(SpeechRecognizer):
                 decoder.process_raw(rest, False, False)
             decoder.end_utt()
             self._judge(wanted)
+
+    def _sayable(self, wanted) -> tuple[str, dict[str, str]] | None:
+        """(prompt_id, {spoken form: choice}) for the choices in the dictionary, or None."""
+        if wanted is None:
+            return None
+        prompt_id, choices = wanted
+        forms = {}
+        for choice in choices:
+            form = spoken_forms(choice)
+            if form and all(self.decoder.lookup_word(w) for w in form.split()):
+                forms[form] = choice
+            else:
+                log.info("listening: '%s' cannot be said (not in the English dictionary)", choice)
+        return (prompt_id, forms) if forms else None
 
     def _judge(self, wanted: tuple[str, dict[str, str]]) -> None:
         hypothesis = self.decoder.hyp()

@@ -91,8 +91,13 @@ def build_app(content: ScreenContent, guard: Guard) -> Starlette:
         sender = asyncio.create_task(_send_screens(websocket, content, wake))
         try:
             while True:
-                message = await websocket.receive_text()
-                await websocket.send_text(json.dumps(_handle(content, message)))
+                message = await websocket.receive()
+                if message["type"] == "websocket.disconnect":
+                    break
+                text = message.get("text")
+                reply = (_handle(content, text) if text is not None
+                         else {"type": "refused", "reason": "send text, not bytes"})
+                await websocket.send_text(json.dumps(reply))
         except WebSocketDisconnect:
             pass
         finally:
@@ -124,8 +129,10 @@ async def _send_screens(websocket: WebSocket, content: ScreenContent, wake: asyn
                 sent = snapshot["v"]
             await wake.wait()
             wake.clear()
-    except (WebSocketDisconnect, RuntimeError, asyncio.CancelledError):
+    except asyncio.CancelledError:
         return
+    except Exception as exc:    # the page went away mid-send: its receive loop ends it
+        log.debug("tablet: sending to a page failed: %s", exc)
 
 
 def _handle(content: ScreenContent, message: str) -> dict:

@@ -56,11 +56,14 @@ def quick_survey(tmp_path):
 
 
 def shown(driver) -> dict:
-    screen = driver.find_element(By.ID, "screen")
-    section = driver.find_element(By.ID, "question")
-    return {"mode": screen.get_attribute("data-mode"), "prompt": section.get_attribute("data-prompt"),
-            "text": driver.find_element(By.ID, "question-text").text,
-            "buttons": [b.text for b in driver.find_elements(By.CSS_SELECTOR, "#buttons button")]}
+    """What the page shows, read in one go (the page may re-render between two WebDriver calls)."""
+    return driver.execute_script("""
+        const section = document.getElementById('question');
+        return {mode: document.getElementById('screen').dataset.mode,
+                prompt: section.dataset.prompt || null,
+                text: document.getElementById('question-text').textContent,
+                buttons: Array.from(document.querySelectorAll('#buttons button'),
+                                    b => b.textContent)};""")
 
 
 def wait_for_question(driver, prompt: str, timeout: float = 30.0) -> dict:
@@ -108,10 +111,8 @@ def test_a_person_answers_the_whole_survey_on_the_page(quick_survey, tmp_path):
 
             for prompt, answer in ANSWERS.items():
                 question = wait_for_question(driver, prompt)
-                button = next(b for b in driver.find_elements(By.CSS_SELECTOR, "#buttons button")
-                              if b.text == answer)
-                button.click()
                 assert answer in question["buttons"]
+                driver.find_element(By.CSS_SELECTOR, f'#buttons button[data-value="{answer}"]').click()
             WebDriverWait(driver, 30, poll_frequency=0.1).until(
                 lambda d: shown(d)["mode"] == "idle")
         run.wait(timeout=120)

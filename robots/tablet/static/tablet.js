@@ -10,11 +10,18 @@
 
   function text(id, value) { document.getElementById(id).textContent = value || ""; }
 
-  function render(screen) {
+  let shownKey = "";            // what the view was last built for (the caption aside)
+
+  function render(screen, rebuild) {
     current = screen;
     main.dataset.mode = screen.mode;
     main.dataset.version = screen.v;
     text("caption", screen.caption);
+    // A new caption alone leaves the buttons as they are, so a touch under way is not lost.
+    const key = JSON.stringify([screen.mode, screen.prompt, screen.text, screen.buttons,
+                                screen.typed, screen.picture]);
+    if (key === shownKey && !rebuild) { return; }
+    shownKey = key;
     if (screen.mode === "question") {
       text("question-text", screen.text);
       const box = document.getElementById("buttons");
@@ -61,7 +68,7 @@
         b.classList.add("sent");
       });
     } else if (message.type === "refused" && current) {
-      render(current);          // undo the feedback: the press did not count
+      render(current, true);    // undo the feedback: the press did not count
     }
   }
 
