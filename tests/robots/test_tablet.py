@@ -98,9 +98,11 @@ def test_presses_for_the_shown_question_are_queued_others_refused(tablet):
                 replies.append(reply["type"])
             await ws.send("not json")
             replies.append(json.loads(await ws.recv())["type"])
+            await ws.send(b"\x00\x01")
+            replies.append(json.loads(await ws.recv())["type"])
         return replies
 
-    assert asyncio.run(presses()) == ["refused", "refused", "accepted", "refused"]
+    assert asyncio.run(presses()) == ["refused", "refused", "accepted", "refused", "refused"]
     assert tablet.take_press() == ("q1", "no")
     assert tablet.take_press() is None
     assert tablet.take_press_from() is None
