@@ -6,7 +6,8 @@ screen follows a change.
 - click → answer: from the page seeing the touch (pointerdown, the browser's clock) to the answer
   on the blackboard (`survey/progress`, written by the questionnaire), with the skills sensing
   at 10 Hz on the real clock as in `interbot run`; the baseline is the same touch to the press
-  arriving in the device's queue (no tick to wait for): the difference is the wait for a tick;
+  arriving in the device's queue (no tick to wait for): the difference is the wait for a tick
+  (touches fall at random moments of the tick, as a person's would);
 - update rate: the caption changed at 50 Hz for a few seconds; screens the page rendered per s.
 
     python benchmarks/bench_tablet.py [--rounds 40]
@@ -17,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import random
 import statistics
 import sys
 import threading
@@ -108,6 +110,7 @@ def main() -> None:
     questions = tuple(Question(f"q{i}", f"Question number {i}?", ("yes", "no"))
                       for i in range(args.rounds))
     visible, clicked, queued = [], [], []
+    phases = random.Random(0)
     try:
         with chromium() as driver:
             driver.set_script_timeout(30)
@@ -132,6 +135,7 @@ def main() -> None:
                 driver.execute_async_script(WAIT_FOR_PROMPT, question.id)
                 visible.append(time.perf_counter() - shown_at[0])
                 timer.join()
+                time.sleep(phases.uniform(0.0, TICK))   # touch at any moment of the tick
                 driver.find_element(By.CSS_SELECTOR, "#buttons button").click()
                 while question.id not in ticker.answered_at:
                     time.sleep(0.001)

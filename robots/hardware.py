@@ -46,8 +46,9 @@ class Hardware:
     def capabilities(self) -> frozenset[str]:
         """What this robot can do as opened: the profile's devices that are actually present.
 
-        On a real robot only the base (and its sonar) is driven so far, so a profile's laser,
-        camera, head or touch screen count only when a device object stands behind them."""
+        On a real robot the base (and its sonar), the voice, and with `gui` the touch screen are
+        driven; a profile's laser, camera or head count only when a device object stands behind
+        them, and speech_in only when a microphone was opened."""
         present = {"base", "speech_out"} if self.speaker is not None else {"base"}
         if self.profile.sonar is not None:
             present.add("sonar")
