@@ -39,6 +39,16 @@ class Robot:
         return self.skills.capabilities
 
     @property
+    def tablet_url(self) -> str | None:
+        """The tablet page's address with its token (print it: it is the key), or None."""
+        return self.skills.tablet_url
+
+    @property
+    def notes(self) -> list[str]:
+        """What the user should know about the devices as opened (e.g. speech printed only)."""
+        return self.skills.notes
+
+    @property
     def behavior(self) -> str | None:
         return self.active.name
 
@@ -128,8 +138,15 @@ class Robot:
 
 
 def open_robot(robot: str | Path, *, port: str | None = None, scenario: str | Path | None = None,
-               fast: bool = False, seed: int = 0) -> Robot:
+               fast: bool = False, seed: int = 0, gui: str | None = None,
+               speech_wav: str | Path | None = None, language: str = "en",
+               voice: str | None = None, listen: bool = False) -> Robot:
+    """Open `robot` with its skills and hardware. `gui` ([HOST:]PORT) serves the tablet page;
+    `speech_wav`, `language`, `voice` set speech output and `listen` speech input (see
+    `skills.skillset.open_skills`, which passes them on)."""
     try:
-        return Robot(open_skills(robot, port=port, scenario=scenario, fast=fast, seed=seed))
+        return Robot(open_skills(robot, port=port, scenario=scenario, fast=fast, seed=seed,
+                                 gui=gui, speech_wav=speech_wav, language=language, voice=voice,
+                                 listen=listen))
     except SkillError as exc:
         raise RobotOpenError(str(exc)) from exc

@@ -54,6 +54,8 @@ class TouchScreen(ABC):
     """A touch screen: one prompt at a time (a question with answer buttons, optionally a text
     field), an information screen (text and an optional picture), and captions of speech."""
 
+    source = "touch"    # how an answer from this screen is labelled: touch, sim (or voice)
+
     @abstractmethod
     def show(self, prompt_id: str, text: str, buttons: tuple[str, ...],
              typed: bool = False) -> None:
@@ -67,6 +69,15 @@ class TouchScreen(ABC):
     @abstractmethod
     def take_press(self) -> tuple[str, str] | None:
         """The (prompt_id, button or typed text) given since the last call, or None."""
+
+    def take_press_from(self) -> tuple[str, str, str] | None:
+        """Like `take_press`, with the press's source as a third item (a screen composed of
+        several says which one was touched)."""
+        press = self.take_press()
+        return None if press is None else (press[0], press[1], self.source)
+
+    def close(self) -> None:
+        """Release what the screen holds (a server, a window); nothing by default."""
 
     def display(self, text: str, picture: str | None = None) -> None:
         """Show information without answers: a text and optionally a picture (a file path).
@@ -84,3 +95,38 @@ class Speaker(ABC):
     @abstractmethod
     def busy(self) -> bool:
         """True while the last utterance is still being spoken."""
+
+    def close(self) -> None:
+        """Stop speaking and release the device; nothing by default."""
+
+
+class AudioSource(ABC):
+    """Sound to listen to: 16 kHz mono signed 16-bit samples, read in chunks."""
+
+    rate = 16000
+
+    @abstractmethod
+    def read(self, frames: int) -> bytes | None:
+        """Up to `frames` samples (2 bytes each); b"" when none are ready yet, None at the end."""
+
+    def close(self) -> None:
+        """Release the device or file."""
+
+
+class SpeechRecognizer(ABC):
+    """Listens for one of a few expected answers (those on the screen), never for free speech."""
+
+    @abstractmethod
+    def listen(self, prompt_id: str, choices: tuple[str, ...]) -> None:
+        """Listen for one of `choices` as the answer to `prompt_id` (replaces the old ones)."""
+
+    @abstractmethod
+    def stop(self) -> None:
+        """Listen for nothing."""
+
+    @abstractmethod
+    def take_heard(self) -> tuple[str, str] | None:
+        """An answer heard since the last call, as (prompt_id, choice), or None."""
+
+    def close(self) -> None:
+        """Stop listening and release the audio source."""

@@ -4,15 +4,22 @@
 simulated world; where the base's driver can talk to a firmware emulator (it has a
 `for_simulation` classmethod), the real driver speaks its wire protocol to the emulator,
 otherwise the in-process simulated base stands in.
+
+The interaction devices follow the options: `gui` ([HOST:]PORT) serves the touch screen as a web
+page (beside the simulated screen in simulation, alone on a real robot); speech goes through
+espeak-ng on a real robot, and in simulation too when `speech_wav` or `gui` is given (beside the
+simulated speaker the simulated people hear); `listen` opens the microphone for spoken answers.
 """
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from robots.base import Base, base_classes
 from robots.clock import RealClock, SimClock
-from robots.devices import Laser, PanTiltHead, PersonDetector, Speaker, TouchScreen
+from robots.devices import (Laser, PanTiltHead, PersonDetector, Speaker, SpeechRecognizer,
+                            TouchScreen)
 from robots.exceptions import RobotError
 from robots.profile import RobotProfile, load_profile
 
@@ -28,20 +35,25 @@ class Hardware:
     head: PanTiltHead | None = None
     screen: TouchScreen | None = None
     speaker: Speaker | None = None
+    recognizer: SpeechRecognizer | None = None
     simulation: object | None = None     # robots.sim.simulation.Simulation in simulation
+    tablet_url: str | None = None        # the tablet page's address, token included
+    notes: list[str] = field(default_factory=list)   # what the user should know (degraded devices)
     closed: bool = field(default=False, init=False)
 
     @property
     def capabilities(self) -> frozenset[str]:
         """What this robot can do as opened: the profile's devices that are actually present.
 
-        On a real robot only the base (and its sonar) is driven so far, so a profile's laser,
-        camera, head or touch screen count only when a device object stands behind them."""
+        On a real robot the base (and its sonar), the voice, and with `gui` the touch screen are
+        driven; a profile's laser, camera or head count only when a device object stands behind
+        them, and speech_in only when a microphone was opened."""
         present = {"base", "speech_out"} if self.speaker is not None else {"base"}
         if self.profile.sonar is not None:
             present.add("sonar")
         for capability, device in (("laser", self.laser), ("people_detector", self.people_detector),
-                                   ("pan_tilt", self.head), ("touch_screen", self.screen)):
+                                   ("pan_tilt", self.head), ("touch_screen", self.screen),
+                                   ("speech_in", self.recognizer)):
             if device is not None:
                 present.add(capability)
         return frozenset(present & self.profile.capabilities)
@@ -93,21 +105,49 @@ class Hardware:
             self.base.stop()
         finally:
             self.base.close()
+            for device in (self.recognizer, self.speaker, self.screen):
+                if device is not None:
+                    try:
+                        device.close()
+                    except Exception as exc:   # the base is stopped; report and go on closing
+                        logging.getLogger("interbot.robots").warning(
+                            "closing %s failed: %s", type(device).__name__, exc)
+
+
+@dataclass(frozen=True)
+class Interaction:
+    """How the robot meets people: the tablet page, speech out, speech in."""
+    gui: str | None = None                 # [HOST:]PORT of the tablet page; None: no page
+    speech_wav: str | Path | None = None   # write speech to numbered WAV files in this folder
+    language: str = "en"                   # speech language (espeak-ng's name: de, en, en-us…)
+    voice: str | None = None               # an espeak-ng voice; default: the language's
+    listen: bool = False                   # recognise spoken answers from the microphone
 
 
 def open_hardware(robot: str | Path, *, port: str | None = None, scenario: str | Path | None = None,
                   fast: bool = False, seed: int = 0, emulate: bool = True,
-                  floor: str | Path = "office") -> Hardware:
+                  floor: str | Path = "office", gui: str | None = None,
+                  speech_wav: str | Path | None = None, language: str = "en",
+                  voice: str | None = None, listen: bool = False) -> Hardware:
     """Open `robot` (a profile name or path). `port` drives a real base; otherwise simulate.
 
     `emulate=False` forces the in-process simulated base even where an emulator exists;
-    `floor` is the simulated building (a bundled floor name or a floor .toml).
+    `floor` is the simulated building (a bundled floor name or a floor .toml). The interaction
+    options are those of `Interaction`.
     """
     profile = load_profile(robot)
     clock = SimClock() if fast else RealClock()
+    interaction = Interaction(gui, speech_wav, language, voice, listen)
     if port is not None:
-        return _open_real(profile, clock, port)
-    return _open_simulated(profile, clock, scenario, seed, emulate, floor)
+        hardware = _open_real(profile, clock, port)
+    else:
+        hardware = _open_simulated(profile, clock, scenario, seed, emulate, floor)
+    try:
+        _open_interaction(hardware, interaction)
+    except BaseException:
+        hardware.close()
+        raise
+    return hardware
 
 
 def _driver_class(profile: RobotProfile) -> type[Base] | None:
@@ -130,9 +170,8 @@ def _open_real(profile: RobotProfile, clock, port: str) -> Hardware:
     except BaseException:         # a link error, or a signal in the middle of the handshake
         base.close()
         raise
-    # On a real robot the devices other than the base are not wired up yet; speech is printed.
-    from robots.console import ConsoleSpeaker
-    return Hardware(profile=profile, clock=clock, base=base, speaker=ConsoleSpeaker(clock))
+    # On a real robot only the base is wired up here; the interaction devices follow the options.
+    return Hardware(profile=profile, clock=clock, base=base)
 
 
 def _open_simulated(profile: RobotProfile, clock, scenario, seed: int, emulate: bool,
@@ -152,3 +191,58 @@ def _open_simulated(profile: RobotProfile, clock, scenario, seed: int, emulate: 
                     laser=devices.get("laser"), people_detector=devices.get("people_detector"),
                     head=devices.get("head"), screen=devices.get("screen"),
                     speaker=devices.get("speaker"))
+
+
+def _open_interaction(hardware: Hardware, interaction: Interaction) -> None:
+    """Add the tablet page, real speech and listening to `hardware` as the options ask."""
+    profile, simulated = hardware.profile, hardware.simulation is not None
+    if interaction.gui is not None and profile.touch_screen:
+        from robots.mirror import MirroredTouchScreen
+        from robots.tablet import WebTouchScreen, parse_address
+        host, port = parse_address(interaction.gui)
+        page = WebTouchScreen(host, port)
+        hardware.tablet_url = page.url
+        hardware.screen = MirroredTouchScreen(hardware.screen, page) if hardware.screen else page
+    elif interaction.gui is not None:
+        hardware.notes.append(f"robot '{profile.name}' has no touch screen: --gui is ignored")
+    if profile.speech:
+        hardware.speaker = _speaker(hardware, interaction, simulated)
+    if interaction.listen:
+        hardware.recognizer = _recognizer(hardware, interaction)
+
+
+def _speaker(hardware: Hardware, interaction: Interaction, simulated: bool) -> Speaker:
+    """espeak-ng on a real robot (and in simulation when asked), beside the simulated speaker."""
+    from robots.audio.espeak import EspeakSpeaker
+    from robots.console import ConsoleSpeaker
+    explicit = interaction.speech_wav is not None or interaction.voice is not None
+    if simulated and not (explicit or interaction.gui is not None):
+        return hardware.speaker
+    try:
+        real = EspeakSpeaker(hardware.clock, interaction.language, interaction.voice,
+                             interaction.speech_wav)
+    except RobotError as exc:
+        if explicit:
+            raise
+        hardware.notes.append(f"speech is printed only: {exc}")
+        return hardware.speaker or ConsoleSpeaker(hardware.clock)
+    if hardware.speaker is None:
+        return real
+    from robots.mirror import MirroredSpeaker
+    return MirroredSpeaker(hardware.speaker, real)
+
+
+def _recognizer(hardware: Hardware, interaction: Interaction) -> SpeechRecognizer | None:
+    """The microphone and the answer recognizer, or None with a note saying why not."""
+    from robots.audio.recognizer import AnswerRecognizer, check_language
+    from robots.audio.source import MicrophoneSource
+    if not hardware.profile.speech_input:
+        hardware.notes.append(f"robot '{hardware.profile.name}' has no microphone in its profile "
+                              f"([speech] input): --listen is ignored")
+        return None
+    try:
+        check_language(interaction.language)
+        return AnswerRecognizer(MicrophoneSource(), interaction.language)
+    except RobotError as exc:
+        hardware.notes.append(f"spoken answers are off: {exc}")
+        return None

@@ -112,6 +112,7 @@ class RobotProfile:
     speech: bool
     people_detector: DetectorSpec | None
     odometry: OdometrySpec = field(default_factory=OdometrySpec)
+    speech_input: bool = False      # a microphone for spoken answers ([speech] input)
 
     @property
     def capabilities(self) -> frozenset[str]:
@@ -127,6 +128,8 @@ class RobotProfile:
             caps.add("touch_screen")
         if self.speech:
             caps.add("speech_out")
+        if self.speech_input:
+            caps.add("speech_in")
         if self.people_detector is not None:
             caps.add("people_detector")
         return frozenset(caps)
@@ -211,6 +214,7 @@ class _ProfileReader:
             speech=bool(self.data.get("speech", {}).get("output", True)),
             people_detector=self.detector(),
             odometry=self.odometry(),
+            speech_input=bool(self.data.get("speech", {}).get("input", False)),
         )
 
     def limits(self) -> Limits:

@@ -1,5 +1,8 @@
 """The questionnaire: ask survey questions on the touch screen and collect the answers.
 
+An answer is a press on the screen (`touch` on a tablet, `sim` from a simulated person) or, where
+the robot listens, one of the buttons said aloud (`voice`); the `answer` event names its source.
+
 Progress outlives any one behavior tree, so a user who is called back continues where they
 stopped; `reset` starts a fresh session for the next person.
 """
@@ -7,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from robots.devices import TouchScreen
+from robots.devices import SpeechRecognizer, TouchScreen
 from skills.skill import Skill
 from skills.status import IDLE, RUNNING, SUCCEEDED
 
@@ -53,9 +56,11 @@ class SurveyProgress:
 class Questionnaire(Skill):
     name = "questionnaire"
 
-    def __init__(self, blackboard, events, screen: TouchScreen) -> None:
+    def __init__(self, blackboard, events, screen: TouchScreen,
+                 recognizer: SpeechRecognizer | None = None) -> None:
         super().__init__(blackboard, events)
         self.screen = screen
+        self.recognizer = recognizer
         self.questions: tuple[Question, ...] = ()
         self.answers: dict[str, str] = {}
         self.asking: Question | None = None
@@ -99,6 +104,8 @@ class Questionnaire(Skill):
             return None
         self.asking = question
         self.screen.show(question.id, question.text, question.buttons, question.typed)
+        if self.recognizer is not None:
+            self.recognizer.listen(question.id, question.buttons)
         self.events.emit(now, "ask", question=question.id, text=question.text,
                          buttons=list(question.buttons))
         self.set_status(RUNNING, now)
@@ -107,18 +114,24 @@ class Questionnaire(Skill):
     def cancel(self, now: float) -> None:
         self.asking = None
         self.screen.clear()
+        self._stop_listening()
         self.set_status(IDLE, now)
         self._publish(now)
 
     def sense(self, now: float) -> None:
-        press = self.screen.take_press()
+        press = self.screen.take_press_from()
         while press is not None:
             self._record(press, now)
-            press = self.screen.take_press()
+            press = self.screen.take_press_from()
+        if self.recognizer is not None:
+            heard = self.recognizer.take_heard()
+            while heard is not None:
+                self._record((heard[0], heard[1], "voice"), now)
+                heard = self.recognizer.take_heard()
         self._publish(now)
 
-    def _record(self, press: tuple[str, str], now: float) -> None:
-        prompt_id, given = press
+    def _record(self, press: tuple[str, str, str], now: float) -> None:
+        prompt_id, given, source = press
         if self.asking is None or prompt_id != self.asking.id:
             return   # a stale press, or one for a prompt no longer shown: ignore it
         answer = self.asking.value_of(given)
@@ -126,10 +139,16 @@ class Questionnaire(Skill):
             return   # not one of the answers on the screen
         self.answers[prompt_id] = answer
         self.last = (prompt_id, answer)
-        self.events.emit(now, "answer", question=prompt_id, answer=answer, session=self.session)
+        self.events.emit(now, "answer", question=prompt_id, answer=answer, session=self.session,
+                         source=source)
         self.asking = None
         self.screen.clear()
+        self._stop_listening()
         self.set_status(SUCCEEDED, now)
+
+    def _stop_listening(self) -> None:
+        if self.recognizer is not None:
+            self.recognizer.stop()
 
     def progress(self) -> SurveyProgress:
         return SurveyProgress(tuple(self.answers.items()), len(self.questions),

@@ -53,10 +53,12 @@ class SkillSet:
                                            hardware.laser, user_range=user_range)
         self.motion = Motion(bb, ev, hardware.base, self.profile.limits, self.localization,
                              self.perception)
-        self.speech = Speech(bb, ev, hardware.speaker) if hardware.speaker else None
+        self.speech = (Speech(bb, ev, hardware.speaker, hardware.screen)
+                       if hardware.speaker else None)
         self.head = (HeadControl(bb, ev, hardware.head, self.profile.head, self.localization,
                                  self.perception) if hardware.head is not None else None)
-        self.questionnaire = Questionnaire(bb, ev, hardware.screen) if hardware.screen else None
+        self.questionnaire = (Questionnaire(bb, ev, hardware.screen, hardware.recognizer)
+                              if hardware.screen else None)
         self._sensing: list[Skill] = [s for s in (
             self.localization, self.obstacles, self.perception, self.speech, self.head,
             self.questionnaire) if s is not None]
@@ -71,6 +73,16 @@ class SkillSet:
 
     def now(self) -> float:
         return self.hardware.clock.now()
+
+    @property
+    def tablet_url(self) -> str | None:
+        """Where the tablet page is served (token included), or None without one."""
+        return self.hardware.tablet_url
+
+    @property
+    def notes(self) -> list[str]:
+        """What the user should know about the devices as opened (e.g. no microphone)."""
+        return list(self.hardware.notes)
 
     def require(self, skill: str) -> Skill:
         """The named skill, or a clear error naming the capability the robot lacks."""
@@ -125,14 +137,21 @@ class SkillSet:
 
 def open_skills(robot: str | Path, *, port: str | None = None, scenario: str | Path | None = None,
                 fast: bool = False, seed: int = 0, map: str | Path | GridMap | None = None,
-                initial_pose: tuple[float, float, float] | None = None) -> SkillSet:
+                initial_pose: tuple[float, float, float] | None = None,
+                gui: str | None = None, speech_wav: str | Path | None = None,
+                language: str = "en", voice: str | None = None,
+                listen: bool = False) -> SkillSet:
     """Open the robot's hardware (real or simulated) and its skills.
 
     `map`: a bundled floor name, a floor .toml or a map_server .yaml (default: the simulated
     floor in simulation, none on a real robot). `initial_pose` (x m, y m, heading rad) where
-    localization starts (default: the start pose in simulation, else the map's robot_home)."""
+    localization starts (default: the start pose in simulation, else the map's robot_home).
+    The interaction options (tablet page, speech, listening) are the hardware's, see
+    `robots.hardware.open_hardware`."""
     try:
-        hardware = open_hardware(robot, port=port, scenario=scenario, fast=fast, seed=seed)
+        hardware = open_hardware(robot, port=port, scenario=scenario, fast=fast, seed=seed,
+                                 gui=gui, speech_wav=speech_wav, language=language, voice=voice,
+                                 listen=listen)
     except RobotError as exc:
         raise SkillError(str(exc)) from exc
     try:

@@ -1,9 +1,10 @@
-"""Speech output: say a sentence through the robot's speaker; printed and logged as a `say` event."""
+"""Speech output: say a sentence through the robot's speaker; printed and logged as a `say` event,
+and shown as a caption on the touch screen where there is one (for people who cannot hear it)."""
 from __future__ import annotations
 
 import logging
 
-from robots.devices import Speaker
+from robots.devices import Speaker, TouchScreen
 from skills.skill import Skill
 from skills.status import IDLE, RUNNING, SUCCEEDED
 
@@ -13,12 +14,16 @@ log = logging.getLogger("interbot.speech")
 class Speech(Skill):
     name = "speech"
 
-    def __init__(self, blackboard, events, speaker: Speaker) -> None:
+    def __init__(self, blackboard, events, speaker: Speaker,
+                 screen: TouchScreen | None = None) -> None:
         super().__init__(blackboard, events)
         self.speaker = speaker
+        self.screen = screen
 
     def say(self, text: str, now: float) -> None:
         self.speaker.say(text)
+        if self.screen is not None:
+            self.screen.caption(text)
         log.info("say: %s", text)
         self.events.emit(now, "say", text=text)
         self.write("speech/last", text, now)

@@ -39,6 +39,7 @@ class RunCommand:
         parser.add_argument("--watch", action="store_true",
                             help="reload the application when its files change")
         parser.add_argument("--quiet", action="store_true", help="print only the summary")
+        add_interaction_arguments(parser)
 
     def run(self, args) -> int:
         with SignalGuard() as guard:
@@ -65,7 +66,8 @@ class RunCommand:
         robot = trace = database = run = None
         try:
             robot = open_robot(robot_name, port=args.port, scenario=scenario, fast=args.fast,
-                               seed=args.seed)
+                               seed=args.seed, **interaction_options(args))
+            announce_interaction(robot)
             needed = {state.behavior for state in app.states.values()}
             needed |= {rule.behavior for rule in dialog.overrides}
             missing = robot.cannot_run(needed)
@@ -135,6 +137,35 @@ class RunCommand:
             raise exc
         extra = "; ".join(robot_problems)
         raise RunEnded(crash.line + (f" ({extra})" if extra else ""), crash.code) from exc
+
+
+# --- the tablet page and speech (issue 12): the options, passed down to open_robot ----------
+def add_interaction_arguments(parser) -> None:
+    parser.add_argument("--gui", metavar="[HOST:]PORT",
+                        help="serve the touch screen as a web page for a tablet (binds 127.0.0.1 "
+                             "unless HOST is given; PORT 0 picks a free one; the URL with its "
+                             "token is printed at start)")
+    parser.add_argument("--speech-wav", metavar="DIR", type=Path,
+                        help="write what the robot says to numbered WAV files in DIR instead "
+                             "of the sound card")
+    parser.add_argument("--language", default="en",
+                        help="speech language, as espeak-ng names it (en, en-us, de, …; "
+                             "default en); spoken answers are recognised in English only")
+    parser.add_argument("--voice", help="an espeak-ng voice (default: the language's own)")
+    parser.add_argument("--listen", action="store_true",
+                        help="also take answers said aloud (microphone; English only)")
+
+
+def interaction_options(args) -> dict:
+    return {"gui": args.gui, "speech_wav": args.speech_wav, "language": args.language,
+            "voice": args.voice, "listen": args.listen}
+
+
+def announce_interaction(robot) -> None:
+    if robot.tablet_url:
+        print(f"interbot: tablet page at {robot.tablet_url}", flush=True)
+    for note in robot.notes:
+        print(f"interbot: {note}", file=sys.stderr)
 
 
 def resolve_scenario(folder: Path, scenario: str | None) -> Path | None:

@@ -81,6 +81,8 @@ def _towards(current: float, target: float, step: float) -> float:
 class SimTouchScreen(TouchScreen):
     """Shows prompts on `world.screen`, where simulated people press the buttons."""
 
+    source = "sim"
+
     def __init__(self, world: World) -> None:
         self.world = world
 

@@ -70,3 +70,56 @@ def test_reset_starts_a_new_session():
     session = skill.session
     skill.reset(2.0)
     assert skill.answers == {} and skill.session == session + 1 and not skill.closed
+
+
+class FakeRecognizer:
+    def __init__(self):
+        self.choices = None
+        self.heard = []
+
+    def listen(self, prompt_id, choices):
+        self.choices = (prompt_id, tuple(choices))
+
+    def stop(self):
+        self.choices = None
+
+    def take_heard(self):
+        return self.heard.pop(0) if self.heard else None
+
+
+def test_a_spoken_answer_counts_like_a_press_and_says_where_it_came_from():
+    screen, events, ears = FakeScreen(), EventLog(), FakeRecognizer()
+    skill = Questionnaire(Blackboard("test"), events, screen, ears)
+    skill.load(QUESTIONS, 0.0)
+    skill.ask_next(1.0)
+    assert ears.choices == ("q1", ("yes", "no"))      # listens for the buttons on screen
+    ears.heard.append(("q1", "no"))
+    skill.sense(2.0)
+    assert skill.answers == {"q1": "no"} and ears.choices is None and screen.shown is None
+    skill.ask_next(3.0)
+    screen.presses.append(("q2", "2"))
+    ears.heard.append(("q2", "3"))                   # too late: the press came first
+    skill.sense(4.0)
+    answers = [e.fields for e in events.drain() if e.kind == "answer"]
+    assert [(a["question"], a["answer"], a["source"]) for a in answers] == [
+        ("q1", "no", "voice"), ("q2", "2", "touch")]
+
+
+def test_yes_said_aloud_answers_the_question_on_screen(tmp_path):
+    import subprocess
+
+    from robots.audio.recognizer import AnswerRecognizer
+    from robots.audio.source import WavFileSource
+
+    said = tmp_path / "yes.wav"
+    subprocess.run(["espeak-ng", "-v", "en-us", "-w", str(said), "yes"], check=True)
+    ears = AnswerRecognizer(WavFileSource(said))
+    screen, events = FakeScreen(), EventLog()
+    skill = Questionnaire(Blackboard("test"), events, screen, ears)
+    skill.load(QUESTIONS, 0.0)
+    skill.ask_next(1.0)                 # shows q1 and starts listening for yes / no
+    ears.wait(60.0)                     # the file has been heard to its end
+    skill.sense(2.0)
+    ears.close()
+    answers = [e.fields for e in events.drain() if e.kind == "answer"]
+    assert [(a["question"], a["answer"], a["source"]) for a in answers] == [("q1", "yes", "voice")]
