@@ -13,7 +13,7 @@ from typing import Any
 
 from behaviors.active import ActiveBehavior
 from behaviors.exceptions import BehaviorError, BehaviorFault, RobotOpenError
-from behaviors.percept_view import PerceptTracker
+from behaviors.percept_view import PerceptTracker, describe
 from behaviors.percepts import PerceptView
 from behaviors.registry import BehaviorContext, get_behavior
 from skills.exceptions import SkillError
@@ -29,6 +29,7 @@ class Robot:
         self.percepts = PerceptTracker()
         self.fault: str | None = None
         self._events: list[dict[str, Any]] = []
+        self._view: PerceptView | None = None
 
     @property
     def name(self) -> str:
@@ -64,7 +65,36 @@ class Robot:
 
     def sense(self) -> PerceptView:
         now = self.skills.sense()
-        return self.percepts.view(self.skills, now)
+        self._view = self.percepts.view(self.skills, now)
+        return self._view
+
+    def start_snapshots(self) -> None:
+        """Make `snapshot()` possible from the next tick on (the hardware logs its readings)."""
+        self.skills.start_snapshots()
+
+    def snapshot(self) -> dict:
+        """This tick at L2 as plain data: the active behavior and its py_trees tree with each
+        node's status, the percepts with values and ages, the fault if any; `skills` holds
+        L1's part (which holds L0's). Call after `act()`; needs `start_snapshots()` first."""
+        skills = self.skills.snapshot()
+        view = self._view
+        ages = {key: entry["age"] for key, entry in skills["blackboard"].items()}
+        ages.update((f"skills/{name}/status", status["age"])
+                    for name, status in skills["skills"].items())
+        return {
+            "t": skills["t"],
+            "behavior": self.active.name,
+            "realization": self.active.realization,
+            "tree": tree_snapshot(self.active.root),
+            "percepts": {} if view is None else describe(view, ages),
+            "fault": self.fault,
+            "skills": skills,
+        }
+
+    def map(self) -> dict:
+        """What a top view draws: walls and places where known, the robot's outline and sonar
+        poses (see `robots.hardware.Hardware.map`)."""
+        return self.skills.map()
 
     def activate(self, behavior: str, params: dict[str, Any] | None = None) -> str:
         """Make `behavior` the active one (halting the old tree first); returns the realization."""
@@ -122,9 +152,26 @@ class Robot:
             self.skills.close()
 
 
+def tree_snapshot(node) -> dict | None:
+    """A py_trees tree as nested dicts: name, py_trees class, status, feedback, children."""
+    if node is None:
+        return None
+    out = {"name": node.name, "type": type(node).__name__, "status": node.status.value}
+    if node.feedback_message:
+        out["feedback"] = node.feedback_message
+    children = getattr(node, "children", None)
+    if children:
+        out["children"] = [tree_snapshot(child) for child in children]
+    return out
+
+
 def open_robot(robot: str | Path, *, port: str | None = None, scenario: str | Path | None = None,
-               fast: bool = False, seed: int = 0) -> Robot:
+               fast: bool = False, seed: int = 0, replay=None) -> Robot:
+    """Open a robot (simulated unless `port`); `replay` plays a recording instead of hardware:
+    an object with `devices` (the recorded robot's devices) iterating over the recorded
+    hardware inputs, tick by tick (see `robots.replay`)."""
     try:
-        return Robot(open_skills(robot, port=port, scenario=scenario, fast=fast, seed=seed))
+        return Robot(open_skills(robot, port=port, scenario=scenario, fast=fast, seed=seed,
+                                 replay=replay))
     except SkillError as exc:
         raise RobotOpenError(str(exc)) from exc

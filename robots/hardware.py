@@ -10,11 +10,16 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from robots.base import Base, base_classes
 from robots.clock import RealClock, SimClock
 from robots.devices import Laser, PanTiltHead, PersonDetector, Speaker, TouchScreen
 from robots.exceptions import LinkError, RobotError
 from robots.profile import RobotProfile, load_profile
+from robots.tap import INPUT_KEYS, TAPPED, Tap, encode_state
+
+OUTPUT_KEYS = frozenset(key for _, _, key, _ in TAPPED) - INPUT_KEYS
 
 
 @dataclass
@@ -30,6 +35,7 @@ class Hardware:
     speaker: Speaker | None = None
     simulation: object | None = None     # robots.sim.simulation.Simulation in simulation
     closed: bool = field(default=False, init=False)
+    _tap: Tap | None = field(default=None, init=False, repr=False)
 
     @property
     def capabilities(self) -> frozenset[str]:
@@ -48,6 +54,8 @@ class Hardware:
 
     def sense(self) -> float:
         """Bring the world (if simulated) and the base up to now; returns robot time."""
+        if self._tap is not None:
+            self._tap.mark_sense()
         now = self.clock.now()
         if self.simulation is not None:
             self.simulation.advance(now)
@@ -66,6 +74,60 @@ class Hardware:
             return []
         return self.simulation.world.ground_truth()
 
+    @property
+    def devices(self) -> list[str]:
+        """The devices present besides the base (what a replay must stand in for)."""
+        return [name for name in ("laser", "people_detector", "head", "screen", "speaker")
+                if getattr(self, name) is not None]
+
+    def start_tap(self) -> None:
+        """Log every reading and command from now on, for `snapshot()` (see `robots.tap`)."""
+        if self._tap is None:
+            Tap().install(self)
+
+    def snapshot(self) -> dict:
+        """This tick at L0, as plain data: base state, sonar, laser, commands sent, the true
+        people (in simulation), and `inputs`, the exact readings since the last snapshot (what
+        replay plays back). Needs `start_tap()` first; cheap: it reuses what was read."""
+        tap = self._tap
+        if tap is None:
+            raise RuntimeError("Hardware.snapshot() needs start_tap() before the readings")
+        log = tap.drain()
+        last = tap.last
+        state = last.get("base.read_state")
+        scan = last.get("laser.read")
+        commands = [[key, tap._encode(key, value)] for key, value in log
+                    if key in OUTPUT_KEYS]
+        snap = {
+            "t": last.get("now"),
+            "base": encode_state(state),
+            "laser": None if scan is None else {
+                "t": scan.t, "origin": list(scan.origin),
+                "angle_min": float(scan.angles[0]) if len(scan.angles) else 0.0,
+                "angle_step": (float(scan.angles[1] - scan.angles[0])
+                               if len(scan.angles) > 1 else 0.0),
+                # cm are plenty for a picture; -1 where nothing was hit
+                "ranges": np.where(np.isfinite(scan.ranges), np.round(scan.ranges, 2),
+                                   -1.0).tolist()},
+            "commands": commands,
+            "truth": [{"id": pid, "x": x, "y": y} for pid, x, y in self.ground_truth()],
+            "inputs": tap.encode(log),
+        }
+        return snap
+
+    def map(self) -> dict:
+        """What a top view draws besides the readings: the simulated floor's walls and places
+        (none on a real robot) and the robot's outline and sonar poses (m, rad, robot frame)."""
+        floor = getattr(getattr(self.simulation, "world", None), "floor", None)
+        sonar = self.profile.sonar
+        robot = {"radius": self.profile.radius, "devices": self.devices,
+                 "sonar": [] if sonar is None else [[float(v) for v in pose] for pose in sonar.poses]}
+        if floor is None:
+            return {"name": None, "walls": [], "places": {}, "robot": robot}
+        return {"name": floor.name, "walls": [[float(v) for v in row] for row in floor.segments],
+                "places": {name: list(pose) for name, pose in floor.places.items()},
+                "robot": robot}
+
     def close(self) -> None:
         if self.closed:
             return
@@ -76,13 +138,29 @@ class Hardware:
             self.base.close()
 
 
+@dataclass
+class ReplayHardware(Hardware):
+    """Hardware that plays a recording (`robots.replay`): each sense moves to the next segment."""
+    player: object | None = None
+
+    def sense(self) -> float:
+        self.player.next_segment()
+        return super().sense()
+
+
 def open_hardware(robot: str | Path, *, port: str | None = None, scenario: str | Path | None = None,
-                  fast: bool = False, seed: int = 0, emulate: bool = True) -> Hardware:
+                  fast: bool = False, seed: int = 0, emulate: bool = True,
+                  replay=None) -> Hardware:
     """Open `robot` (a profile name or path). `port` drives a real base; otherwise simulate.
 
     `emulate=False` forces the in-process simulated base even where an emulator exists.
+    `replay` (an object with `devices`, the recorded robot's devices, and iterating over tap
+    logs) opens a robot that plays a recording instead (`robots.replay`).
     """
     profile = load_profile(robot)
+    if replay is not None:
+        from robots.replay import open_replay
+        return open_replay(profile, replay, replay.devices)
     clock = SimClock() if fast else RealClock()
     if port is not None:
         return _open_real(profile, clock, port)

@@ -6,13 +6,16 @@ head control only with a pan-tilt unit, the questionnaire only with a touch scre
 """
 from __future__ import annotations
 
+import math
 from pathlib import Path
+
+import numpy as np
 
 from robots.exceptions import RobotError
 from robots.hardware import Hardware, open_hardware
 from robots.profile import available_robots as _available_robots
 from robots.profile import load_profile
-from skills.blackboard import Blackboard
+from skills.blackboard import SKILL_STATUS_PREFIX, Blackboard
 from skills.events import EventLog
 from skills.exceptions import SkillError, SkillUnavailableError
 from skills.head import HeadControl
@@ -20,9 +23,11 @@ from skills.localization import Localization
 from skills.motion import Motion
 from skills.obstacles import ObstacleSensing
 from skills.perception import PeoplePerception
-from skills.questionnaire import Questionnaire
+from skills.people.track import Track
+from skills.questionnaire import Questionnaire, SurveyProgress
 from skills.skill import Skill
 from skills.speech import Speech
+from skills.status import SkillStatus
 
 
 def available_robots() -> list[str]:
@@ -109,6 +114,36 @@ class SkillSet:
     def ground_truth(self) -> list[tuple[str, float, float]]:
         return self.hardware.ground_truth()
 
+    def start_snapshots(self) -> None:
+        """Make `snapshot()` possible: the hardware starts logging its readings and commands."""
+        self.hardware.start_tap()
+
+    def snapshot(self) -> dict:
+        """This tick at L1 as plain data: every blackboard entry with its age, each skill's
+        status with its reason, the people tracks and the user; `hardware` holds L0's part."""
+        now = self.now()
+        entries, statuses = {}, {}
+        for key, entry in sorted(self.blackboard.entries().items()):
+            if key.startswith(SKILL_STATUS_PREFIX):
+                name = key[len(SKILL_STATUS_PREFIX):].rsplit("/", 1)[0]
+                statuses[name] = {"status": entry.value.status.value, "reason": entry.value.reason,
+                                  "age": round(now - entry.t, 3)}
+                continue
+            entries[key] = {"value": plain(entry.value), "age": round(now - entry.t, 3)}
+        user = self.perception.user
+        return {
+            "t": now,
+            "blackboard": entries,
+            "skills": statuses,
+            "tracks": [_track(t) for t in self.perception.tracks],
+            "user": None if user is None else user.id,
+            "hardware": self.hardware.snapshot(),
+        }
+
+    def map(self) -> dict:
+        """What a top view draws: walls and places where known, the robot's outline and sonar."""
+        return self.hardware.map()
+
     def close(self) -> None:
         try:
             self.hardware.close()
@@ -116,11 +151,39 @@ class SkillSet:
             self.blackboard.clear()
 
 
+def _track(track) -> dict:
+    return {"id": track.id, "x": round(float(track.x), 3), "y": round(float(track.y), 3),
+            "vx": round(float(track.vx), 3), "vy": round(float(track.vy), 3),
+            "status": track.status}
+
+
+def plain(value):
+    """A blackboard value as JSON-able data (tracks, statuses and progress as small dicts)."""
+    if value is None or isinstance(value, (bool, int, str)):
+        return value
+    if isinstance(value, float):
+        return round(value, 4) if math.isfinite(value) else None
+    if isinstance(value, (tuple, list)):
+        return [plain(v) for v in value]
+    if isinstance(value, Track):
+        return _track(value)
+    if isinstance(value, SkillStatus):
+        return str(value)
+    if isinstance(value, SurveyProgress):
+        return {"answers": [list(a) for a in value.answers], "total": value.total,
+                "asking": value.asking, "closed": value.closed}
+    if isinstance(value, np.generic):
+        return plain(value.item())
+    return str(value)
+
+
 def open_skills(robot: str | Path, *, port: str | None = None, scenario: str | Path | None = None,
-                fast: bool = False, seed: int = 0) -> SkillSet:
-    """Open the robot's hardware (real or simulated) and its skills."""
+                fast: bool = False, seed: int = 0, replay=None) -> SkillSet:
+    """Open the robot's hardware (real or simulated) and its skills; `replay` plays a
+    recording instead (see `robots.hardware.open_hardware`)."""
     try:
-        hardware = open_hardware(robot, port=port, scenario=scenario, fast=fast, seed=seed)
+        hardware = open_hardware(robot, port=port, scenario=scenario, fast=fast, seed=seed,
+                                 replay=replay)
     except RobotError as exc:
         raise SkillError(str(exc)) from exc
     return SkillSet(hardware)

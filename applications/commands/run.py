@@ -4,6 +4,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from applications import observing
 from applications.exceptions import UnknownScenarioError, UnsupportedOnRobotError
 from applications.graph.loader import find_application, load_application
 
@@ -32,6 +33,8 @@ class RunCommand:
         parser.add_argument("--watch", action="store_true",
                             help="reload the application when its files change")
         parser.add_argument("--quiet", action="store_true", help="print only the summary")
+        # --inspect, --live, --record, --progress: applications.observing
+        observing.add_arguments(parser)
 
     def run(self, args) -> int:
         # Imported here, not at the top: they pull in the whole robot stack, which the other
@@ -66,15 +69,24 @@ class RunCommand:
         data_dir = args.data or default_data_dir()
         database = AnswerDatabase(data_dir / f"{app.name}.sqlite", folder / "database.sql")
         trace = TraceWriter(args.trace)
-        echo = None if args.quiet else print
+        echo = None if args.quiet or args.live else print
         where = f"port {args.port}" if args.port else f"simulation ({scenario.stem if scenario else 'nobody'})"
         print(f"interbot: running '{app.name}' on {robot_name}, {where}"
               f"{', fast' if args.fast else ''}; answers go to {database.path}")
+        watching = None
+        summary = None
         try:
+            watching = observing.open_observers(
+                args, app=app, folder=folder, robot=robot, robot_name=robot_name, fast=args.fast,
+                meta={"scenario": str(scenario) if scenario else None, "seed": args.seed,
+                      "fast": args.fast, "port": args.port})
             reload = _watcher(folder, robot_name) if args.watch else None
             summary = Run(app, robot, dialog=dialog, duration=args.duration, trace=trace,
-                          database=database, echo=echo, reload=reload).run()
+                          database=database, echo=echo, reload=reload,
+                          observers=watching.observers).run()
         finally:
+            if watching is not None:
+                watching.close(summary)
             robot.close()
             trace.close()
             database.close()

@@ -1,0 +1,96 @@
+"""`interbot replay FILE.mcap`: re-run an application's decisions on a recording's inputs."""
+from __future__ import annotations
+
+import time
+
+from applications import observing
+
+
+class ReplayCommand:
+    name = "replay"
+    help = ("re-run an application on a recording's inputs (no robot) and report the first tick "
+            "where a decision differs")
+
+    def add_arguments(self, parser) -> None:
+        parser.add_argument("recording", help="an MCAP file written by `interbot run --record`")
+        parser.add_argument("--app", help="replay this application (a bundled name or a folder) "
+                                          "instead of the recorded one, e.g. a changed copy")
+        parser.add_argument("--speed", type=float, default=None,
+                            help="robot seconds per wall second (default: as fast as possible; "
+                                 "1 with --inspect)")
+        parser.add_argument("--all", action="store_true",
+                            help="replay to the end instead of stopping at the first divergence")
+        observing.add_arguments(parser, record=False)
+
+    def run(self, args) -> int:
+        from applications.dialog import load_dialog
+        from applications.graph.catalog import load_catalog
+        from applications.graph.loader import load_application
+        from applications.recording import open_recording
+        from applications.replay import (Comparator, Diverged, ReplayEnded, ReplayFeed,
+                                         application_folder, replay_duration)
+        from applications.runtime import Run
+        from behaviors.robot import open_robot
+
+        recording = open_recording(args.recording)
+        meta = recording.meta
+        folder = application_folder(recording, args.app)
+        robot_name = meta.get("robot")
+        app = load_application(folder, robot=robot_name)
+        dialog = load_dialog(folder / "dialog.xml", app.states, load_catalog(robot_name).behaviors)
+        feed = ReplayFeed(recording)
+        robot = open_robot(robot_name, replay=feed)
+        comparator = Comparator(feed, stop=not args.all)
+        print(f"interbot: replaying {recording.path} ({meta.get('app')} on {robot_name}"
+              f"{', cut short' if recording.truncated else ''}) with {folder}", flush=True)
+        watching = None
+        summary = None
+        status = 0
+        try:
+            args.quiet = True
+            watching = observing.open_observers(args, app=app, folder=folder, robot=robot,
+                                                robot_name=robot_name, meta={},
+                                                controls=True, fast=True)
+            speed = args.speed if args.speed is not None else (1.0 if args.inspect else None)
+            observers = [comparator] + watching.observers
+            if speed:
+                observers.append(Pacer(speed))
+            run = Run(app, robot, dialog=dialog, duration=replay_duration(recording),
+                      echo=None, observers=observers)
+            try:
+                summary = run.run()
+            except Diverged:
+                pass
+            except ReplayEnded as end:
+                print(f"interbot: {end}", flush=True)
+        finally:
+            if watching is not None:
+                watching.close(summary)
+            robot.close()
+        if comparator.first is not None:
+            print(comparator.first.line())
+            status = 1
+        else:
+            print(f"no divergence in {comparator.compared} ticks")
+        return status
+
+
+class Pacer:
+    """Holds the replay to `speed` robot seconds per wall second (to watch it)."""
+
+    robot_snapshot = False
+
+    def __init__(self, speed: float) -> None:
+        if speed <= 0:
+            raise ValueError("--speed must be above 0")
+        self.speed = speed
+        self._start: tuple[float, float] | None = None
+
+    def __call__(self, snapshot) -> None:
+        if self._start is None:
+            self._start = (time.monotonic(), snapshot["t"])
+            return
+        wall0, t0 = self._start
+        delay = wall0 + (snapshot["t"] - t0) / self.speed - time.monotonic()
+        if delay > 0:
+            time.sleep(delay)
