@@ -215,6 +215,7 @@ class Recording:
     end: dict[str, Any] | None = None
     truncated: bool = False
     map: dict | None = None
+    good_bytes: int = 0          # the file up to here was read; the rest (if any) was cut short
 
 
 def open_recording(path: str | Path) -> Recording:
@@ -249,6 +250,7 @@ def read_ticks(recording: Recording | str | Path) -> Iterator[dict[str, dict]]:
         while True:
             try:
                 record = next(records)
+                recording.good_bytes = stream.tell()
             except StopIteration:
                 break
             except Exception as exc:   # McapError, EOFError, …: the file was cut short

@@ -1,0 +1,158 @@
+"""Recording a run to MCAP, reading it back (also after kill -9), and replaying it."""
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import jsonschema
+import pytest
+from mcap.reader import make_reader
+
+from applications.cli import main
+from applications.exceptions import ApplicationError
+from applications.graph.loader import find_application
+from applications.recording import (CHUNK_SIZE, SCHEMAS, Recording, open_recording, read_ticks)
+from applications.replay import ReplayFeed
+from applications.tracetools import summarize
+
+SURVEY = find_application("survey")
+
+
+@pytest.fixture(scope="module")
+def recorded(tmp_path_factory):
+    """The survey's `complete` scenario for 60 s on the simulated clock, recorded, with its
+    JSON-lines trace beside it."""
+    folder = tmp_path_factory.mktemp("recorded")
+    path, trace = folder / "run.mcap", folder / "run.jsonl"
+    status = main(["run", "survey", "--scenario", "complete", "--fast", "--duration", "60",
+                   "--quiet", "--no-progress", "--record", str(path), "--trace", str(trace),
+                   "--data", str(folder / "data")])
+    assert status == 0
+    return path, trace
+
+
+def test_every_topic_has_a_declared_json_schema_and_every_message_follows_it(recorded):
+    path, _ = recorded
+    with open(path, "rb") as f:
+        reader = make_reader(f)
+        summary = reader.get_summary()
+        topics = {channel.topic: summary.schemas[channel.schema_id]
+                  for channel in summary.channels.values()}
+        assert set(topics) == set(SCHEMAS)
+        for schema in topics.values():
+            assert schema.encoding == "jsonschema"
+            jsonschema.Draft7Validator.check_schema(json.loads(schema.data))
+        checked = 0
+        for schema, channel, message in reader.iter_messages():
+            assert channel.message_encoding == "json"
+            jsonschema.validate(json.loads(message.data), json.loads(schema.data))
+            checked += 1
+    assert checked == summary.statistics.message_count > 600 * 6
+
+
+def test_a_recording_holds_each_tick_with_inputs_decisions_and_metadata(recorded):
+    path, trace = recorded
+    recording = Recording(path)
+    ticks = list(read_ticks(recording))
+    assert len(ticks) == 601 and not recording.truncated
+    assert recording.meta["app"] == "survey" and recording.meta["robot"] == "horos"
+    assert recording.meta["devices"] == ["laser", "people_detector", "head", "screen", "speaker"]
+    assert recording.meta["duration"] == 60.0 and recording.end["ticks"] == 601
+    assert recording.map["walls"] and recording.map["robot"]["radius"] > 0
+    # the transitions of the recording are exactly those of the run's trace
+    events = [json.loads(line) for line in trace.read_text().splitlines()]
+    traced = [(e["from"], e["to"]) for e in events if e["kind"] == "transition"]
+    recorded_transitions = [(m["/interbot/tick"]["transition"]["from"],
+                             m["/interbot/tick"]["transition"]["to"])
+                            for m in ticks if m["/interbot/tick"]["transition"]]
+    assert recorded_transitions == traced
+    middle = ticks[450]
+    inputs = [key for key, _ in middle["/interbot/inputs"]["inputs"]]
+    assert {"sense", "now", "base.read_state", "laser.read", "detector.detect"} <= set(inputs)
+    assert "base.command" in [key for key, _ in middle["/interbot/hardware"]["commands"]]
+    assert middle["/interbot/tree"]["tree"]["status"] in ("RUNNING", "SUCCESS", "FAILURE")
+    assert "user.distance" in middle["/interbot/percepts"]["percepts"]
+    assert "localization" in middle["/interbot/skills"]["skills"]
+
+
+def test_a_recorded_run_replays_without_divergence(recorded, capsys):
+    path, _ = recorded
+    assert main(["replay", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "no divergence in 601 ticks" in out
+
+
+def test_a_changed_application_shows_the_first_divergence(recorded, tmp_path, capsys):
+    path, trace = recorded
+    changed = tmp_path / "survey_changed"
+    shutil.copytree(SURVEY, changed)
+    graph = changed / "graph.xml"
+    text = graph.read_text()
+    closer = text.replace('when="user.distance &lt; 0.75m"', 'when="user.distance &lt; 0.6m"')
+    assert closer != text
+    graph.write_text(closer)
+    assert main(["replay", str(path), "--app", str(changed)]) == 1
+    out = capsys.readouterr().out
+    events = [json.loads(line) for line in trace.read_text().splitlines()]
+    entered = next(e["t"] for e in events if e["kind"] == "transition" and e["to"] == "Interaction")
+    tick = round(entered / 0.1)
+    assert (f"first divergence at tick {tick} (t = {entered:.1f} s): state was Interaction when "
+            f"recorded, CreateAttention in the replay") in out
+
+
+def test_summary_of_the_recording_and_of_the_trace_agree(recorded):
+    path, trace = recorded
+    from_recording, from_trace = summarize(path), summarize(trace)
+    assert from_recording.transitions == from_trace.transitions
+    assert from_recording.answers == from_trace.answers == [
+        (pytest.approx(t), q, a) for t, q, a in from_trace.answers]
+    assert len(from_recording.answers) == 3
+    assert from_recording.min_clearance is not None and from_recording.min_clearance < 0.5
+    assert from_trace.min_clearance is None
+    assert sum(from_recording.time_in_state.values()) == pytest.approx(60.1)
+
+
+def test_a_file_that_is_not_a_recording_is_refused_with_its_name(tmp_path):
+    bogus = tmp_path / "bogus.mcap"
+    bogus.write_bytes(b"this is not mcap at all")
+    with pytest.raises(ApplicationError, match="bogus.mcap is not a readable MCAP recording"):
+        open_recording(bogus)
+
+
+def test_after_kill_9_the_recording_is_readable_up_to_its_last_chunk(tmp_path):
+    """A long --fast run killed while recording: everything up to the last chunk written
+    reads back, at most one chunk (under 1 MiB) is lost, and the part replays cleanly."""
+    path = tmp_path / "killed.mcap"
+    process = subprocess.Popen(
+        [sys.executable, "-m", "applications.cli", "run", "survey", "--fast", "--duration",
+         "3600", "--quiet", "--no-progress", "--record", str(path), "--data", str(tmp_path)],
+        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, cwd=tmp_path)
+    try:
+        deadline = time.monotonic() + 240
+        while (not path.exists() or path.stat().st_size < 3 * CHUNK_SIZE // 4) \
+                and time.monotonic() < deadline and process.poll() is None:
+            time.sleep(0.2)
+        assert process.poll() is None, process.stderr.read().decode()
+    finally:
+        process.send_signal(signal.SIGKILL)
+        process.wait()
+    assert process.returncode == -signal.SIGKILL
+    recording = Recording(path)
+    ticks = [m["/interbot/tick"]["tick"] for m in read_ticks(recording)]
+    assert recording.truncated
+    assert ticks == list(range(len(ticks))) and len(ticks) > 10
+    assert os.path.getsize(path) - recording.good_bytes <= 1024 * 1024
+    assert recording.meta["duration"] == 3600.0
+    feed = ReplayFeed(recording)
+    assert feed.devices == recording.meta["devices"]
+    result = subprocess.run([sys.executable, "-m", "applications.cli", "replay", str(path)],
+                            capture_output=True, text=True, cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert f"the recording ends before tick {len(ticks)}" in result.stdout
+    assert f"no divergence in {len(ticks)} ticks" in result.stdout
