@@ -18,12 +18,14 @@ import secrets
 import socket
 import threading
 import time
+from collections import deque
 from importlib import resources
 from typing import Any
 
 from applications.exceptions import ApplicationError
 from applications.inspect.graph_svg import graph_svg
 
+EVENTS_KEPT = 40         # recent events a page shows
 LONG_POLL = 1.0          # s a page request waits for a newer snapshot
 POLL_STEP = 0.02         # s between looks while waiting
 
@@ -65,6 +67,8 @@ class Inspector:
                                                           for t in s.ordered_transitions()]}
                                    for name, s in app.states.items()}}
         self._latest: dict | None = None
+        self._last_transition: dict | None = None    # a page that joins late still shows it
+        self._events: deque = deque(maxlen=EVENTS_KEPT)
         self._seq = 0
         self._encoded: tuple[int, bytes] = (0, b"null")
         self._gate = threading.Condition()
@@ -97,6 +101,10 @@ class Inspector:
     # -- the loop's side -----------------------------------------------------------------------
 
     def __call__(self, snapshot: dict[str, Any]) -> None:
+        if snapshot.get("transition"):
+            self._last_transition = {**snapshot["transition"], "t": snapshot["t"]}
+        if snapshot.get("events"):
+            self._events.extend(snapshot["events"])
         self._latest = snapshot
         self._seq += 1
         if self.controls and self.paused:
@@ -156,6 +164,8 @@ class Inspector:
         seq, snapshot = self._seq, self._latest
         if self._encoded[0] != seq and snapshot is not None:
             body = json.dumps({"seq": seq, "paused": self.paused,
+                               "last_transition": self._last_transition,
+                               "events": list(self._events),
                                "snapshot": page_snapshot(snapshot)},
                               separators=(",", ":"), default=str).encode()
             self._encoded = (seq, body)
