@@ -111,7 +111,7 @@ class Hardware:
                                    -1.0).tolist()},
             "commands": commands,
             "truth": [{"id": pid, "x": x, "y": y} for pid, x, y in self.ground_truth()],
-            "inputs": tap.encode(log),
+            "inputs": tap.encode([entry for entry in log if entry[0] not in OUTPUT_KEYS]),
         }
         return snap
 

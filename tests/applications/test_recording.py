@@ -156,3 +156,21 @@ def test_after_kill_9_the_recording_is_readable_up_to_its_last_chunk(tmp_path):
     assert result.returncode == 0, result.stderr
     assert f"the recording ends before tick {len(ticks)}" in result.stdout
     assert f"no divergence in {len(ticks)} ticks" in result.stdout
+
+
+def test_trace_command_draws_the_time_line_and_the_path(recorded, tmp_path, capsys):
+    from lxml import etree
+
+    path, trace = recorded
+    timeline, route = tmp_path / "states.svg", tmp_path / "path.svg"
+    assert main(["trace", str(path), "--timeline", str(timeline), "--path", str(route)]) == 0
+    out = capsys.readouterr().out
+    assert "time per state:" in out and "minimum clearance to people:" in out
+    bars = etree.parse(str(timeline)).getroot().findall(".//{http://www.w3.org/2000/svg}rect")
+    states = [bar.get("data-state") for bar in bars if bar.get("class") == "state"]
+    assert states == ["Wait", "CreateAttention", "Interaction", "Wait"]
+    lines = etree.parse(str(route)).getroot().findall(".//{http://www.w3.org/2000/svg}polyline")
+    kinds = {line.get("class") for line in lines}
+    assert {"robot", "track", "truth"} <= kinds
+    with pytest.raises(ApplicationError, match="a trace has no poses"):
+        main(["trace", str(trace), "--path", str(tmp_path / "nope.svg")])
