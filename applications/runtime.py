@@ -75,7 +75,9 @@ class Run:
         self.summary = RunSummary()
         self._answered: dict[int, set[str]] = {}
         # Each observer gets the tick's snapshot (see `_observe`), built only when there is one;
-        # the robot's part only when an observer wants it (no `robot_snapshot = False`).
+        # the robot's part only on ticks where an observer wants it (its `robot_snapshot`,
+        # True when absent), with the exact hardware readings only when one has
+        # `wants_inputs = True` (a recorder).
         self.observers = list(observers)
         self._robot_part = any(getattr(o, "robot_snapshot", True) for o in self.observers)
         self._tick_events: list[dict[str, Any]] = []
@@ -84,7 +86,7 @@ class Run:
         start_wall = time.perf_counter()
         robot = self.robot
         if self._robot_part:
-            robot.start_snapshots()
+            robot.start_snapshots(any(getattr(o, "wants_inputs", False) for o in self.observers))
         t0 = robot.now()
         machine = StateMachine(self.app, t0)
         self._emit({"t": 0.0, "kind": "transition", "from": None, "to": machine.state.name,
@@ -162,12 +164,14 @@ class Run:
         that fired with its condition, the tick's events) around `robot.snapshot()`."""
         events, self._tick_events = self._tick_events, []
         fired = [e for e in events if e["kind"] == "transition"]
+        robot_part = self._robot_part and any(getattr(o, "robot_snapshot", True)
+                                              for o in self.observers)
         snapshot = {
             "tick": self.summary.ticks - 1, "t": now, "elapsed": now - t0,
             "duration": self.duration, "app": self.app.name, "state": machine.state.name,
             "time_in_state": machine.time_in_state(now),
             "transition": ({k: fired[-1][k] for k in ("from", "to", "when")} if fired else None),
-            "events": events, "robot": self.robot.snapshot() if self._robot_part else None,
+            "events": events, "robot": self.robot.snapshot() if robot_part else None,
         }
         for observer in self.observers:
             observer(snapshot)

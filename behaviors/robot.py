@@ -68,9 +68,10 @@ class Robot:
         self._view = self.percepts.view(self.skills, now)
         return self._view
 
-    def start_snapshots(self) -> None:
-        """Make `snapshot()` possible from the next tick on (the hardware logs its readings)."""
-        self.skills.start_snapshots()
+    def start_snapshots(self, inputs: bool = True) -> None:
+        """Make `snapshot()` possible from the next tick on (the hardware logs its readings);
+        `inputs` adds the exact readings to each snapshot (what a recording needs for replay)."""
+        self.skills.start_snapshots(inputs)
 
     def snapshot(self) -> dict:
         """This tick at L2 as plain data: the active behavior and its py_trees tree with each

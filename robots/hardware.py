@@ -80,10 +80,12 @@ class Hardware:
         return [name for name in ("laser", "people_detector", "head", "screen", "speaker")
                 if getattr(self, name) is not None]
 
-    def start_tap(self) -> None:
-        """Log every reading and command from now on, for `snapshot()` (see `robots.tap`)."""
+    def start_tap(self, inputs: bool = True) -> None:
+        """Log every reading and command from now on, for `snapshot()` (see `robots.tap`);
+        `inputs=False` leaves the exact readings out of the snapshots (only replay needs them)."""
         if self._tap is None:
             Tap().install(self)
+        self._tap.keep_inputs = self._tap.keep_inputs or inputs
 
     def snapshot(self) -> dict:
         """This tick at L0, as plain data: base state, sonar, laser, commands sent, the true
@@ -94,24 +96,31 @@ class Hardware:
             raise RuntimeError("Hardware.snapshot() needs start_tap() before the readings")
         log = tap.drain()
         last = tap.last
-        state = last.get("base.read_state")
+        inputs = (tap.encode([entry for entry in log if entry[0] not in OUTPUT_KEYS])
+                  if tap.keep_inputs else [])
+        state = next((value for key, value in reversed(inputs) if key == "base.read_state"),
+                     None)
+        if state is None:      # no reading this tick: show the newest one
+            state = encode_state(last.get("base.read_state"))
         scan = last.get("laser.read")
         commands = [[key, tap._encode(key, value)] for key, value in log
                     if key in OUTPUT_KEYS]
         snap = {
             "t": last.get("now"),
-            "base": encode_state(state),
+            "base": state,
             "laser": None if scan is None else {
                 "t": scan.t, "origin": list(scan.origin),
                 "angle_min": float(scan.angles[0]) if len(scan.angles) else 0.0,
                 "angle_step": (float(scan.angles[1] - scan.angles[0])
                                if len(scan.angles) > 1 else 0.0),
-                # cm are plenty for a picture; -1 where nothing was hit
-                "ranges": np.where(np.isfinite(scan.ranges), np.round(scan.ranges, 2),
-                                   -1.0).tolist()},
+                # whole cm are plenty for a picture (and integers are cheap to write);
+                # -1 where nothing was hit
+                "ranges_cm": np.where(np.isfinite(scan.ranges), np.rint(scan.ranges * 100),
+                                      -1).astype(np.int32).tolist()},
             "commands": commands,
-            "truth": [{"id": pid, "x": x, "y": y} for pid, x, y in self.ground_truth()],
-            "inputs": tap.encode([entry for entry in log if entry[0] not in OUTPUT_KEYS]),
+            "truth": [{"id": pid, "x": round(x, 3), "y": round(y, 3)}
+                      for pid, x, y in self.ground_truth()],
+            "inputs": inputs,
         }
         return snap
 

@@ -50,6 +50,7 @@ class Tap:
     def __init__(self) -> None:
         self.log: list[tuple[str, Any]] = []
         self.last: dict[str, Any] = {}        # newest raw value per key (for display)
+        self.keep_inputs = False              # encode the exact readings in snapshots
         self._angles: np.ndarray | None = None
 
     def install(self, hardware) -> None:

@@ -6,7 +6,6 @@ head control only with a pan-tilt unit, the questionnaire only with a touch scre
 """
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import numpy as np
@@ -114,9 +113,10 @@ class SkillSet:
     def ground_truth(self) -> list[tuple[str, float, float]]:
         return self.hardware.ground_truth()
 
-    def start_snapshots(self) -> None:
-        """Make `snapshot()` possible: the hardware starts logging its readings and commands."""
-        self.hardware.start_tap()
+    def start_snapshots(self, inputs: bool = True) -> None:
+        """Make `snapshot()` possible: the hardware starts logging its readings and commands
+        (with `inputs`, the snapshot carries the exact readings that replay plays back)."""
+        self.hardware.start_tap(inputs)
 
     def snapshot(self) -> dict:
         """This tick at L1 as plain data: every blackboard entry with its age, each skill's
@@ -131,11 +131,13 @@ class SkillSet:
                 continue
             entries[key] = {"value": plain(entry.value), "age": round(now - entry.t, 3)}
         user = self.perception.user
+        tracks = entries.get("people/tracks")       # the same confirmed tracks: made once
         return {
             "t": now,
             "blackboard": entries,
             "skills": statuses,
-            "tracks": [_track(t) for t in self.perception.tracks],
+            "tracks": (tracks["value"] if tracks is not None
+                       else [_track(t) for t in self.perception.tracks]),
             "user": None if user is None else user.id,
             "hardware": self.hardware.snapshot(),
         }
@@ -157,19 +159,24 @@ def _track(track) -> dict:
             "status": track.status}
 
 
+
 def plain(value):
-    """A blackboard value as JSON-able data (tracks, statuses and progress as small dicts)."""
-    if value is None or isinstance(value, (bool, int, str)):
-        return value
-    if isinstance(value, float):
-        return round(value, 4) if math.isfinite(value) else None
-    if isinstance(value, (tuple, list)):
+    """A blackboard value as JSON-able data (tracks, statuses and progress as small dicts);
+    floats to 0.1 mm or better, which is all a reader of the snapshot needs."""
+    kind = type(value)
+    if kind is float:
+        return round(value, 4) if value - value == 0.0 else None     # inf and nan: None
+    if kind is tuple or kind is list:
+        if value and all(type(v) is float for v in value):
+            return [round(v, 4) if v - v == 0.0 else None for v in value]
         return [plain(v) for v in value]
-    if isinstance(value, Track):
+    if value is None or kind is bool or kind is int or kind is str:
+        return value
+    if kind is Track:
         return _track(value)
-    if isinstance(value, SkillStatus):
+    if kind is SkillStatus:
         return str(value)
-    if isinstance(value, SurveyProgress):
+    if kind is SurveyProgress:
         return {"answers": [list(a) for a in value.answers], "total": value.total,
                 "asking": value.asking, "closed": value.closed}
     if isinstance(value, np.generic):

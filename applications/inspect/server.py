@@ -25,9 +25,21 @@ from typing import Any
 from applications.exceptions import ApplicationError
 from applications.inspect.graph_svg import graph_svg
 
+PAGE_RATE = 12.0         # snapshots a wall second at most: every tick at 10 Hz, and a
+                         # --fast run (hundreds of ticks a second) pays for no more
 EVENTS_KEPT = 40         # recent events a page shows
 LONG_POLL = 1.0          # s a page request waits for a newer snapshot
 POLL_STEP = 0.02         # s between looks while waiting
+
+
+try:                           # the server thread shares the GIL with the loop: encode fast
+    import orjson
+
+    def _dumps(value: Any) -> bytes:
+        return orjson.dumps(value, default=str)
+except ImportError:            # pragma: no cover - orjson is a dependency
+    def _dumps(value: Any) -> bytes:
+        return json.dumps(value, separators=(",", ":"), default=str).encode()
 
 
 def parse_address(text: str) -> tuple[str, int]:
@@ -70,6 +82,7 @@ class Inspector:
         self._last_transition: dict | None = None    # a page that joins late still shows it
         self._events: deque = deque(maxlen=EVENTS_KEPT)
         self._seq = 0
+        self._next_wanted = 0.0
         self._encoded: tuple[int, bytes] = (0, b"null")
         self._gate = threading.Condition()
         self.paused = False
@@ -100,11 +113,21 @@ class Inspector:
 
     # -- the loop's side -----------------------------------------------------------------------
 
+    @property
+    def robot_snapshot(self) -> bool:
+        """Whether this tick's robot part is wanted: every tick of a real-time run (10 Hz),
+        at most PAGE_RATE a wall second of a --fast run (no page shows more), every tick of
+        a replay (to step through)."""
+        return self.controls or time.monotonic() >= self._next_wanted
+
     def __call__(self, snapshot: dict[str, Any]) -> None:
         if snapshot.get("transition"):
             self._last_transition = {**snapshot["transition"], "t": snapshot["t"]}
         if snapshot.get("events"):
             self._events.extend(snapshot["events"])
+        if snapshot.get("robot") is None:
+            return                    # a tick between two the page will see
+        self._next_wanted = time.monotonic() + 1.0 / PAGE_RATE
         self._latest = snapshot
         self._seq += 1
         if self.controls and self.paused:
@@ -163,11 +186,9 @@ class Inspector:
     def _encoded_latest(self) -> tuple[int, bytes]:
         seq, snapshot = self._seq, self._latest
         if self._encoded[0] != seq and snapshot is not None:
-            body = json.dumps({"seq": seq, "paused": self.paused,
-                               "last_transition": self._last_transition,
-                               "events": list(self._events),
-                               "snapshot": page_snapshot(snapshot)},
-                              separators=(",", ":"), default=str).encode()
+            body = _dumps({"seq": seq, "paused": self.paused,
+                           "last_transition": self._last_transition,
+                           "events": list(self._events), "snapshot": page_snapshot(snapshot)})
             self._encoded = (seq, body)
         return self._encoded
 

@@ -146,7 +146,7 @@ def test_pause_and_step_hold_the_loop_one_tick_at_a_time():
 
         def loop():
             for tick in range(5):
-                inspector({"tick": tick})
+                inspector({"tick": tick, "robot": {}})
                 ticks.append(tick)
         thread = threading.Thread(target=loop)
         thread.start()

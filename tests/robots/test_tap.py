@@ -53,7 +53,7 @@ def test_the_tap_logs_readings_and_commands_and_replay_plays_them_back():
     assert keys[:2] == [SENSE, "now"]
     assert keys.count("laser.read") == 2 and "base.command" not in keys
     assert snapshot["commands"] == [["base.command", [0.2, 0.1]]]
-    assert snapshot["base"]["x"] == state.x and len(snapshot["laser"]["ranges"]) == 181
+    assert snapshot["base"]["x"] == state.x and len(snapshot["laser"]["ranges_cm"]) == 181
     replay = open_replay(load_profile("horos"), [snapshot["inputs"]], hardware.devices)
     assert replay.sense() == snapshot["t"]
     assert replay.base.read_state() == state
