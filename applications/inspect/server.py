@@ -68,10 +68,12 @@ class Inspector:
     """Serves the page; call it with each tick's snapshot."""
 
     def __init__(self, app, *, address: str = "0", robot: str = "", map_: dict | None = None,
-                 controls: bool = False, token: str | None = None) -> None:
+                 controls: bool = False, token: str | None = None,
+                 page_rate: float = PAGE_RATE) -> None:
         self.host, port = parse_address(address)
         self.token = token or secrets.token_urlsafe(16)
         self.controls = controls
+        self.period = 1.0 / page_rate
         self._static = {"app": app.name, "robot": robot, "initial": app.initial,
                         "graph": graph_svg(app), "map": map_, "controls": controls,
                         "states": {name: {"behavior": s.behavior,
@@ -127,7 +129,10 @@ class Inspector:
             self._events.extend(snapshot["events"])
         if snapshot.get("robot") is None:
             return                    # a tick between two the page will see
-        self._next_wanted = time.monotonic() + 1.0 / PAGE_RATE
+        now = time.monotonic()
+        if not self.controls and now < self._next_wanted:
+            return                    # built for another observer (a recorder): not needed
+        self._next_wanted = now + self.period
         self._latest = snapshot
         self._seq += 1
         if self.controls and self.paused:

@@ -111,7 +111,7 @@ def test_parse_address():
 
 def test_the_server_wants_its_token_and_serves_graph_and_newest_snapshot():
     app = load_application(SURVEY)
-    inspector = Inspector(app, address="0", robot="horos").start()
+    inspector = Inspector(app, address="0", robot="horos", page_rate=float("inf")).start()
     try:
         base = f"http://127.0.0.1:{inspector.port}"
         assert inspector.url.startswith(base) and len(inspector.token) >= 20
@@ -174,7 +174,7 @@ def test_the_page_shows_the_state_and_node_statuses_during_a_run(tmp_path):
 
     def hold(snapshot):
         if (not held.is_set() and snapshot["state"] == "Interaction"
-                and snapshot["time_in_state"] >= 1.0):
+                and snapshot["time_in_state"] >= 1.0 and inspector._latest is snapshot):
             seen["snapshot"] = snapshot
             held.set()
             release.wait(300)
