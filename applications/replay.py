@@ -127,7 +127,7 @@ def _normal(value: Any) -> Any:
     return value
 
 
-def replay_duration(recording: Recording, last_t: float | None = None) -> float:
+def replay_duration(recording: Recording) -> float:
     """The duration the recorded run was given (so the loop ends on the same tick)."""
     duration = recording.meta.get("duration")
     if duration is None:

@@ -147,10 +147,6 @@ def _num(value: float) -> Any:
     return "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
 
 
-def _float(value: Any) -> float:
-    return float(value) if not isinstance(value, str) else float(value)
-
-
 def encode_state(state: BaseState | None) -> dict | None:
     if state is None:
         return None
@@ -165,9 +161,9 @@ def decode_state(data: dict | None) -> BaseState | None:
     if data is None:
         return None
     return BaseState(t=data["t"], x=data["x"], y=data["y"], th=data["th"], v=data["v"],
-                     w=data["w"], sonar=tuple(_float(r) for r in data["sonar"]),
+                     w=data["w"], sonar=tuple(float(r) for r in data["sonar"]),
                      bumpers=data["bumpers"], stalled=data["stalled"],
-                     motors_enabled=data["motors_enabled"], battery=_float(data["battery"]),
+                     motors_enabled=data["motors_enabled"], battery=float(data["battery"]),
                      link_up=data["link_up"], extra=dict(data["extra"]))
 
 

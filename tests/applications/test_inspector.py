@@ -218,3 +218,16 @@ def test_the_page_shows_the_state_and_node_statuses_during_a_run(tmp_path):
     assert rows["user.present"][1] == "true"
     skills = {tr.get("data-name") for tr in dom.get_element_by_id("skills").iter("tr")}
     assert {"questionnaire", "perception", "motion"} <= skills
+
+
+def test_without_graphviz_the_graph_is_drawn_by_our_own_layout():
+    from applications.inspect.graph_svg import own_svg
+
+    app = load_application(SURVEY)
+    svg = lxml.html.fromstring(own_svg(app))
+    assert set(svg.xpath("//g[@class='node']/title/text()")) == set(app.states)
+    edges = svg.xpath("//g[@class='edge']/title/text()")
+    expected = {f"{state.name}->{t.target}" for state in app.states.values()
+                for t in state.transitions}
+    assert set(edges) == expected and len(edges) == len(expected)
+    assert "user.distance &lt; 0.75m" in own_svg(app)

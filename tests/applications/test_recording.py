@@ -174,3 +174,35 @@ def test_trace_command_draws_the_time_line_and_the_path(recorded, tmp_path, caps
     assert {"robot", "track", "truth"} <= kinds
     assert main(["trace", str(trace), "--path", str(tmp_path / "nope.svg")]) == 1
     assert "a trace has no poses" in capsys.readouterr().err
+
+
+def test_a_real_port_run_on_the_real_clock_records_and_replays_without_divergence(tmp_path, capsys):
+    """Over a TCP port to the P2OS emulator (as on a robot: real clock, no ground truth, no
+    map), the recording holds the base's readings and replays tick for tick."""
+    import re
+
+    from tests.applications.test_real_port import BASE_ONLY_APP
+
+    emulator = subprocess.Popen([sys.executable, "-m", "applications.cli", "emulate", "p2os",
+                                 "--tcp", "0"], stdout=subprocess.PIPE, text=True)
+    try:
+        url = re.search(r"socket://127\.0\.0\.1:\d+", emulator.stdout.readline()).group(0)
+        app = tmp_path / "pause"
+        app.mkdir()
+        (app / "graph.xml").write_text(BASE_ONLY_APP)
+        path = tmp_path / "port.mcap"
+        assert main(["run", str(app), "--robot", "horos", "--port", url, "--duration", "5",
+                     "--data", str(tmp_path), "--quiet", "--record", str(path)]) == 0
+    finally:
+        emulator.terminate()
+        emulator.wait(timeout=10)
+    recording = Recording(path)
+    ticks = list(read_ticks(recording))
+    assert recording.meta["port"] == url and recording.meta["devices"] == ["speaker"]
+    assert recording.map["walls"] == [] and len(recording.map["robot"]["sonar"]) == 16
+    assert all(m["/interbot/hardware"]["truth"] == [] for m in ticks)
+    assert all(len(m["/interbot/hardware"]["base"]["sonar"]) == 16 for m in ticks)
+    assert ticks[-1]["/interbot/tick"]["state"] == "Done"
+    capsys.readouterr()
+    assert main(["replay", str(path)]) == 0
+    assert f"no divergence in {len(ticks)} ticks" in capsys.readouterr().out
