@@ -4,6 +4,7 @@ from __future__ import annotations
 import time
 
 from applications import observing
+from applications.exceptions import ApplicationError
 
 
 class ReplayCommand:
@@ -32,8 +33,14 @@ class ReplayCommand:
         from applications.runtime import Run
         from behaviors.robot import open_robot
 
+        if args.speed is not None and not args.speed > 0:
+            raise ApplicationError(f"--speed {args.speed}: give robot seconds per wall second, "
+                                   f"above 0 (e.g. 1 for real time, 4 for four times faster)")
         recording = open_recording(args.recording)
         meta = recording.meta
+        if not meta.get("robot") or "duration" not in meta:
+            raise ApplicationError(f"{recording.path} is an MCAP file but not an interbot "
+                                   f"recording (no 'interbot' metadata with robot and duration)")
         folder = application_folder(recording, args.app)
         robot_name = meta.get("robot")
         app = load_application(folder, robot=robot_name)
@@ -41,20 +48,17 @@ class ReplayCommand:
         feed = ReplayFeed(recording)
         robot = open_robot(robot_name, replay=feed)
         comparator = Comparator(feed, stop=not args.all)
-        print(f"interbot: replaying {recording.path} ({meta.get('app')} on {robot_name}"
-              f"{', cut short' if recording.truncated else ''}) with {folder}", flush=True)
+        print(f"interbot: replaying {recording.path} ({meta.get('app')} on {robot_name}) "
+              f"with {folder}", flush=True)
         watching = None
         summary = None
         status = 0
         try:
-            args.quiet = True
             watching = observing.open_observers(args, app=app, folder=folder, robot=robot,
-                                                robot_name=robot_name, meta={},
-                                                controls=True, fast=True)
+                                                robot_name=robot_name, meta={}, controls=True)
             speed = args.speed if args.speed is not None else (1.0 if args.inspect else None)
-            observers = [comparator] + watching.observers
-            if speed:
-                observers.append(Pacer(speed))
+            # the comparator last: the inspector has shown a diverging tick before it stops
+            observers = watching.observers + ([Pacer(speed)] if speed else []) + [comparator]
             run = Run(app, robot, dialog=dialog, duration=replay_duration(recording),
                       echo=None, observers=observers)
             try:
@@ -63,6 +67,8 @@ class ReplayCommand:
                 pass
             except ReplayEnded as end:
                 print(f"interbot: {end}", flush=True)
+            if watching.inspector is not None:
+                _keep_serving(comparator)
         finally:
             if watching is not None:
                 watching.close(summary)
@@ -75,14 +81,25 @@ class ReplayCommand:
         return status
 
 
+def _keep_serving(comparator) -> None:
+    """Leave the inspector up on the last tick (a divergence) until the user is done."""
+    if comparator.first is not None:
+        print(comparator.first.line())
+    print("interbot: the replay is over; the inspector shows its last tick until Ctrl-C",
+          flush=True)
+    try:
+        while True:
+            time.sleep(1.0)
+    except KeyboardInterrupt:
+        pass
+
+
 class Pacer:
     """Holds the replay to `speed` robot seconds per wall second (to watch it)."""
 
     robot_snapshot = False
 
     def __init__(self, speed: float) -> None:
-        if speed <= 0:
-            raise ValueError("--speed must be above 0")
         self.speed = speed
         self._start: tuple[float, float] | None = None
 
