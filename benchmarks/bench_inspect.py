@@ -36,6 +36,22 @@ from behaviors.robot import open_robot  # noqa: E402
 SETUPS = ("plain", "record", "inspect", "record+inspect")
 
 
+def crowd_text(people: int, minutes: float) -> str:
+    """All `people` in the hallway for the whole run, walking up and down it in lanes."""
+    duration = minutes * 60
+    lines = ["[scenario]", 'name = "crowd"', f"duration = {duration}", 'robot = "robot_home"', ""]
+    for i in range(people):
+        y = -0.1 + 0.1 * (i % 10)
+        start, end = (-8.5, 8.5) if i % 2 == 0 else (8.5, -8.5)
+        speed = 0.6 + 0.05 * i
+        legs = int(duration * speed / 17) + 2
+        waypoints = ", ".join(f"[{end if k % 2 == 0 else start}, {y:.1f}]" for k in range(legs))
+        lines += ["[[person]]", f'id = "c{i}"', f"appear = {0.5 * i:.1f}",
+                  f"at = [{start}, {y:.1f}]", f"speed = {speed:.2f}",
+                  f"steps = [{{ walk = [{waypoints}] }}]", ""]
+    return "\n".join(lines)
+
+
 POLLER = """
 import json, sys, urllib.request
 base, token, seq, fetched = sys.argv[1], sys.argv[2], 0, 0
@@ -118,17 +134,22 @@ def main() -> None:
     parser.add_argument("--minutes", type=float, default=3.0)
     parser.add_argument("--people", type=int, default=10)
     parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--crowd", action="store_true",
+                        help="all the people in the hallway the whole time (default: they "
+                             "arrive one by one, as in bench_survey.py)")
     args = parser.parse_args()
     results: dict[str, list[dict]] = {setup: [] for setup in SETUPS}
     with tempfile.TemporaryDirectory() as name:
         folder = Path(name)
         scenario = folder / "bench.toml"
-        scenario.write_text(scenario_text(args.people, args.minutes))
+        make = crowd_text if args.crowd else scenario_text
+        scenario.write_text(make(args.people, args.minutes))
         for _ in range(args.rounds):
             for setup in SETUPS:
                 results[setup].append(measure(setup, scenario, args.minutes, folder))
     load = os.getloadavg()
-    print(f"survey, HOROS, {args.people} people, {args.minutes:g} min of robot time, --fast, "
+    print(f"survey, HOROS, {args.people} people{' all the time' if args.crowd else ''}, "
+          f"{args.minutes:g} min of robot time, --fast, "
           f"{args.rounds} rounds; load average {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}")
     base = {key: statistics.median(r[key] for r in results["plain"])
             for key in ("median_ms", "cpu_median_ms", "cpu_mean_ms")}
