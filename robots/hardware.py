@@ -84,7 +84,8 @@ class Hardware:
         """Log every reading and command from now on, for `snapshot()` (see `robots.tap`);
         `inputs=False` leaves the exact readings out of the snapshots (only replay needs them)."""
         if self._tap is None:
-            Tap().install(self)
+            self._tap = Tap()
+            self._tap.install(self)
         self._tap.keep_inputs = self._tap.keep_inputs or inputs
 
     def snapshot(self) -> dict:
@@ -103,9 +104,9 @@ class Hardware:
         if state is None:      # no reading this tick: show the newest one
             state = encode_state(last.get("base.read_state"))
         scan = last.get("laser.read")
-        commands = [[key, tap._encode(key, value)] for key, value in log
+        commands = [[key, tap.encode_value(key, value)] for key, value in log
                     if key in OUTPUT_KEYS]
-        snap = {
+        return {
             "t": last.get("now"),
             "base": state,
             "laser": None if scan is None else {
@@ -122,7 +123,6 @@ class Hardware:
                       for pid, x, y in self.ground_truth()],
             "inputs": inputs,
         }
-        return snap
 
     def map(self) -> dict:
         """What a top view draws besides the readings: the simulated floor's walls and places

@@ -54,10 +54,7 @@ class Tap:
         self._angles: np.ndarray | None = None
 
     def install(self, hardware) -> None:
-        """Wrap the hardware's device methods; idempotent per hardware."""
-        if getattr(hardware, "_tap", None) is not None:
-            return
-        hardware._tap = self
+        """Wrap the device methods of `hardware` (once: `Hardware.start_tap` keeps the tap)."""
         for attribute, method, key, kind in TAPPED:
             device = getattr(hardware, attribute, None)
             if device is None or not hasattr(device, method):
@@ -92,10 +89,11 @@ class Tap:
         """The log as JSON-able `[key, value]` pairs, exact for the inputs."""
         out = []
         for key, value in log:
-            out.append([key, self._encode(key, value)])
+            out.append([key, self.encode_value(key, value)])
         return out
 
-    def _encode(self, key: str, value: Any) -> Any:
+    def encode_value(self, key: str, value: Any) -> Any:
+        """One reading or command's arguments as JSON-able data (exact for readings)."""
         if key == "base.read_state":
             return encode_state(value)
         if key == "laser.read":

@@ -30,8 +30,8 @@ def test_laser_ranges_pack_bit_for_bit():
     assert np.array_equal(unpack(pack(ranges)), ranges)
     tap = Tap()
     scan = LaserScan(t=2.0, angles=np.linspace(-1, 1, 4), ranges=ranges, origin=(0.16, 0.0, 0.0))
-    first = tap._encode("laser.read", scan)
-    again = tap._encode("laser.read", scan)
+    first = tap.encode_value("laser.read", scan)
+    again = tap.encode_value("laser.read", scan)
     assert first["angles"] is not None and again["angles"] is None     # angles sent once
     decoded = decode_scan(again, decode_scan(first, None).angles)
     assert np.array_equal(decoded.angles, scan.angles) and np.array_equal(decoded.ranges, ranges)
