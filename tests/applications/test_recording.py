@@ -206,3 +206,49 @@ def test_a_real_port_run_on_the_real_clock_records_and_replays_without_divergenc
     capsys.readouterr()
     assert main(["replay", str(path)]) == 0
     assert f"no divergence in {len(ticks)} ticks" in capsys.readouterr().out
+
+
+def test_replay_with_the_inspector_pauses_and_steps_one_tick(recorded):
+    import urllib.request
+
+    path, _ = recorded
+    process = subprocess.Popen([sys.executable, "-m", "applications.cli", "replay", str(path),
+                                "--inspect", "0", "--speed", "20"],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+    def call(query: str, method: str = "GET") -> dict:
+        request = urllib.request.Request(f"{base}/api/{query}&token={token}", method=method)
+        with urllib.request.urlopen(request, timeout=30) as reply:
+            return json.loads(reply.read())
+
+    try:
+        url = None
+        while url is None:
+            line = process.stdout.readline()
+            assert line, process.stderr.read()
+            if "inspector at " in line:
+                url = line.split("inspector at ")[1].strip()
+        base, token = url.split("/?")[0], url.split("token=")[1]
+        assert call("control?action=pause", "POST")["paused"]
+        held = call("snapshot?after=0")
+        for _ in range(5):       # the pause holds the loop at its next tick
+            again = call(f"snapshot?after={held['seq']}")    # waits a second if nothing new
+            if again["seq"] == held["seq"]:
+                break
+            held = again
+        assert again["seq"] == held["seq"] and again["paused"]
+        call("control?action=step", "POST")
+        stepped = call(f"snapshot?after={held['seq']}")
+        assert stepped["seq"] == held["seq"] + 1
+        assert stepped["snapshot"]["tick"] == held["snapshot"]["tick"] + 1
+        call("control?action=resume", "POST")
+        out = []
+        while not any("the replay is over" in line for line in out):
+            line = process.stdout.readline()
+            assert line, process.stderr.read()
+            out.append(line)
+    finally:
+        process.send_signal(signal.SIGINT)
+        rest, _ = process.communicate(timeout=60)
+    assert process.returncode == 0
+    assert "no divergence in 601 ticks" in rest
