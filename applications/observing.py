@@ -54,8 +54,10 @@ class Observing:
 
 
 def open_observers(args, *, app, folder: Path, robot, robot_name: str, meta: dict[str, Any],
-                   controls: bool = False, fast: bool = False) -> Observing:
-    """Make the observers the flags ask for; prints where the inspector listens."""
+                   controls: bool = False, fast: bool = False,
+                   layout: dict | None = None) -> Observing:
+    """Make the observers the flags ask for; prints where the inspector listens. `layout`
+    replaces the robot's map for the inspector (a replay shows the recorded one)."""
     from applications.live import LiveView, Progress
 
     observing = Observing()
@@ -71,7 +73,8 @@ def open_observers(args, *, app, folder: Path, robot, robot_name: str, meta: dic
         if args.inspect is not None:
             from applications.inspect.server import Inspector
             observing.inspector = Inspector(app, address=args.inspect, robot=robot_name,
-                                            map_=robot.map(), controls=controls).start()
+                                            map_=layout or robot.map(),
+                                            controls=controls).start()
             observing.observers.append(observing.inspector)
             print(f"interbot: inspector at {observing.inspector.url}", flush=True)
         if args.live:

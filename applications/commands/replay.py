@@ -55,10 +55,12 @@ class ReplayCommand:
         status = 0
         try:
             watching = observing.open_observers(args, app=app, folder=folder, robot=robot,
-                                                robot_name=robot_name, meta={}, controls=True)
+                                                robot_name=robot_name, meta={}, controls=True,
+                                                layout=recording.map)
             speed = args.speed if args.speed is not None else (1.0 if args.inspect else None)
             # the comparator last: the inspector has shown a diverging tick before it stops
-            observers = watching.observers + ([Pacer(speed)] if speed else []) + [comparator]
+            observers = ([RecordedTruth(feed)] if watching.inspector else []) + watching.observers \
+                + ([Pacer(speed)] if speed else []) + [comparator]
             run = Run(app, robot, dialog=dialog, duration=replay_duration(recording),
                       echo=None, observers=observers)
             try:
@@ -92,6 +94,24 @@ def _keep_serving(comparator) -> None:
             time.sleep(1.0)
     except KeyboardInterrupt:
         pass
+
+
+class RecordedTruth:
+    """Puts the recorded true people into the replayed tick, for the inspector's top view
+    (a replay has no simulation of its own)."""
+
+    def __init__(self, feed) -> None:
+        self.feed = feed
+
+    def __call__(self, snapshot) -> None:
+        robot = snapshot.get("robot")
+        if robot is None:
+            return
+        for messages in self.feed.recorded:
+            if messages["/interbot/tick"]["tick"] == snapshot["tick"]:
+                truth = messages.get("/interbot/hardware", {}).get("truth", [])
+                robot["skills"]["hardware"]["truth"] = truth
+                return
 
 
 class Pacer:
