@@ -13,7 +13,7 @@ import time
 from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any, Callable, Sequence
 
 from applications.database import AnswerDatabase
 from applications.dialog import Dialog, load_dialog
@@ -88,7 +88,8 @@ class Run:
                  duration: float | None = None,
                  trace: TraceWriter | None = None, database: AnswerDatabase | None = None,
                  echo: Callable[[str], None] | None = print,
-                 reload: Callable[[], Any] | None = None) -> None:
+                 reload: Callable[[], Any] | None = None,
+                 observers: Sequence[Callable[[dict[str, Any]], None]] = ()) -> None:
         self.app = app
         self.robot = robot
         self.dialog: Dialog = dialog or load_dialog(app.folder / "dialog.xml", app.states)
@@ -99,10 +100,19 @@ class Run:
         self.reload = reload
         self.summary = RunSummary()
         self._answered: dict[int, set[str]] = {}
+        # Each observer gets the tick's snapshot (see `_observe`), built only when there is one;
+        # the robot's part only on ticks where an observer wants it (its `robot_snapshot`,
+        # True when absent), with the exact hardware readings only when one has
+        # `wants_inputs = True` (a recorder).
+        self.observers = list(observers)
+        self._robot_part = any(getattr(o, "robot_snapshot", True) for o in self.observers)
+        self._tick_events: list[dict[str, Any]] = []
 
     def run(self) -> RunSummary:
         start_wall = time.perf_counter()
         robot = self.robot
+        if self._robot_part:
+            robot.start_snapshots(any(getattr(o, "wants_inputs", False) for o in self.observers))
         t0 = robot.now()
         machine = StateMachine(self.app, t0)
         self._emit({"t": 0.0, "kind": "transition", "from": None, "to": machine.state.name,
@@ -138,6 +148,8 @@ class Run:
                 self._emit(event)
             self.summary.ticks += 1
             self.summary.time_in_state[machine.state.name] += TICK
+            if self.observers:
+                self._observe(machine, now, t0)
             if robot.fault or machine.finished or now - t0 + TICK > self.duration + 1e-9:
                 break
             next_tick += TICK
@@ -185,8 +197,27 @@ class Run:
                         "to": machine.state.name, "when": "reload"})
             self._activate(machine, percepts)
 
+    def _observe(self, machine: StateMachine, now: float, t0: float) -> None:
+        """Hand every observer this tick's snapshot: L3's part (tick, state, the transition
+        that fired with its condition, the tick's events) around `robot.snapshot()`."""
+        events, self._tick_events = self._tick_events, []
+        fired = [e for e in events if e["kind"] == "transition"]
+        robot_part = self._robot_part and any(getattr(o, "robot_snapshot", True)
+                                              for o in self.observers)
+        snapshot = {
+            "tick": self.summary.ticks - 1, "t": now, "elapsed": now - t0,
+            "duration": self.duration, "app": self.app.name, "state": machine.state.name,
+            "time_in_state": machine.time_in_state(now),
+            "transition": ({k: fired[-1][k] for k in ("from", "to", "when")} if fired else None),
+            "events": events, "robot": self.robot.snapshot() if robot_part else None,
+        }
+        for observer in self.observers:
+            observer(snapshot)
+
     def _emit(self, event: dict[str, Any]) -> None:
         self.summary.count(event)
+        if self.observers:
+            self._tick_events.append(event)
         self.trace.write(event)
         kind = event["kind"]
         if kind == "answer":

@@ -11,6 +11,33 @@ from behaviors.percepts import PerceptContext, PerceptView, percept_catalog
 STALE_AFTER = 0.5          # s: older blackboard entries are treated as absent
 
 
+# The blackboard entry each percept is computed from, for its age (inspector, recordings).
+SOURCES = {
+    "people.count": "people/tracks", "people.new": "people/tracks",
+    "user.present": "people/user", "user.distance": "people/user_distance",
+    "user.approaching": "people/user_approach", "user.left": "people/tracks",
+    "survey.done": "survey/progress", "survey.answered": "survey/progress",
+    "speech.busy": "speech/busy", "motion.failed": "skills/motion/status",
+    "robot.fault": "robot/link",
+}
+
+
+FRESH_ONLY = frozenset({"people/tracks", "people/user", "people/user_distance",
+                        "people/user_approach", "speech/busy", "robot/link"})
+
+
+def describe(view: PerceptView, ages: dict[str, float]) -> dict[str, dict]:
+    """Each percept's value, the age (s) of the blackboard entry it comes from (`ages`, by key)
+    and whether it is stale: older than STALE_AFTER where that makes it read as absent."""
+    out = {}
+    for name, value in view.items():
+        source = SOURCES.get(name)
+        age = ages.get(source)
+        stale = age is None or (source in FRESH_ONLY and age > STALE_AFTER)
+        out[name] = {"value": value, "age": age, "stale": stale}
+    return out
+
+
 class PerceptTracker:
     """Remembers what "since the state was entered" needs: the start time and the users seen."""
 

@@ -13,7 +13,7 @@ from typing import Any
 
 from behaviors.active import ActiveBehavior
 from behaviors.exceptions import BehaviorError, BehaviorFault, RobotOpenError
-from behaviors.percept_view import PerceptTracker
+from behaviors.percept_view import PerceptTracker, describe
 from behaviors.percepts import PerceptView
 from behaviors.registry import BehaviorContext, get_behavior
 from skills.exceptions import SkillError
@@ -29,6 +29,7 @@ class Robot:
         self.percepts = PerceptTracker()
         self.fault: str | None = None
         self._events: list[dict[str, Any]] = []
+        self._view: PerceptView | None = None
 
     @property
     def name(self) -> str:
@@ -74,7 +75,37 @@ class Robot:
 
     def sense(self) -> PerceptView:
         now = self.skills.sense()
-        return self.percepts.view(self.skills, now, self.active.status)
+        self._view = self.percepts.view(self.skills, now, self.active.status)
+        return self._view
+
+    def start_snapshots(self, inputs: bool = True) -> None:
+        """Make `snapshot()` possible from the next tick on (the hardware logs its readings);
+        `inputs` adds the exact readings to each snapshot (what a recording needs for replay)."""
+        self.skills.start_snapshots(inputs)
+
+    def snapshot(self) -> dict:
+        """This tick at L2 as plain data: the active behavior and its py_trees tree with each
+        node's status, the percepts with values and ages, the fault if any; `skills` holds
+        L1's part (which holds L0's). Call after `act()`; needs `start_snapshots()` first."""
+        skills = self.skills.snapshot()
+        view = self._view
+        ages = {key: entry["age"] for key, entry in skills["blackboard"].items()}
+        ages.update((f"skills/{name}/status", status["age"])
+                    for name, status in skills["skills"].items())
+        return {
+            "t": skills["t"],
+            "behavior": self.active.name,
+            "realization": self.active.realization,
+            "tree": tree_snapshot(self.active.root),
+            "percepts": {} if view is None else describe(view, ages),
+            "fault": self.fault,
+            "skills": skills,
+        }
+
+    def top_view(self) -> dict:
+        """What a top view draws: walls and places where known, the robot's outline and sonar
+        poses (see `robots.hardware.Hardware.top_view`)."""
+        return self.skills.top_view()
 
     def activate(self, behavior: str, params: dict[str, Any] | None = None) -> str:
         """Make `behavior` the active one (halting the old tree first); returns the realization."""
@@ -137,16 +168,32 @@ class Robot:
             self.skills.close()
 
 
+def tree_snapshot(node) -> dict | None:
+    """A py_trees tree as nested dicts: name, py_trees class, status, feedback, children."""
+    if node is None:
+        return None
+    out = {"name": node.name, "type": type(node).__name__, "status": node.status.value}
+    if node.feedback_message:
+        out["feedback"] = node.feedback_message
+    children = getattr(node, "children", None)
+    if children:
+        out["children"] = [tree_snapshot(child) for child in children]
+    return out
+
+
 def open_robot(robot: str | Path, *, port: str | None = None, scenario: str | Path | None = None,
                fast: bool = False, seed: int = 0, gui: str | None = None,
                speech_wav: str | Path | None = None, language: str = "en",
-               voice: str | None = None, listen: bool = False) -> Robot:
-    """Open `robot` with its skills and hardware. `gui` ([HOST:]PORT) serves the tablet page;
-    `speech_wav`, `language`, `voice` set speech output and `listen` speech input (see
-    `skills.skillset.open_skills`, which passes them on)."""
+               voice: str | None = None, listen: bool = False, replay=None) -> Robot:
+    """Open `robot` with its skills and hardware (simulated unless `port`). `gui`
+    ([HOST:]PORT) serves the tablet page; `speech_wav`, `language`, `voice` set speech output
+    and `listen` speech input (see `skills.skillset.open_skills`, which passes them on).
+    `replay` plays a recording instead of hardware: an object with `devices` (the recorded
+    robot's devices) iterating over the recorded hardware inputs, tick by tick (see
+    `robots.replay`)."""
     try:
         return Robot(open_skills(robot, port=port, scenario=scenario, fast=fast, seed=seed,
                                  gui=gui, speech_wav=speech_wav, language=language, voice=voice,
-                                 listen=listen))
+                                 listen=listen, replay=replay))
     except SkillError as exc:
         raise RobotOpenError(str(exc)) from exc

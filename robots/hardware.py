@@ -16,12 +16,17 @@ import logging
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from robots.base import Base, base_classes
 from robots.clock import RealClock, SimClock
 from robots.devices import (Laser, PanTiltHead, PersonDetector, Speaker, SpeechRecognizer,
                             TouchScreen)
 from robots.exceptions import RobotError
 from robots.profile import RobotProfile, load_profile
+from robots.tap import INPUT_KEYS, TAPPED, Tap, encode_state
+
+OUTPUT_KEYS = frozenset(key for _, _, key, _ in TAPPED) - INPUT_KEYS
 
 
 @dataclass
@@ -40,6 +45,7 @@ class Hardware:
     tablet_url: str | None = None        # the tablet page's address, token included
     notes: list[str] = field(default_factory=list)   # what the user should know (degraded devices)
     closed: bool = field(default=False, init=False)
+    _tap: Tap | None = field(default=None, init=False, repr=False)
 
     @property
     def capabilities(self) -> frozenset[str]:
@@ -60,6 +66,8 @@ class Hardware:
 
     def sense(self) -> float:
         """Bring the world (if simulated) and the base up to now; returns robot time."""
+        if self._tap is not None:
+            self._tap.mark_sense()
         now = self.clock.now()
         if self.simulation is not None:
             self.simulation.advance(now)
@@ -97,6 +105,70 @@ class Hardware:
             return []
         return self.simulation.world.ground_truth()
 
+    @property
+    def devices(self) -> list[str]:
+        """The devices present besides the base (what a replay must stand in for)."""
+        return [name for name in ("laser", "people_detector", "head", "screen", "speaker")
+                if getattr(self, name) is not None]
+
+    def start_tap(self, inputs: bool = True) -> None:
+        """Log every reading and command from now on, for `snapshot()` (see `robots.tap`);
+        `inputs=False` leaves the exact readings out of the snapshots (only replay needs them)."""
+        if self._tap is None:
+            self._tap = Tap()
+            self._tap.install(self)
+        self._tap.keep_inputs = self._tap.keep_inputs or inputs
+
+    def snapshot(self) -> dict:
+        """This tick at L0, as plain data: base state, sonar, laser, commands sent, the true
+        people (in simulation), and `inputs`, the exact readings since the last snapshot (what
+        replay plays back). Needs `start_tap()` first; cheap: it reuses what was read."""
+        tap = self._tap
+        if tap is None:
+            raise RuntimeError("Hardware.snapshot() needs start_tap() before the readings")
+        log = tap.drain()
+        last = tap.last
+        inputs = (tap.encode([entry for entry in log if entry[0] not in OUTPUT_KEYS])
+                  if tap.keep_inputs else [])
+        state = next((value for key, value in reversed(inputs) if key == "base.read_state"),
+                     None)
+        if state is None:      # no reading this tick: show the newest one
+            state = encode_state(last.get("base.read_state"))
+        scan = last.get("laser.read")
+        commands = [[key, tap.encode_value(key, value)] for key, value in log
+                    if key in OUTPUT_KEYS]
+        return {
+            "t": last.get("now"),
+            "base": state,
+            "laser": None if scan is None else {
+                "t": scan.t, "origin": list(scan.origin),
+                "angle_min": float(scan.angles[0]) if len(scan.angles) else 0.0,
+                "angle_step": (float(scan.angles[1] - scan.angles[0])
+                               if len(scan.angles) > 1 else 0.0),
+                # whole cm are plenty for a picture (and integers are cheap to write);
+                # -1 where nothing was hit
+                "ranges_cm": np.where(np.isfinite(scan.ranges), np.rint(scan.ranges * 100),
+                                      -1).astype(np.int32).tolist()},
+            "commands": commands,
+            "truth": [{"id": pid, "x": round(x, 3), "y": round(y, 3)}
+                      for pid, x, y in self.ground_truth()],
+            "inputs": inputs,
+        }
+
+    def top_view(self) -> dict:
+        """What a top view draws besides the readings: the simulated floor's walls and places
+        (none on a real robot) and the robot's outline and sonar poses (m, rad, robot frame)."""
+        floor = getattr(getattr(self.simulation, "world", None), "floor", None)
+        sonar = self.profile.sonar
+        robot = {"radius": self.profile.radius, "devices": self.devices,
+                 "sonar": [] if sonar is None else [[float(v) for v in pose] for pose in sonar.poses]}
+        if floor is None:
+            return {"name": None, "walls": [], "places": {}, "robot": robot}
+        start = self.start_pose
+        return {"name": floor.name, "walls": [[float(v) for v in row] for row in floor.segments],
+                "places": {name: list(pose) for name, pose in floor.places.items()},
+                "robot": robot, "start_pose": None if start is None else list(start)}
+
     def close(self) -> None:
         if self.closed:
             return
@@ -124,18 +196,45 @@ class Interaction:
     listen: bool = False                   # recognise spoken answers from the microphone
 
 
+@dataclass
+class ReplayHardware(Hardware):
+    """Hardware that plays a recording (`robots.replay`): each sense moves to the next segment.
+    The recorded floor and start pose give localization the same map and start as the run."""
+    player: object | None = None
+    recorded_floor: object | None = None
+    recorded_start: tuple[float, float, float] | None = None
+
+    @property
+    def floor(self):
+        return self.recorded_floor
+
+    @property
+    def start_pose(self) -> tuple[float, float, float] | None:
+        return self.recorded_start
+
+    def sense(self) -> float:
+        self.player.next_segment()
+        return super().sense()
+
+
 def open_hardware(robot: str | Path, *, port: str | None = None, scenario: str | Path | None = None,
                   fast: bool = False, seed: int = 0, emulate: bool = True,
                   floor: str | Path = "office", gui: str | None = None,
                   speech_wav: str | Path | None = None, language: str = "en",
-                  voice: str | None = None, listen: bool = False) -> Hardware:
+                  voice: str | None = None, listen: bool = False,
+                  replay=None) -> Hardware:
     """Open `robot` (a profile name or path). `port` drives a real base; otherwise simulate.
 
     `emulate=False` forces the in-process simulated base even where an emulator exists;
     `floor` is the simulated building (a bundled floor name or a floor .toml). The interaction
-    options are those of `Interaction`.
+    options are those of `Interaction`. `replay` (an object with `devices`, the recorded
+    robot's devices, and iterating over tap logs) opens a robot that plays a recording instead
+    (`robots.replay`).
     """
     profile = load_profile(robot)
+    if replay is not None:
+        from robots.replay import open_replay
+        return open_replay(profile, replay, replay.devices, getattr(replay, "layout", None))
     clock = SimClock() if fast else RealClock()
     interaction = Interaction(gui, speech_wav, language, voice, listen)
     if port is not None:

@@ -121,6 +121,13 @@ class Blackboard:
         except KeyError:
             return None
 
+    def entries(self) -> dict[str, Stamped]:
+        """Every entry written so far, by key: one pass over the storage, for snapshots (a
+        py_trees client `get` per key costs ten times more)."""
+        storage = py_trees.blackboard.Blackboard.storage
+        return {key: storage[self._path(key)] for key in self._readable
+                if self._path(key) in storage}
+
     def value(self, key: str, default: Any = None, now: float | None = None,
               max_age: float | None = None) -> Any:
         """The value, or `default` when missing or older than `max_age` at `now`."""

@@ -8,11 +8,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+
 from robots.exceptions import RobotError
 from robots.hardware import Hardware, open_hardware
 from robots.profile import available_robots as _available_robots
 from robots.profile import load_profile
-from skills.blackboard import Blackboard
+from skills.blackboard import SKILL_STATUS_PREFIX, Blackboard
 from skills.events import EventLog
 from skills.exceptions import SkillError, SkillUnavailableError
 from skills.head import HeadControl
@@ -21,9 +23,11 @@ from skills.motion import Motion
 from skills.navigation.gridmap import GridMap, load_map, map_from_floor
 from skills.obstacles import ObstacleSensing
 from skills.perception import PeoplePerception
-from skills.questionnaire import Questionnaire
+from skills.people.track import Track
+from skills.questionnaire import Questionnaire, SurveyProgress
 from skills.skill import Skill
 from skills.speech import Speech
+from skills.status import SkillStatus
 
 
 def available_robots() -> list[str]:
@@ -128,6 +132,39 @@ class SkillSet:
     def ground_truth(self) -> list[tuple[str, float, float]]:
         return self.hardware.ground_truth()
 
+    def start_snapshots(self, inputs: bool = True) -> None:
+        """Make `snapshot()` possible: the hardware starts logging its readings and commands
+        (with `inputs`, the snapshot carries the exact readings that replay plays back)."""
+        self.hardware.start_tap(inputs)
+
+    def snapshot(self) -> dict:
+        """This tick at L1 as plain data: every blackboard entry with its age, each skill's
+        status with its reason, the people tracks and the user; `hardware` holds L0's part."""
+        now = self.now()
+        entries, statuses = {}, {}
+        for key, entry in sorted(self.blackboard.entries().items()):
+            if key.startswith(SKILL_STATUS_PREFIX):
+                name = key[len(SKILL_STATUS_PREFIX):].rsplit("/", 1)[0]
+                statuses[name] = {"status": entry.value.status.value, "reason": entry.value.reason,
+                                  "age": round(now - entry.t, 3)}
+                continue
+            entries[key] = {"value": plain(entry.value), "age": round(now - entry.t, 3)}
+        user = self.perception.user
+        tracks = entries.get("people/tracks")       # the same confirmed tracks: made once
+        return {
+            "t": now,
+            "blackboard": entries,
+            "skills": statuses,
+            "tracks": (tracks["value"] if tracks is not None
+                       else [_track(t) for t in self.perception.tracks]),
+            "user": None if user is None else user.id,
+            "hardware": self.hardware.snapshot(),
+        }
+
+    def top_view(self) -> dict:
+        """What a top view draws: walls and places where known, the robot's outline and sonar."""
+        return self.hardware.top_view()
+
     def close(self) -> None:
         try:
             self.hardware.close()
@@ -135,23 +172,56 @@ class SkillSet:
             self.blackboard.clear()
 
 
+def _track(track) -> dict:
+    return {"id": track.id, "x": round(float(track.x), 3), "y": round(float(track.y), 3),
+            "vx": round(float(track.vx), 3), "vy": round(float(track.vy), 3),
+            "status": track.status}
+
+
+
+def plain(value):
+    """A blackboard value as JSON-able data (tracks, statuses and progress as small dicts);
+    floats to 0.1 mm or better, which is all a reader of the snapshot needs."""
+    kind = type(value)
+    if kind is float:
+        return round(value, 4) if value - value == 0.0 else None     # inf and nan: None
+    if kind is tuple or kind is list:
+        if value and all(type(v) is float for v in value):
+            return [round(v, 4) if v - v == 0.0 else None for v in value]
+        return [plain(v) for v in value]
+    if value is None or kind is bool or kind is int or kind is str:
+        return value
+    if kind is Track:
+        return _track(value)
+    if kind is SkillStatus:
+        return str(value)
+    if kind is SurveyProgress:
+        return {"answers": [list(a) for a in value.answers], "total": value.total,
+                "asking": value.asking, "closed": value.closed,
+                "last": None if value.last is None else list(value.last),
+                "pending": value.pending}
+    if isinstance(value, np.generic):
+        return plain(value.item())
+    return str(value)
+
+
 def open_skills(robot: str | Path, *, port: str | None = None, scenario: str | Path | None = None,
                 fast: bool = False, seed: int = 0, map: str | Path | GridMap | None = None,
                 initial_pose: tuple[float, float, float] | None = None,
                 gui: str | None = None, speech_wav: str | Path | None = None,
                 language: str = "en", voice: str | None = None,
-                listen: bool = False) -> SkillSet:
+                listen: bool = False, replay=None) -> SkillSet:
     """Open the robot's hardware (real or simulated) and its skills.
 
     `map`: a bundled floor name, a floor .toml or a map_server .yaml (default: the simulated
     floor in simulation, none on a real robot). `initial_pose` (x m, y m, heading rad) where
     localization starts (default: the start pose in simulation, else the map's robot_home).
     The interaction options (tablet page, speech, listening) are the hardware's, see
-    `robots.hardware.open_hardware`."""
+    `robots.hardware.open_hardware`; `replay` plays a recording instead of hardware."""
     try:
         hardware = open_hardware(robot, port=port, scenario=scenario, fast=fast, seed=seed,
                                  gui=gui, speech_wav=speech_wav, language=language, voice=voice,
-                                 listen=listen)
+                                 listen=listen, replay=replay)
     except RobotError as exc:
         raise SkillError(str(exc)) from exc
     try:

@@ -4,6 +4,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from applications import observing
 from applications.commands import arguments
 from applications.exceptions import (ApplicationError, UnknownScenarioError,
                                      UnsupportedOnRobotError)
@@ -40,6 +41,8 @@ class RunCommand:
                             help="reload the application when its files change")
         parser.add_argument("--quiet", action="store_true", help="print only the summary")
         add_interaction_arguments(parser)
+        # --inspect, --live, --record, --progress: applications.observing
+        observing.add_arguments(parser)
 
     def run(self, args) -> int:
         with SignalGuard() as guard:
@@ -63,7 +66,7 @@ class RunCommand:
         app, dialog = loaded.app, loaded.dialog
         robot_name = args.robot or app.robot or DEFAULT_ROBOT
         scenario = None if args.port else resolve_scenario(folder, args.scenario)
-        robot = trace = database = run = None
+        robot = trace = database = run = watching = summary = None
         try:
             robot = open_robot(robot_name, port=args.port, scenario=scenario, fast=args.fast,
                                seed=args.seed, **interaction_options(args))
@@ -81,21 +84,27 @@ class RunCommand:
             data_dir = args.data or default_data_dir()
             database = ApplicationDatabase(data_dir / f"{app.name}.sqlite", loaded.schema_file)
             trace = TraceWriter(args.trace)
-            echo = None if args.quiet else print
+            echo = None if args.quiet or args.live else print
             where = (f"port {args.port}" if args.port
                      else f"simulation ({scenario.stem if scenario else 'nobody'})")
             print(f"interbot: running '{app.name}' on {robot_name}, {where}"
                   f"{', fast' if args.fast else ''}; answers go to {database.path}")
+            watching = observing.open_observers(
+                args, app=app, folder=folder, robot=robot, robot_name=robot_name, fast=args.fast,
+                meta={"scenario": str(scenario) if scenario else None, "seed": args.seed,
+                      "fast": args.fast, "port": args.port})
             reload = _watcher(folder, robot_name) if args.watch else None
             run = Run(app, robot, dialog=dialog, duration=args.duration, trace=trace,
-                      database=database, echo=echo, reload=reload)
+                      database=database, echo=echo, reload=reload,
+                      observers=watching.observers)
             summary = run.run()
             guard.closing()          # from here on a signal must not interrupt the closing
         except BaseException as exc:
             guard.closing()
-            return self._end_badly(exc, robot, trace, database, run, guard)
+            return self._end_badly(exc, robot, trace, database, run, watching)
         problems = close_all(("the robot", robot.close), ("the trace", trace.close),
-                             ("the answer database", database.close))
+                             ("the answer database", database.close),
+                             ("the observers", lambda: watching.close(summary)))
         for line in summary.lines():
             print(line)
         for line in problems:
@@ -105,7 +114,7 @@ class RunCommand:
         return 3 if summary.fault else 0
 
     @staticmethod
-    def _end_badly(exc: BaseException, robot, trace, database, run, guard: SignalGuard) -> int:
+    def _end_badly(exc: BaseException, robot, trace, database, run, watching) -> int:
         """Stop and close the robot first, then the records; then the summary and one line."""
         robot_problems = close_all(("the robot", robot and robot.close))
         if isinstance(exc, Exception) and not isinstance(exc, _EXPECTED):
@@ -118,7 +127,9 @@ class RunCommand:
         else:
             crash = None
         close_all(("the trace", trace and trace.close),
-                  ("the answer database", database and database.close))
+                  ("the answer database", database and database.close),
+                  ("the observers", watching and (lambda: watching.close(
+                      run.summary if run is not None else None))))
         if isinstance(exc, BrokenPipeError):
             raise exc
         if run is not None:

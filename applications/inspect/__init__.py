@@ -1,0 +1,1 @@
+"""The live inspector: a local web page showing every layer of a running robot."""
