@@ -18,6 +18,8 @@ from skills.exceptions import SkillError, SkillUnavailableError
 from skills.head import HeadControl
 from skills.localization import Localization
 from skills.motion import Motion
+from skills.navigation.gridmap import GridMap, load_map, map_from_floor
+from skills.navigation.navigation import Navigation
 from skills.obstacles import ObstacleSensing
 from skills.perception import PeoplePerception
 from skills.questionnaire import Questionnaire
@@ -37,7 +39,7 @@ def robot_capabilities(robot: str) -> frozenset[str]:
 
 
 class SkillSet:
-    def __init__(self, hardware: Hardware) -> None:
+    def __init__(self, hardware: Hardware, map: str | Path | GridMap | None = None) -> None:
         self.hardware = hardware
         self.profile = hardware.profile
         self.blackboard = Blackboard(self.profile.name)
@@ -54,9 +56,14 @@ class SkillSet:
         self.head = (HeadControl(bb, ev, hardware.head, self.profile.head, self.localization,
                                  self.perception) if hardware.head is not None else None)
         self.questionnaire = Questionnaire(bb, ev, hardware.screen) if hardware.screen else None
+        # navigation: present when the robot has a map (in simulation: the simulated floor)
+        self.map = _robot_map(hardware, map)
+        self.navigation = (Navigation(bb, ev, self.map, self.profile, self.localization,
+                                      self.perception, self.motion, hardware.laser)
+                           if self.map is not None else None)
         self._sensing: list[Skill] = [s for s in (
             self.localization, self.obstacles, self.perception, self.speech, self.head,
-            self.questionnaire) if s is not None]
+            self.questionnaire, self.navigation) if s is not None]
 
     @property
     def name(self) -> str:
@@ -98,7 +105,7 @@ class SkillSet:
         """Zero velocity now and drop every goal (a behavior raised, or the loop is ending)."""
         now = self.now()
         self.motion.stop_now(now)
-        for skill in (self.speech, self.head, self.questionnaire):
+        for skill in (self.navigation, self.speech, self.head, self.questionnaire):
             if skill is not None and hasattr(skill, "cancel"):
                 skill.cancel(now)
 
@@ -117,10 +124,29 @@ class SkillSet:
 
 
 def open_skills(robot: str | Path, *, port: str | None = None, scenario: str | Path | None = None,
-                fast: bool = False, seed: int = 0) -> SkillSet:
-    """Open the robot's hardware (real or simulated) and its skills."""
+                fast: bool = False, seed: int = 0, map: str | Path | None = None) -> SkillSet:
+    """Open the robot's hardware (real or simulated) and its skills.
+
+    `map` (a floor name, floor file or map_server YAML) is the map navigation uses; in
+    simulation it defaults to the simulated floor, on a real robot there is none by default."""
     try:
         hardware = open_hardware(robot, port=port, scenario=scenario, fast=fast, seed=seed)
     except RobotError as exc:
         raise SkillError(str(exc)) from exc
-    return SkillSet(hardware)
+    try:
+        return SkillSet(hardware, map=map)
+    except Exception:
+        hardware.close()
+        raise
+
+
+def _robot_map(hardware: Hardware, map: str | Path | GridMap | None) -> GridMap | None:
+    """The map the robot navigates in: the one given, else the simulated floor, else none."""
+    if isinstance(map, GridMap):
+        return map
+    if map is not None:
+        return load_map(map)
+    simulation = hardware.simulation
+    if simulation is not None:
+        return map_from_floor(simulation.world.floor)
+    return None
