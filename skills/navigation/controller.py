@@ -25,7 +25,7 @@ from robots.profile import Limits
 from skills.navigation.costmap import CostMap
 
 PERSON_RADIUS = 0.25       # m: a person's body as an obstacle (shoulders, arms)
-MOVING = 0.3               # m/s: a person slower than this stands (and may block the way)
+MOVING = 0.4               # m/s: slower counts as standing (tracking noise): static, may block
 CLEAR = 0.12               # m of free space (beyond body and margin) below which closeness costs
 UNMAPPED = 0.15            # m: a reading this far from any mapped wall is a new obstacle
 
@@ -111,7 +111,7 @@ class LocalController:
         block_at, blocker = self._obstruction(path, block_near, crowd)
         if block_at is not None:
             room = max(0.0, block_at - p.standoff)
-            stop_cap = math.sqrt(2 * p.brake * self.limits.max_accel * room)
+            stop_cap = math.sqrt(2 * p.brake * self.limits.max_accel * room) if room > 0.05 else 0.0
             if stop_cap < cap:
                 cap, cap_why = stop_cap, "obstruction"
         target = _point_along(path, p.lookahead) if len(path) else np.array([x, y])
@@ -124,16 +124,15 @@ class LocalController:
         gap, gap0 = self._gaps(x, y, poses, near, crowd)
         unsafe = (gap < 0.0) & (gap < gap0[:, None] - 1e-9)
         ok = ~unsafe.any(axis=1)
-        stopping = block_at is not None and block_at - p.standoff <= 0.05
         if not ok.any():
             return Command(0.0, 0.0, admissible=False, blocked=True,
-                           blocker=blocker or (x, y), speed_cap=cap,
+                           blocker=blocker or _nearest(x, y, near, crowd), speed_cap=cap,
                            reason="no collision-free command within the horizon")
         score = self._score(commands, poses, gap, gap0, crowd, path, target, cap)
         score[~ok] = np.inf
         best = int(np.argmin(score))
         v, w = (float(c) for c in commands[best])
-        blocked = stopping and v <= 0.05
+        blocked = block_at is not None and v < 0.02 and v0 < 0.05     # held up before it
         reason = (f"way blocked {block_at:.2f} m ahead along the path" if blocked else cap_why)
         return Command(v, w, True, blocked, blocker if blocked else None, reason, cap, poses[best])
 
@@ -323,9 +322,21 @@ def rollout(x, y, th, v0, w0, commands, times, limits: Limits) -> np.ndarray:
 
 
 def _people_array(people) -> np.ndarray:
+    """(m, 4) x, y, vx, vy; a person slower than MOVING stands still (tracking noise)."""
     if not people:
         return np.zeros((0, 4))
-    return np.array([[float(q.x), float(q.y), float(q.vx), float(q.vy)] for q in people])
+    crowd = np.array([[float(q.x), float(q.y), float(q.vx), float(q.vy)] for q in people])
+    crowd[np.hypot(crowd[:, 2], crowd[:, 3]) < MOVING, 2:] = 0.0
+    return crowd
+
+
+def _nearest(x: float, y: float, points: np.ndarray, crowd: np.ndarray):
+    """The nearest reading or person, as (x, y); None when there is neither."""
+    candidates = np.vstack([points.reshape(-1, 2), crowd[:, :2].reshape(-1, 2)])
+    if not len(candidates):
+        return None
+    i = int(np.argmin(np.hypot(candidates[:, 0] - x, candidates[:, 1] - y)))
+    return float(candidates[i, 0]), float(candidates[i, 1])
 
 
 def _within(points: np.ndarray, x: float, y: float, reach: float) -> np.ndarray:

@@ -60,6 +60,7 @@ class NavigationParams:
     heading_tolerance: float = math.radians(8)
     replan_after: float = 3.0             # s blocked before planning around the obstruction
     give_up_after: float = 30.0           # s blocked before failing
+    clear_after: float = 1.0              # s the way must be clear to end a blocked episode
     lost_grace: float = 1.0               # s of lost localization tolerated (standing still)
     controller: ControllerParams = field(default_factory=ControllerParams)
 
@@ -108,6 +109,8 @@ class Navigation(Skill):
         self._speed: float | None = None
         self._segment = 0
         self._blocked_since: float | None = None
+        self._clear_since: float | None = None
+        self._attempts = 0
         self._last_replan = -math.inf
         self._lost_since: float | None = None
         motion.navigator = self
@@ -217,6 +220,9 @@ class Navigation(Skill):
         self.last_command = command
         left = _length(rest)
         if command.blocked:
+            self._clear_since = None
+            self._on_blocked(command, now, left)
+        elif self._still_blocked(now):
             self._on_blocked(command, now, left)
         else:
             self._blocked_since = None
@@ -263,16 +269,17 @@ class Navigation(Skill):
         if self._blocked_since is None:
             self._blocked_since = now
         blocked_for = now - self._blocked_since
-        where = command.blocker
+        where = command.blocker or self.state.blocker
         at = f" at ({where[0]:.2f}, {where[1]:.2f})" if where is not None else ""
         if blocked_for >= p.give_up_after:
             self._fail(BLOCKED_GAVE_UP, f"the way{at} stayed blocked for {blocked_for:.0f} s "
-                       f"and there is no other way (re-planned {self.state.replans} times)", now)
+                       f"and there is no other way ({self._attempts} tries to plan around it)", now)
             return
         replans = self.state.replans
         note = ""
         if blocked_for >= p.replan_after and now - self._last_replan >= p.replan_after:
             self._last_replan = now
+            self._attempts += 1
             if self._replan_around(now):
                 replans += 1
                 note = "; re-planned around it"
@@ -282,6 +289,18 @@ class Navigation(Skill):
                               blocked_for=blocked_for, blocker=where, replans=replans,
                               reason=command.reason + note)
         self.set_status(SkillStatus(Status.RUNNING, f"blocked for {int(blocked_for)} s{at}"), now)
+
+    def _still_blocked(self, now: float) -> bool:
+        """A blocked episode ends only after the way has been clear for `clear_after` seconds
+        (a blocker seen on and off is one episode, not many short ones)."""
+        if self._blocked_since is None:
+            return False
+        if self._clear_since is None:
+            self._clear_since = now
+        if now - self._clear_since < self.params.clear_after:
+            return True
+        self._blocked_since = self._clear_since = None
+        return False
 
     def _replan_around(self, now: float) -> bool:
         """Plan again with the readings off the map and the people standing as obstacles."""
@@ -402,6 +421,8 @@ class Navigation(Skill):
         self._target = None
         self._segment = 0
         self._blocked_since = None
+        self._clear_since = None
+        self._attempts = 0
         self._last_replan = -math.inf
         self._lost_since = None
         self.last_command = None
