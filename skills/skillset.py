@@ -2,7 +2,8 @@
 
 `sense()` is tick steps 1–2 (hardware, then skills write the blackboard); `act()` is steps 5–6
 (motion through the safety arbiter to the base). Which skills exist follows the profile:
-head control only with a pan-tilt unit, the questionnaire only with a touch screen.
+head control only with a pan-tilt unit, the questionnaire only with a touch screen, navigation
+only with a map.
 """
 from __future__ import annotations
 
