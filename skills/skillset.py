@@ -148,6 +148,13 @@ def _robot_map(hardware: Hardware, map: str | Path | GridMap | None) -> GridMap 
     if map is not None:
         return load_map(map)
     simulation = hardware.simulation
-    if simulation is not None:
-        return map_from_floor(simulation.world.floor)
-    return None
+    if simulation is None:
+        return None
+    floor = simulation.world.floor
+    key = (floor.name, floor.segments.tobytes(), tuple(sorted(floor.places.items())))
+    if key not in _floor_maps:        # one grid per floor: its cost map and graph are cached on it
+        _floor_maps[key] = map_from_floor(floor)
+    return _floor_maps[key]
+
+
+_floor_maps: dict[tuple, GridMap] = {}

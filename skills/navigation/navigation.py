@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 
 import numpy as np
 
@@ -27,7 +28,7 @@ from skills.localization import Localization
 from skills.motion import Goal, Motion
 from skills.navigation.controller import (ControllerParams, LocalController, Person,
                                           PERSON_RADIUS, MOVING)
-from skills.navigation.costmap import cost_map
+from skills.navigation.costmap import CostMap, cost_map
 from skills.navigation.gridmap import GridMap, MapError
 from skills.navigation.planner import GlobalPlanner, Plan
 from skills.perception import PeoplePerception
@@ -95,9 +96,6 @@ class Navigation(Skill):
         self.motion = motion
         self.laser = laser
         self.params = params
-        self.costmap = cost_map(grid, profile.radius)
-        self.planner = GlobalPlanner(self.costmap)
-        self.controller = LocalController(self.costmap, self.limits, params.controller)
         sonar = profile.sonar
         self._sonar_poses = sonar.poses if sonar is not None else np.zeros((0, 3))
         self.state = NavigationState()
@@ -114,6 +112,19 @@ class Navigation(Skill):
         self._last_replan = -math.inf
         self._lost_since: float | None = None
         motion.navigator = self
+
+    @cached_property
+    def costmap(self) -> CostMap:
+        """Made on the first goal (cached per map), so opening a robot stays cheap."""
+        return cost_map(self.grid, self.profile.radius)
+
+    @cached_property
+    def planner(self) -> GlobalPlanner:
+        return GlobalPlanner(self.costmap)
+
+    @cached_property
+    def controller(self) -> LocalController:
+        return LocalController(self.costmap, self.limits, self.params.controller)
 
     # -- the API for behaviors -------------------------------------------------------------
 
@@ -180,9 +191,10 @@ class Navigation(Skill):
     # -- the tick --------------------------------------------------------------------------
 
     def sense(self, now: float) -> None:
-        """Collect the range readings in the map frame; notice another motion goal taking over."""
+        """With a goal: collect the range readings in the map frame; notice another motion goal
+        taking the base."""
         state = self.localization.state
-        if state is None:
+        if state is None or self.state.phase not in (DRIVING, TURNING, BLOCKED, PAUSED):
             return
         self.points, self.block_points = self._readings(state)
         if self.state.phase in (DRIVING, TURNING, BLOCKED):
