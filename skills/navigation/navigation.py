@@ -62,6 +62,7 @@ class NavigationParams:
     replan_after: float = 3.0             # s blocked before planning around the obstruction
     give_up_after: float = 30.0           # s blocked before failing
     clear_after: float = 1.0              # s the way must be clear to end a blocked episode
+    stuck_after: float = 10.0             # s without 0.2 m of progress counted as blocked
     lost_grace: float = 1.0               # s of lost localization tolerated (standing still)
     controller: ControllerParams = field(default_factory=ControllerParams)
 
@@ -109,6 +110,7 @@ class Navigation(Skill):
         self._blocked_since: float | None = None
         self._clear_since: float | None = None
         self._attempts = 0
+        self._progress: tuple[float, float] | None = None    # (distance left, time) of progress
         self._last_replan = -math.inf
         self._lost_since: float | None = None
         motion.navigator = self
@@ -177,6 +179,7 @@ class Navigation(Skill):
     def resume(self, now: float) -> None:
         """Drive on after `pause` (or after another motion goal took the base)."""
         if self.state.phase == PAUSED:
+            self._progress = None
             self.motion.start(Goal("navigate"), now)
             self._set_phase(DRIVING, now, SkillStatus(Status.RUNNING))
 
@@ -231,6 +234,11 @@ class Navigation(Skill):
                                        block_points=self.block_points)
         self.last_command = command
         left = _length(rest)
+        if command.blocked:
+            self._progress = None       # waiting before a blocker is not a lack of progress
+        elif self._stuck(left, now):
+            command = replace(command, blocked=True, reason=f"no progress for "
+                              f"{self.params.stuck_after:.0f} s")
         if command.blocked:
             self._clear_since = None
             self._on_blocked(command, now, left)
@@ -301,6 +309,15 @@ class Navigation(Skill):
                               blocked_for=blocked_for, blocker=where, replans=replans,
                               reason=command.reason + note)
         self.set_status(SkillStatus(Status.RUNNING, f"blocked for {int(blocked_for)} s{at}"), now)
+
+    def _stuck(self, left: float, now: float) -> bool:
+        """No 0.2 m of progress along the path for `stuck_after` seconds (a local minimum of
+        the controller, or something it cannot see as blocking): handled as blocked."""
+        mark = self._progress
+        if mark is None or left < mark[0] - 0.2:
+            self._progress = (left, now)
+            return False
+        return now - mark[1] >= self.params.stuck_after
 
     def _still_blocked(self, now: float) -> bool:
         """A blocked episode ends only after the way has been clear for `clear_after` seconds
@@ -435,6 +452,7 @@ class Navigation(Skill):
         self._blocked_since = None
         self._clear_since = None
         self._attempts = 0
+        self._progress = None
         self._last_replan = -math.inf
         self._lost_since = None
         self.last_command = None

@@ -280,3 +280,28 @@ def test_speed_outside_the_profile_is_refused():
             skills.navigation.set_speed(float("nan"))
     finally:
         skills.close()
+
+
+def test_no_progress_counts_as_blocked_and_ends_in_giving_up():
+    from skills.navigation.controller import Command
+
+    class Frozen:
+        """A controller stuck in a local minimum: admissible, not blocked, standing still."""
+        def step(self, *args, **kwargs):
+            return Command(0.0, 0.0)
+
+    skills = open_skills("horos", fast=True)
+    try:
+        nav = skills.navigation
+        nav.params = NavigationParams(stuck_after=5.0, replan_after=3.0, give_up_after=12.0)
+        settle(skills)
+        nav.go_to("hall_east", skills.now())
+        nav.controller = Frozen()
+        run = drive(skills, 300)
+    finally:
+        skills.close()
+    phases = [s.phase for s in run.states]
+    first_blocked = phases.index("blocked")
+    assert 45 <= first_blocked <= 55                       # after 5 s without progress
+    assert "no progress for 5 s" in run.states[first_blocked].reason
+    assert nav.status.failed and nav.status.reason.startswith(BLOCKED_GAVE_UP)
