@@ -5,7 +5,9 @@ Each tick it samples commands (v, w) reachable within one tick under the profile
 limits, simulates each over a short horizon (the body ramps to the command at its acceleration
 limit, then holds it), drops every command whose trajectory would bring the body within
 `safety_margin` of the map's walls, of a range reading, or of a person (people move on at their
-tracked velocity), and scores the rest: progress along the path, heading along it, stay
+tracked velocity; a walking person counts only while the robot is still moving: passive safety,
+so the robot may always stand still rather than freeze with no command), and scores the rest
+(personal-space intrusion over a longer `people_horizon`, so it steps aside early): progress along the path, heading along it, stay
 near the path, keep clear of walls, keep out of people's personal space, go fast. Near people the
 speed is capped at the profile's `max_speed_near_people`, and the robot slows to stop on the goal
 and before anything that blocks its path (then it reports itself blocked, with the blocker).
@@ -27,6 +29,7 @@ from skills.navigation.costmap import CostMap
 PERSON_RADIUS = 0.25       # m: a person's body as an obstacle (shoulders, arms)
 MOVING = 0.4               # m/s: slower counts as standing (tracking noise): static, may block
 CLEAR = 0.12               # m of free space (beyond body and margin) below which closeness costs
+STOPPED = 0.02             # m/s: the robot counts as standing still (passive safety)
 UNMAPPED = 0.15            # m: a reading this far from any mapped wall is a new obstacle
 
 
@@ -41,6 +44,7 @@ class ControllerParams:
     safety_margin: float = 0.04    # m kept free around the body along every trajectory
     personal_space: float = 0.6    # m beyond body contact that people should be left
     people_anticipation: float = 1.0   # s: slow down this long before coming near a person
+    people_horizon: float = 4.0    # s over which personal-space intrusion is scored (not vetoed)
     block_margin: float = 0.10     # m: an obstacle this close to the path's swept body blocks it
     block_lookahead: float = 2.0   # m of path checked for obstructions
     standoff: float = 0.35         # m the robot stops (centre, along the path) before an obstruction
@@ -50,7 +54,7 @@ class ControllerParams:
     w_heading: float = 0.6
     w_path: float = 0.8
     w_clearance: float = 1.2
-    w_people: float = 1.5
+    w_people: float = 3.0
     w_speed: float = 0.4
 
 
@@ -86,6 +90,8 @@ class LocalController:
         # distance field values are between cell centres: a wall may be up to this much closer
         self._cell_slack = costmap.grid.resolution * math.sqrt(0.5)
         self._times = np.arange(1, int(round(params.horizon / params.step)) + 1) * params.step
+        self._long_times = np.arange(1, int(round(max(params.people_horizon, params.horizon)
+                                                 / params.step)) + 1) * params.step
 
     # -- the tick --------------------------------------------------------------------------
 
@@ -120,15 +126,17 @@ class LocalController:
             cap, cap_why = min(cap, 0.0), cap_why or "turning"
 
         commands = self._samples(v0, w0, cap)
-        poses = self._rollout(x, y, th, v0, w0, commands)
-        gap, gap0 = self._gaps(x, y, poses, near, crowd)
+        long_poses = rollout(x, y, th, v0, w0, commands, self._long_times, self.limits)
+        poses = long_poses[:, : len(self._times)]
+        speeds = _speeds(v0, commands, self._times, self.limits)
+        gap, gap0 = self._gaps(x, y, poses, speeds, near, crowd)
         unsafe = (gap < 0.0) & (gap < gap0[:, None] - 1e-9)
         ok = ~unsafe.any(axis=1)
         if not ok.any():
             return Command(0.0, 0.0, admissible=False, blocked=True,
                            blocker=blocker or _nearest(x, y, near, crowd), speed_cap=cap,
                            reason="no collision-free command within the horizon")
-        score = self._score(commands, poses, gap, gap0, crowd, path, target, cap)
+        score = self._score(commands, poses, long_poses, gap, gap0, crowd, path, target, cap)
         score[~ok] = np.inf
         best = int(np.argmin(score))
         v, w = (float(c) for c in commands[best])
@@ -213,12 +221,12 @@ class LocalController:
         grid_v, grid_w = np.meshgrid(vs, ws, indexing="ij")
         return np.column_stack([grid_v.ravel(), grid_w.ravel()])
 
-    def _rollout(self, x, y, th, v0, w0, commands) -> np.ndarray:
-        """(s, k, 3) poses at the sample times: velocities ramp to the command, then hold."""
-        return rollout(x, y, th, v0, w0, commands, self._times, self.limits)
+    def _gaps(self, x, y, poses, speeds, points, crowd):
+        """Free space (m) beyond body + margin at every pose (s, k), and at the start (s,).
 
-    def _gaps(self, x, y, poses, points, crowd):
-        """Free space (m) beyond body + margin at every pose (s, k), and at the start (s,)."""
+        A walking person counts only where the robot is still moving then (passive safety):
+        standing still is always allowed, else a person walking at a stopped robot would leave
+        it no command at all, and it would freeze in their way instead of stepping aside."""
         p = self.params
         px, py = poses[..., 0], poses[..., 1]
         grid = self.costmap.grid
@@ -230,8 +238,10 @@ class LocalController:
             gap = np.minimum(gap, d - self.radius)
             gap0 = min(gap0, float(np.hypot(points[:, 0] - x, points[:, 1] - y).min()) - self.radius)
         if len(crowd):
-            d = self._people_distance(poses, crowd).min(axis=-1)
-            gap = np.minimum(gap, d - self.radius - PERSON_RADIUS)
+            d = self._people_distance(poses, crowd, self._times)
+            walking = np.hypot(crowd[:, 2], crowd[:, 3]) > 0.0
+            d = np.where(walking[None, None, :] & (speeds[..., None] <= STOPPED), np.inf, d)
+            gap = np.minimum(gap, d.min(axis=-1) - self.radius - PERSON_RADIUS)
             gap0 = min(gap0, float(np.hypot(crowd[:, 0] - x, crowd[:, 1] - y).min())
                        - self.radius - PERSON_RADIUS)
         gap = gap - p.safety_margin
@@ -256,14 +266,15 @@ class LocalController:
                        + grid.resolution)
         return np.where(inside, d, 0.0)
 
-    def _people_distance(self, poses, crowd) -> np.ndarray:
+    def _people_distance(self, poses, crowd, times) -> np.ndarray:
         """(s, k, m) distance from each pose to each person where they will be then."""
-        t = self._times[None, :, None]
+        t = times[None, :, None]
         fx = crowd[None, None, :, 0] + crowd[None, None, :, 2] * t
         fy = crowd[None, None, :, 1] + crowd[None, None, :, 3] * t
         return np.hypot(poses[..., 0, None] - fx, poses[..., 1, None] - fy)
 
-    def _score(self, commands, poses, gap, gap0, crowd, path, target, cap) -> np.ndarray:
+    def _score(self, commands, poses, long_poses, gap, gap0, crowd, path, target,
+               cap) -> np.ndarray:
         """Lower is better: progress along the path, heading along it, distance from it,
         clearance, people's personal space, speed."""
         p = self.params
@@ -292,13 +303,19 @@ class LocalController:
         intrusion = 0.0
         if len(crowd):
             contact = self.radius + PERSON_RADIUS
-            d = self._people_distance(poses, crowd).min(axis=(1, 2))
+            d = self._people_distance(long_poses, crowd, self._long_times).min(axis=(1, 2))
             intrusion = np.clip((contact + p.personal_space - d) / p.personal_space, 0.0, 1.0)
         top = max(cap, 1e-3)
         speed = np.clip((top - commands[:, 0]) / top, 0.0, 1.0)
         return (p.w_progress * progress + p.w_heading * heading
                 + p.w_path * np.minimum(off_path, 1.0) + p.w_clearance * clearance
                 + p.w_people * intrusion + p.w_speed * speed)
+
+
+def _speeds(v0: float, commands: np.ndarray, times: np.ndarray, limits: Limits) -> np.ndarray:
+    """(s, k) forward speed at the sample times: ramping from v0 to each command."""
+    dv = commands[:, 0:1] - v0
+    return v0 + np.clip(dv, -limits.max_accel * times, limits.max_accel * times)
 
 
 def rollout(x, y, th, v0, w0, commands, times, limits: Limits) -> np.ndarray:
