@@ -250,7 +250,7 @@ class Navigation(Skill):
                                   blocker=None, reason=command.reason)
             self.set_status(SkillStatus(Status.RUNNING), now)
         self._publish(now)
-        if self.state.phase in (FAILED,):
+        if self.state.phase == FAILED:
             return 0.0, 0.0
         return command.v, command.w
 
@@ -376,15 +376,21 @@ class Navigation(Skill):
         return self.status
 
     def _lost(self, now: float) -> bool:
-        """Lost localization: stand still; fail after `lost_grace` seconds."""
-        if not getattr(self.localization, "lost", False):
+        """No trustworthy pose (the localization says it is lost, or the base state is stale):
+        stand still; fail after `lost_grace` seconds (no driving on by itself after a fault)."""
+        why = ""
+        if getattr(self.localization, "lost", False):
+            why = "the pose estimate is lost"
+        elif not self.blackboard.value("robot/link", False):
+            why = f"the base state is stale or its link is down ({self.localization.status})"
+        if not why:
             self._lost_since = None
             return False
         if self._lost_since is None:
             self._lost_since = now
         if now - self._lost_since >= self.params.lost_grace:
-            self._fail(LOCALIZATION_LOST, f"the pose estimate has been lost for "
-                       f"{now - self._lost_since:.1f} s; stopped", now)
+            self._fail(LOCALIZATION_LOST, f"{why}, for {now - self._lost_since:.1f} s; stopped",
+                       now)
         return True
 
     def _rest_of_path(self, x: float, y: float) -> np.ndarray:
