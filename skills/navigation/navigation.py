@@ -135,8 +135,9 @@ class Navigation(Skill):
         return sorted(self.grid.places)
 
     def go_to(self, target, now: float, *, speed: float | None = None) -> SkillStatus:
-        """Drive to a place name of the map or a pose (x, y[, heading rad]); returns the status
-        (failed at once for an unknown place, a bad pose or no path)."""
+        """Drive to a place name of the map or a pose (x, y[, heading rad]) at up to `speed`
+        m/s (None: the profile's max_speed); replaces any current goal. Returns the status:
+        running, or failed at once for an unknown place, a bad pose or no path."""
         if speed is not None:
             self.set_speed(speed)
         else:
@@ -189,6 +190,7 @@ class Navigation(Skill):
         self._reset()
         self.state = NavigationState()
         self.set_status(IDLE, now)
+        self.write("navigation/path", (), now)
         self._publish(now)
 
     # -- the tick --------------------------------------------------------------------------

@@ -305,3 +305,19 @@ def test_no_progress_counts_as_blocked_and_ends_in_giving_up():
     assert 45 <= first_blocked <= 55                       # after 5 s without progress
     assert "no progress for 5 s" in run.states[first_blocked].reason
     assert nav.status.failed and nav.status.reason.startswith(BLOCKED_GAVE_UP)
+
+
+def test_open_skills_takes_another_map_and_places_come_from_it(tmp_path):
+    floor = tmp_path / "corridor.toml"
+    floor.write_text('[floor]\nname = "corridor"\nwalls = [[-10.0, 1.2, 10.0, 1.2], '
+                     '[-10.0, -1.2, 10.0, -1.2], [-10.0, -1.2, -10.0, 1.2], '
+                     '[10.0, -1.2, 10.0, 1.2]]\n[places]\nlift = [4.0, 0.0, 0.0]\n')
+    skills = open_skills("horos", fast=True, map=floor)
+    try:
+        settle(skills, 3)
+        nav = skills.require("navigation")
+        assert nav.places == ["lift"] and skills.map.name == "corridor"
+        assert nav.go_to("room_n2", skills.now()).failed          # not a place of this map
+        assert "places: lift" in nav.status.reason
+    finally:
+        skills.close()
