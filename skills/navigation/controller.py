@@ -247,6 +247,25 @@ class LocalController:
         gap = gap - p.safety_margin
         return gap, np.full(poses.shape[0], gap0 - p.safety_margin)
 
+    def _intrusion(self, long_poses, crowd, path) -> np.ndarray:
+        """(s,) worst intrusion (0 … 1) into a person's personal space over `people_horizon`.
+
+        For a person standing, only the intrusion beyond what the path itself needs counts: the
+        planner already passes them as widely as the map allows, and a squeeze it cannot avoid
+        must not make standing still the best command (the robot would never pass)."""
+        p = self.params
+        reach = self.radius + PERSON_RADIUS + p.personal_space
+        d = self._people_distance(long_poses, crowd, self._long_times).min(axis=1)   # (s, m)
+        intrusion = np.clip((reach - d) / p.personal_space, 0.0, 1.0)
+        standing = np.hypot(crowd[:, 2], crowd[:, 3]) == 0.0
+        if standing.any() and len(path) >= 2:
+            window, _ = _resample(path, 0.05, self.limits.max_speed * p.people_horizon)
+            on_path = np.hypot(window[:, None, 0] - crowd[None, standing, 0],
+                               window[:, None, 1] - crowd[None, standing, 1]).min(axis=0)
+            needed = np.clip((reach - on_path) / p.personal_space, 0.0, 1.0)
+            intrusion[:, standing] = np.maximum(intrusion[:, standing] - needed[None, :], 0.0)
+        return intrusion.max(axis=1)
+
     def _map_clearance(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
         """Distance to the walls, interpolated between cell centres (0 off the map): smooth,
         so a move of a centimetre never looks like a step towards a wall."""
@@ -302,9 +321,7 @@ class LocalController:
         clearance = np.maximum(closer - np.clip((CLEAR - gap0) / CLEAR, 0.0, 1.0), 0.0)
         intrusion = 0.0
         if len(crowd):
-            contact = self.radius + PERSON_RADIUS
-            d = self._people_distance(long_poses, crowd, self._long_times).min(axis=(1, 2))
-            intrusion = np.clip((contact + p.personal_space - d) / p.personal_space, 0.0, 1.0)
+            intrusion = self._intrusion(long_poses, crowd, path)
         top = max(cap, 1e-3)
         speed = np.clip((top - commands[:, 0]) / top, 0.0, 1.0)
         return (p.w_progress * progress + p.w_heading * heading

@@ -54,21 +54,26 @@ class CostMap:
         out[ok] = self.lethal[rows[ok], cols[ok]]
         return out
 
-    def with_obstacles(self, points, size: float = 0.15) -> "CostMap":
-        """A copy with extra obstacles: every cell within `size` m of a point becomes occupied.
+    def with_obstacles(self, points, size=0.15) -> "CostMap":
+        """A copy with extra obstacles: every cell within `size` m (one for all, or one per
+        point) of a point becomes occupied.
 
         Re-planning around what blocks the way; the result is not cached."""
         points = np.asarray(points, dtype=float).reshape(-1, 2)
+        sizes = np.broadcast_to(np.asarray(size, dtype=float), (len(points),))
         grid = self.grid
         occupied = grid.occupied.copy()
-        reach = int(math.ceil(size / grid.resolution))
-        rows, cols = grid.to_cells(points[:, 0], points[:, 1])
-        offsets = [(dr, dc) for dr in range(-reach, reach + 1) for dc in range(-reach, reach + 1)
-                   if math.hypot(dr, dc) * grid.resolution <= size + 1e-9]
-        for dr, dc in offsets:
-            r, c = rows + dr, cols + dc
-            ok = grid.inside(r, c)
-            occupied[r[ok], c[ok]] = True
+        for radius in np.unique(sizes):
+            chosen = points[sizes == radius]
+            reach = int(math.ceil(radius / grid.resolution))
+            rows, cols = grid.to_cells(chosen[:, 0], chosen[:, 1])
+            for dr in range(-reach, reach + 1):
+                for dc in range(-reach, reach + 1):
+                    if math.hypot(dr, dc) * grid.resolution > radius + 1e-9:
+                        continue
+                    r, c = rows + dr, cols + dc
+                    ok = grid.inside(r, c)
+                    occupied[r[ok], c[ok]] = True
         field = (ndimage.distance_transform_edt(~occupied) * grid.resolution
                  if occupied.any() else np.full(occupied.shape, np.inf))
         lethal, cost = _inflate(field, grid, self.radius, self.band, self.decay,

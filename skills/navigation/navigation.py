@@ -52,6 +52,7 @@ UNKNOWN_PLACE = "unknown place"
 
 TURN_GAIN = 1.5              # rad/s per rad of heading error on the goal
 OFF_PATH = 1.0               # m from the path at which the robot plans again from where it is
+READING_SIZE = 0.25          # m drawn around an off-map reading when planning around it
 SONAR_RANGE = 1.5            # m: farther sonar echoes are too wide to steer by
 
 
@@ -110,6 +111,7 @@ class Navigation(Skill):
         self._blocked_since: float | None = None
         self._clear_since: float | None = None
         self._attempts = 0
+        self._found_way = False                  # the last plan-around attempt found a way
         self._progress: tuple[float, float] | None = None    # (distance left, time) of progress
         self._last_replan = -math.inf
         self._lost_since: float | None = None
@@ -294,8 +296,11 @@ class Navigation(Skill):
         where = command.blocker or self.state.blocker
         at = f" at ({where[0]:.2f}, {where[1]:.2f})" if where is not None else ""
         if blocked_for >= p.give_up_after:
+            tries = f"{self._attempts} tries to plan around it"
+            why = (f"though a way around was planned ({tries})" if self._found_way
+                   else f"and there is no other way ({tries})")
             self._fail(BLOCKED_GAVE_UP, f"the way{at} stayed blocked for {blocked_for:.0f} s "
-                       f"and there is no other way ({self._attempts} tries to plan around it)", now)
+                       f"{why}", now)
             return
         replans = self.state.replans
         note = ""
@@ -341,11 +346,15 @@ class Navigation(Skill):
             off_map = self.grid.clearance(points[:, 0], points[:, 1]) > 0.15
             near = np.hypot(points[:, 0] - state.x, points[:, 1] - state.y) < 4.0
             points = points[off_map & near]
-        standing = [(t.x, t.y) for t in self.perception.tracks if math.hypot(t.vx, t.vy) < MOVING]
-        costmap = self.costmap.with_obstacles(np.vstack([points.reshape(-1, 2),
-                                                         np.array(standing).reshape(-1, 2)]),
-                                              size=PERSON_RADIUS)
-        return self._make_plan(now, costmap)
+        standing = np.array([(t.x, t.y) for t in self.perception.tracks
+                             if math.hypot(t.vx, t.vy) < MOVING]).reshape(-1, 2)
+        # people drawn wider than the controller's blocking distance, so the new path is clear
+        person = PERSON_RADIUS + self.params.controller.block_margin + 0.05
+        sizes = np.concatenate([np.full(len(points), READING_SIZE), np.full(len(standing), person)])
+        costmap = self.costmap.with_obstacles(np.vstack([points.reshape(-1, 2), standing]), sizes)
+        found = self._make_plan(now, costmap)
+        self._found_way = found
+        return found
 
     def _turn_on_goal(self, heading, th, w0, now: float) -> tuple[float, float]:
         """On the goal: turn to its heading (if any), then arrive."""
@@ -460,6 +469,7 @@ class Navigation(Skill):
         self._blocked_since = None
         self._clear_since = None
         self._attempts = 0
+        self._found_way = False
         self._progress = None
         self._last_replan = -math.inf
         self._lost_since = None

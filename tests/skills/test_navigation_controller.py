@@ -127,12 +127,23 @@ def test_speed_is_capped_near_people():
     assert near.v <= LIMITS.max_speed_near_people
 
 
-def test_a_standing_person_on_the_path_stops_the_robot_and_is_the_blocker():
+def test_a_standing_person_on_the_path_stops_the_robot_before_them_and_is_the_blocker():
     path = np.array([(1.0, 3.2), (5.5, 3.2)])
-    command = CONTROLLER.step((1.0, 3.2, 0.0), (0.0, 0.0), path, people=[Person(2.0, 3.2)])
-    assert command.admissible and command.blocked
-    assert command.v == 0.0
-    assert command.blocker == (2.0, 3.2)
+    person = Person(3.0, 3.2)
+    x, v = 1.0, 0.0
+    for _ in range(100):                       # drive along the path tick by tick
+        command = CONTROLLER.step((x, 3.2, 0.0), (v, 0.0), path.copy(), people=[person])
+        v = command.v
+        x += v * ControllerParams().tick
+        path[0, 0] = x
+        if command.blocked:
+            break
+    assert command.admissible and command.blocked and command.v == 0.0
+    assert command.blocker == (3.0, 3.2)
+    stop_gap = 3.0 - x
+    params = ControllerParams()
+    assert stop_gap >= RADIUS + PERSON_RADIUS + params.block_margin + params.standoff - 0.06
+    assert stop_gap < 1.5                      # it did approach before stopping
 
 
 def test_a_reading_off_the_path_does_not_block():
