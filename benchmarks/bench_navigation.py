@@ -8,6 +8,8 @@
 3. Driving in the simulated office: time to goal divided by the time at full speed along the
    shortest path (target <= 1.6), over a set of start/goal places; minimum clearance between
    the body and the walls.
+4. Driving through the hallway with the 10 people of (2) (they pace, then stand along it):
+   arrivals, time, nearest approach to a person (centre to centre) and ticks in contact.
 
     python benchmarks/bench_navigation.py [--pairs N] [--robot horos|perses]
 
@@ -223,11 +225,40 @@ def bench_drives(robot: str, folder: Path) -> None:
           f"{min(clearances):.3f} m")
 
 
+def bench_crowd(robot: str, seeds: int, folder: Path) -> None:
+    scenario = ten_people_scenario(folder)
+    arrived, nearest, contacts, times = 0, math.inf, 0, []
+    for seed in range(seeds):
+        skills = open_skills(robot, fast=True, scenario=scenario, seed=seed)
+        clock, world = skills.hardware.clock, skills.hardware.simulation.world
+        try:
+            for _ in range(10):
+                skills.sense(); skills.act(); clock.advance(0.1)
+            t0 = skills.now()
+            skills.navigation.go_to("hall_west", t0)
+            for _ in range(2400):
+                skills.sense(); skills.act(); clock.advance(0.1)
+                body = world.body
+                for person in world.present_people():
+                    nearest = min(nearest, math.hypot(person.x - body.x, person.y - body.y))
+                contacts += body.stalled
+                if not skills.navigation.status.running:
+                    break
+            arrived += skills.navigation.status.succeeded
+            times.append(skills.now() - t0)
+        finally:
+            skills.close()
+    print(f"hall_east -> hall_west through 10 people, {seeds} seeds: arrived {arrived}/{seeds}, "
+          f"median {np.median(times):.0f} s, nearest person {nearest:.2f} m centre to centre, "
+          f"ticks in contact {contacts}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--pairs", type=int, default=200)
     parser.add_argument("--ticks", type=int, default=300)
     parser.add_argument("--robot", default="horos")
+    parser.add_argument("--crowd-seeds", type=int, default=5)
     args = parser.parse_args()
     print(f"load average before: {os.getloadavg()}")
     with tempfile.TemporaryDirectory() as tmp:
@@ -236,6 +267,7 @@ def main() -> None:
         bench_controller(args.robot, args.ticks, folder)
         print(f"drives on the office floor ({args.robot}):")
         bench_drives(args.robot, folder)
+        bench_crowd(args.robot, args.crowd_seeds, folder)
     print(f"load average after: {os.getloadavg()}")
 
 
