@@ -76,6 +76,11 @@ SCHEMA: dict[str, KeySpec] = {spec.key: spec for spec in (
     _key("motion/command", "tuple[float, float]", "m/s, rad/s", "motion",
          "the command sent to the base after the safety arbiter"),
     _key("motion/limit", "str", "-", "motion", "why the last command was capped ('' if not)"),
+    # navigation (skills.navigation.navigation)
+    _key("navigation/state", "NavigationState", "m, s (fields)", "navigation",
+         "phase, goal, distance_left, blocked_for, blocker, replans, failure and reason"),
+    _key("navigation/path", "tuple[tuple[float, float], ...]", "m (map frame)", "navigation",
+         "waypoints of the current global path, start to goal"),
 )}
 
 SKILL_STATUS_PREFIX = "skills/"      # skills/<name>/status: SkillStatus, written by skill <name>

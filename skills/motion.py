@@ -3,6 +3,9 @@
 One goal at a time. Each tick `act` computes the wanted velocity for the goal, passes it
 through the safety arbiter, and sends it to the base — zero when there is no goal, so the
 driver always gets a fresh command and its watchdog never has to step in on a healthy loop.
+
+A "navigate" goal hands the velocity to the navigation skill (`navigator`), which computes it
+each tick; it still passes the safety arbiter here like every other command.
 """
 from __future__ import annotations
 
@@ -25,7 +28,7 @@ AT_DISTANCE = 0.1          # m
 
 @dataclass(frozen=True)
 class Goal:
-    kind: str                 # "face_user", "keep_distance", "turn_to"
+    kind: str                 # "face_user", "keep_distance", "turn_to", "navigate"
     distance: float = 1.0     # keep_distance: wanted distance to the user, m
     bearing: float = 0.0      # turn_to: world heading, rad
 
@@ -46,6 +49,7 @@ class Motion(Skill):
         self.localization = localization
         self.perception = perception
         self.goal: Goal | None = None
+        self.navigator = None     # the navigation skill: its velocity(now) drives a "navigate" goal
 
     def start(self, goal: Goal, now: float) -> None:
         self.goal = goal
@@ -75,6 +79,8 @@ class Motion(Skill):
         goal, state = self.goal, self.localization.state
         if goal is None or state is None:
             return 0.0, 0.0
+        if goal.kind == "navigate":
+            return self.navigator.velocity(now) if self.navigator is not None else (0.0, 0.0)
         if goal.kind == "turn_to":
             return 0.0, self._turn(goal.bearing - state.th, now, done_when_aligned=True)
         user = self.perception.user

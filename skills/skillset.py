@@ -2,7 +2,8 @@
 
 `sense()` is tick steps 1–2 (hardware, then skills write the blackboard); `act()` is steps 5–6
 (motion through the safety arbiter to the base). Which skills exist follows the profile:
-head control only with a pan-tilt unit, the questionnaire only with a touch screen.
+head control only with a pan-tilt unit, the questionnaire only with a touch screen, navigation
+only with a map.
 """
 from __future__ import annotations
 
@@ -21,6 +22,7 @@ from skills.head import HeadControl
 from skills.localization import Localization
 from skills.motion import Motion
 from skills.navigation.gridmap import GridMap, load_map, map_from_floor
+from skills.navigation.navigation import Navigation
 from skills.obstacles import ObstacleSensing
 from skills.perception import PeoplePerception
 from skills.people.track import Track
@@ -63,9 +65,13 @@ class SkillSet:
                                  self.perception) if hardware.head is not None else None)
         self.questionnaire = (Questionnaire(bb, ev, hardware.screen, hardware.recognizer)
                               if hardware.screen else None)
+        # navigation: present when the robot has a map (in simulation: the simulated floor)
+        self.navigation = (Navigation(bb, ev, self.map, self.profile, self.localization,
+                                      self.perception, self.motion, hardware.laser)
+                           if self.map is not None else None)
         self._sensing: list[Skill] = [s for s in (
             self.localization, self.obstacles, self.perception, self.speech, self.head,
-            self.questionnaire) if s is not None]
+            self.questionnaire, self.navigation) if s is not None]
 
     @property
     def name(self) -> str:
@@ -117,7 +123,7 @@ class SkillSet:
         """Zero velocity now and drop every goal (a behavior raised, or the loop is ending)."""
         now = self.now()
         self.motion.stop_now(now)
-        for skill in (self.speech, self.head, self.questionnaire):
+        for skill in (self.navigation, self.speech, self.head, self.questionnaire):
             if skill is not None and hasattr(skill, "cancel"):
                 skill.cancel(now)
 
@@ -213,11 +219,12 @@ def open_skills(robot: str | Path, *, port: str | None = None, scenario: str | P
                 listen: bool = False, replay=None) -> SkillSet:
     """Open the robot's hardware (real or simulated) and its skills.
 
-    `map`: a bundled floor name, a floor .toml or a map_server .yaml (default: the simulated
-    floor in simulation, none on a real robot). `initial_pose` (x m, y m, heading rad) where
-    localization starts (default: the start pose in simulation, else the map's robot_home).
-    The interaction options (tablet page, speech, listening) are the hardware's, see
-    `robots.hardware.open_hardware`; `replay` plays a recording instead of hardware."""
+    `map`: a bundled floor name, a floor .toml or a map_server .yaml, the map localization and
+    navigation use (default: the simulated floor in simulation, none on a real robot).
+    `initial_pose` (x m, y m, heading rad) where localization starts (default: the start pose
+    in simulation, else the map's robot_home). The interaction options (tablet page, speech,
+    listening) are the hardware's, see `robots.hardware.open_hardware`; `replay` plays a
+    recording instead of hardware."""
     try:
         hardware = open_hardware(robot, port=port, scenario=scenario, fast=fast, seed=seed,
                                  gui=gui, speech_wav=speech_wav, language=language, voice=voice,
@@ -233,14 +240,23 @@ def open_skills(robot: str | Path, *, port: str | None = None, scenario: str | P
 
 # -- map and localization ----------------------------------------------------------------------
 
-def _robot_map(hardware: Hardware, map) -> GridMap | None:
-    """The given map, else the simulated floor's map in simulation, else none."""
+def _robot_map(hardware: Hardware, map: str | Path | GridMap | None) -> GridMap | None:
+    """The map the robot localizes and navigates in: the one given, else the simulated floor,
+    else none."""
     if isinstance(map, GridMap):
         return map
     if map is not None:
         return load_map(map)
     floor = hardware.floor
-    return map_from_floor(floor) if floor is not None else None
+    if floor is None:
+        return None
+    key = (floor.name, floor.segments.tobytes(), tuple(sorted(floor.places.items())))
+    if key not in _floor_maps:        # one grid per floor: its cost map and graph are cached on it
+        _floor_maps[key] = map_from_floor(floor)
+    return _floor_maps[key]
+
+
+_floor_maps: dict[tuple, GridMap] = {}
 
 
 def _localization(bb, ev, hardware: Hardware, grid: GridMap | None, initial_pose,

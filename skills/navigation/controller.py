@@ -1,0 +1,416 @@
+"""The local controller: a dynamic window approach that follows the global path around what the
+map does not know — range readings and people walking.
+
+Each tick it samples commands (v, w) reachable within one tick under the profile's acceleration
+limits, simulates each over a short horizon (the body ramps to the command at its acceleration
+limit, then holds it), drops every command whose trajectory would bring the body within
+`safety_margin` of the map's walls, of a range reading, or of a person (people move on at their
+tracked velocity; a walking person counts only while the robot is still moving: passive safety,
+so the robot may always stand still rather than freeze with no command), and scores the rest
+(personal-space intrusion over a longer `people_horizon`, so it steps aside early): progress along the path, heading along it, stay
+near the path, keep clear of walls, keep out of people's personal space, go fast. Near people the
+speed is capped at the profile's `max_speed_near_people`, and the robot slows to stop on the goal
+and before anything that blocks its path (then it reports itself blocked, with the blocker).
+
+Commands are forward only (v >= 0): the robots' sensors look ahead; turning on the spot is
+always among the samples. The controller is stateless: the skill passes the remaining path.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+
+from robots.profile import Limits
+from skills.navigation.costmap import CostMap
+
+PERSON_RADIUS = 0.25       # m: a person's body as an obstacle (shoulders, arms)
+MOVING = 0.4               # m/s: slower counts as standing (tracking noise): static, may block
+CLEAR = 0.12               # m of free space (beyond body and margin) below which closeness costs
+STOPPED = 0.02             # m/s: the robot counts as standing still (passive safety)
+UNMAPPED = 0.15            # m: a reading this far from any mapped wall is a new obstacle
+
+
+@dataclass(frozen=True)
+class ControllerParams:
+    tick: float = 0.1              # s between commands
+    horizon: float = 2.0           # s simulated ahead
+    step: float = 0.1              # s between simulated poses
+    v_samples: int = 7
+    w_samples: int = 15
+    lookahead: float = 1.0         # m down the path to the point steered at
+    safety_margin: float = 0.04    # m kept free around the body along every trajectory
+    personal_space: float = 0.6    # m beyond body contact that people should be left
+    people_anticipation: float = 1.0   # s: slow down this long before coming near a person
+    people_horizon: float = 4.0    # s over which personal-space intrusion is scored (not vetoed)
+    block_margin: float = 0.10     # m: an obstacle this close to the path's swept body blocks it
+    block_lookahead: float = 2.0   # m of path checked for obstructions
+    standoff: float = 0.35         # m the robot stops (centre, along the path) before an obstruction
+    rotate_first: float = math.radians(70)   # heading error beyond which it turns on the spot
+    brake: float = 0.8             # fraction of max_accel planned for stopping (goal, obstruction)
+    w_progress: float = 1.0
+    w_heading: float = 0.6
+    w_path: float = 0.8
+    w_clearance: float = 1.2
+    w_people: float = 3.0
+    w_speed: float = 0.4
+
+
+@dataclass(frozen=True)
+class Person:
+    """A person as the controller sees them: position and velocity in the map frame."""
+    x: float
+    y: float
+    vx: float = 0.0
+    vy: float = 0.0
+
+
+@dataclass(frozen=True)
+class Command:
+    """What the controller chose and why."""
+    v: float
+    w: float
+    admissible: bool = True          # a collision-free command was found
+    blocked: bool = False            # stopped before an obstruction, or no admissible command
+    blocker: tuple[float, float] | None = None   # where the way is blocked (map frame)
+    reason: str = ""
+    speed_cap: float = math.inf      # m/s the command was capped to (people, goal, obstruction)
+    trajectory: np.ndarray | None = None        # (k, 3) predicted poses of the command
+
+
+class LocalController:
+    def __init__(self, costmap: CostMap, limits: Limits,
+                 params: ControllerParams = ControllerParams()) -> None:
+        self.costmap = costmap
+        self.limits = limits
+        self.params = params
+        self.radius = costmap.radius
+        # distance field values are between cell centres: a wall may be up to this much closer
+        self._cell_slack = costmap.grid.resolution * math.sqrt(0.5)
+        self._times = np.arange(1, int(round(params.horizon / params.step)) + 1) * params.step
+        self._long_times = np.arange(1, int(round(max(params.people_horizon, params.horizon)
+                                                 / params.step)) + 1) * params.step
+
+    # -- the tick --------------------------------------------------------------------------
+
+    def step(self, pose, velocity, path, *, points=None, people: Sequence = (),
+             max_speed: float | None = None, block_points=None) -> Command:
+        """The command for this tick. `pose` (x, y, th) and `velocity` (v, w) of the robot;
+        `path` (n, 2) the rest of the global path from the robot's projection to the goal;
+        `points` (k, 2) range readings in the map frame; `people` with x, y, vx, vy;
+        `block_points` the readings precise enough to say the path is blocked (default:
+        `points`; wide sonar cones place an echo too loosely for that)."""
+        p = self.params
+        x, y, th = (float(v) for v in pose)
+        v0, w0 = (float(v) for v in velocity)
+        path = np.asarray(path, dtype=float).reshape(-1, 2)
+        points = np.zeros((0, 2)) if points is None else np.asarray(points, float).reshape(-1, 2)
+        crowd = _people_array(people)
+        reach = self.limits.max_speed * p.horizon + self.radius + 1.0
+        near = _within(points, x, y, reach)
+        block_near = near if block_points is None else _within(
+            np.asarray(block_points, float).reshape(-1, 2), x, y, reach)
+
+        cap, cap_why = self._speed_cap(x, y, th, v0, path, crowd, max_speed)
+        block_at, blocker = self._obstruction(path, block_near, crowd)
+        if block_at is not None:
+            room = max(0.0, block_at - p.standoff)
+            stop_cap = math.sqrt(2 * p.brake * self.limits.max_accel * room) if room > 0.05 else 0.0
+            if stop_cap < cap:
+                cap, cap_why = stop_cap, "obstruction"
+        target = _point_along(path, p.lookahead) if len(path) else np.array([x, y])
+        bearing = math.atan2(target[1] - y, target[0] - x)
+        if abs(_wrap(bearing - th)) > p.rotate_first and math.hypot(target[0] - x, target[1] - y) > 0.05:
+            cap, cap_why = min(cap, 0.0), cap_why or "turning"
+
+        commands = self._samples(v0, w0, cap)
+        long_poses = rollout(x, y, th, v0, w0, commands, self._long_times, self.limits)
+        poses = long_poses[:, : len(self._times)]
+        speeds = _speeds(v0, commands, self._times, self.limits)
+        gap, gap0 = self._gaps(x, y, poses, speeds, near, crowd)
+        unsafe = (gap < 0.0) & (gap < gap0[:, None] - 1e-9)
+        ok = ~unsafe.any(axis=1)
+        if not ok.any():
+            return Command(0.0, 0.0, admissible=False, blocked=True,
+                           blocker=blocker or _nearest(x, y, near, crowd), speed_cap=cap,
+                           reason="no collision-free command within the horizon")
+        score = self._score(commands, poses, long_poses, gap, gap0, crowd, path, target, cap)
+        score[~ok] = np.inf
+        best = int(np.argmin(score))
+        v, w = (float(c) for c in commands[best])
+        blocked = block_at is not None and v < 0.02 and v0 < 0.05     # held up before it
+        reason = (f"way blocked {block_at:.2f} m ahead along the path" if blocked else cap_why)
+        return Command(v, w, True, blocked, blocker if blocked else None, reason, cap, poses[best])
+
+    # -- pieces ----------------------------------------------------------------------------
+
+    def _speed_cap(self, x, y, th, v0, path, crowd, max_speed) -> tuple[float, str]:
+        """The speed limit of this tick: profile, caller, people near, the goal ahead."""
+        limits, p = self.limits, self.params
+        cap, why = limits.max_speed, ""
+        if max_speed is not None and max_speed < cap:
+            cap, why = max(0.0, float(max_speed)), "requested speed"
+        if len(crowd):
+            ahead_x = x + v0 * p.people_anticipation * math.cos(th)
+            ahead_y = y + v0 * p.people_anticipation * math.sin(th)
+            later = crowd[:, :2] + crowd[:, 2:] * p.people_anticipation
+            now_d = np.hypot(crowd[:, 0] - x, crowd[:, 1] - y)
+            later_d = np.hypot(later[:, 0] - ahead_x, later[:, 1] - ahead_y)
+            if min(now_d.min(), later_d.min()) < limits.near_people_distance:
+                if limits.max_speed_near_people < cap:
+                    cap, why = limits.max_speed_near_people, "people near"
+        left = _length(path)
+        goal_cap = math.sqrt(2 * p.brake * limits.max_accel * left)
+        if goal_cap < cap:
+            cap, why = goal_cap, "goal ahead"
+        return cap, why
+
+    def _obstruction(self, path, points, crowd):
+        """(metres along the path, (x, y)) of the first obstruction within block_lookahead.
+
+        Obstructions are readings off the map's walls and people standing, not people walking
+        (the trajectories avoid those; the way clears as they walk on)."""
+        p = self.params
+        if len(path) < 2:
+            return None, None
+        samples, along = _resample(path, 0.05, p.block_lookahead)
+        blockers = np.zeros((0, 2))
+        if len(points):
+            off_map = self.costmap.grid.clearance(points[:, 0], points[:, 1]) > UNMAPPED
+            candidates = points[off_map]
+            walking = crowd[np.hypot(crowd[:, 2], crowd[:, 3]) >= MOVING] if len(crowd) else crowd
+            if len(walking) and len(candidates):
+                d = np.hypot(candidates[:, None, 0] - walking[None, :, 0],
+                             candidates[:, None, 1] - walking[None, :, 1])
+                candidates = candidates[d.min(axis=1) > 0.6]
+            blockers = candidates
+        limit = np.full(len(blockers), self.radius + p.block_margin)
+        if len(crowd):
+            standing = crowd[np.hypot(crowd[:, 2], crowd[:, 3]) < MOVING]
+            blockers = np.vstack([blockers, standing[:, :2]])
+            limit = np.concatenate([limit, np.full(len(standing),
+                                                   self.radius + PERSON_RADIUS + p.block_margin)])
+        if not len(blockers):
+            return None, None
+        d = np.hypot(samples[:, None, 0] - blockers[None, :, 0],
+                     samples[:, None, 1] - blockers[None, :, 1])
+        hit = d < limit[None, :]
+        rows = np.flatnonzero(hit.any(axis=1))
+        if not len(rows):
+            return None, None
+        first = rows[0]
+        which = int(np.argmin(np.where(hit[first], d[first], np.inf)))
+        return float(along[first]), (float(blockers[which, 0]), float(blockers[which, 1]))
+
+    def _samples(self, v0, w0, cap) -> np.ndarray:
+        """(s, 2) commands reachable in one tick, within the caps, plus stopping and turning."""
+        limits, p = self.limits, self.params
+        dv, dw = limits.max_accel * p.tick, limits.max_turn_accel * p.tick
+        v_hi = min(cap, v0 + dv, limits.max_speed)
+        v_lo = min(max(0.0, v0 - dv), v_hi)
+        vs = np.unique(np.concatenate([np.linspace(v_lo, v_hi, p.v_samples), [0.0]]))
+        w_lo = max(-limits.max_turn_rate, w0 - dw)
+        w_hi = min(limits.max_turn_rate, w0 + dw)
+        if w_lo > w_hi:                     # spinning faster than allowed: slow the turn
+            w_lo = w_hi = math.copysign(limits.max_turn_rate, w0)
+        ws = np.linspace(w_lo, w_hi, p.w_samples)
+        if w_lo < 0.0 < w_hi:
+            ws = np.unique(np.concatenate([ws, [0.0]]))
+        grid_v, grid_w = np.meshgrid(vs, ws, indexing="ij")
+        return np.column_stack([grid_v.ravel(), grid_w.ravel()])
+
+    def _gaps(self, x, y, poses, speeds, points, crowd):
+        """Free space (m) beyond body + margin at every pose (s, k), and at the start (s,).
+
+        A walking person counts only where the robot is still moving then (passive safety):
+        standing still is always allowed, else a person walking at a stopped robot would leave
+        it no command at all, and it would freeze in their way instead of stepping aside."""
+        p = self.params
+        px, py = poses[..., 0], poses[..., 1]
+        grid = self.costmap.grid
+        gap = self._map_clearance(px, py) - self._cell_slack - self.radius
+        gap0 = float(self._map_clearance(np.array([x]), np.array([y]))[0]) - self._cell_slack \
+            - self.radius
+        if len(points):
+            d = np.hypot(px[..., None] - points[:, 0], py[..., None] - points[:, 1]).min(axis=-1)
+            gap = np.minimum(gap, d - self.radius)
+            gap0 = min(gap0, float(np.hypot(points[:, 0] - x, points[:, 1] - y).min()) - self.radius)
+        if len(crowd):
+            d = self._people_distance(poses, crowd, self._times)
+            walking = np.hypot(crowd[:, 2], crowd[:, 3]) > 0.0
+            d = np.where(walking[None, None, :] & (speeds[..., None] <= STOPPED), np.inf, d)
+            gap = np.minimum(gap, d.min(axis=-1) - self.radius - PERSON_RADIUS)
+            gap0 = min(gap0, float(np.hypot(crowd[:, 0] - x, crowd[:, 1] - y).min())
+                       - self.radius - PERSON_RADIUS)
+        gap = gap - p.safety_margin
+        return gap, np.full(poses.shape[0], gap0 - p.safety_margin)
+
+    def _intrusion(self, long_poses, crowd, path) -> np.ndarray:
+        """(s,) worst intrusion (0 … 1) into a person's personal space over `people_horizon`.
+
+        For a person standing, only the intrusion beyond what the path itself needs counts: the
+        planner already passes them as widely as the map allows, and a squeeze it cannot avoid
+        must not make standing still the best command (the robot would never pass)."""
+        p = self.params
+        reach = self.radius + PERSON_RADIUS + p.personal_space
+        d = self._people_distance(long_poses, crowd, self._long_times).min(axis=1)   # (s, m)
+        intrusion = np.clip((reach - d) / p.personal_space, 0.0, 1.0)
+        standing = np.hypot(crowd[:, 2], crowd[:, 3]) == 0.0
+        if standing.any() and len(path) >= 2:
+            window, _ = _resample(path, 0.05, self.limits.max_speed * p.people_horizon)
+            on_path = np.hypot(window[:, None, 0] - crowd[None, standing, 0],
+                               window[:, None, 1] - crowd[None, standing, 1]).min(axis=0)
+            needed = np.clip((reach - on_path) / p.personal_space, 0.0, 1.0)
+            intrusion[:, standing] = np.maximum(intrusion[:, standing] - needed[None, :], 0.0)
+        return intrusion.max(axis=1)
+
+    def _map_clearance(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        """Distance to the walls, interpolated between cell centres (0 off the map): smooth,
+        so a move of a centimetre never looks like a step towards a wall."""
+        grid = self.costmap.grid
+        field = self.costmap.clearance
+        fx = (np.asarray(x, float) - grid.origin[0]) / grid.resolution - 0.5
+        fy = (np.asarray(y, float) - grid.origin[1]) / grid.resolution - 0.5
+        c0, r0 = np.floor(fx).astype(int), np.floor(fy).astype(int)
+        tx, ty = fx - c0, fy - r0
+        rows, cols = field.shape
+        inside = (r0 >= 0) & (c0 >= 0) & (r0 + 1 < rows) & (c0 + 1 < cols)
+        r0c, c0c = np.clip(r0, 0, rows - 2), np.clip(c0, 0, cols - 2)
+        d = ((1 - tx) * (1 - ty) * field[r0c, c0c] + tx * (1 - ty) * field[r0c, c0c + 1]
+             + (1 - tx) * ty * field[r0c + 1, c0c] + tx * ty * field[r0c + 1, c0c + 1])
+        d = np.minimum(d, np.minimum(np.minimum(field[r0c, c0c], field[r0c, c0c + 1]),
+                                     np.minimum(field[r0c + 1, c0c], field[r0c + 1, c0c + 1]))
+                       + grid.resolution)
+        return np.where(inside, d, 0.0)
+
+    def _people_distance(self, poses, crowd, times) -> np.ndarray:
+        """(s, k, m) distance from each pose to each person where they will be then."""
+        t = times[None, :, None]
+        fx = crowd[None, None, :, 0] + crowd[None, None, :, 2] * t
+        fy = crowd[None, None, :, 1] + crowd[None, None, :, 3] * t
+        return np.hypot(poses[..., 0, None] - fx, poses[..., 1, None] - fy)
+
+    def _score(self, commands, poses, long_poses, gap, gap0, crowd, path, target,
+               cap) -> np.ndarray:
+        """Lower is better: progress along the path, heading along it, distance from it,
+        clearance, people's personal space, speed."""
+        p = self.params
+        end = poses[:, -1, :]
+        if len(path) >= 2:
+            window, _ = _resample(path, 0.05, self.limits.max_speed * p.horizon + p.lookahead)
+            along, _ = _project(end[:, :2], window)
+            _, off = _project(poses[:, 1::2, :2].reshape(-1, 2), window)
+            off_path = off.reshape(len(poses), -1).max(axis=1)
+            ahead = np.minimum(along + p.lookahead / 2, 0.05 * (len(window) - 1))
+            index = np.rint(ahead / 0.05).astype(int)
+            aim = window[index]
+            progress = (self.limits.max_speed * p.horizon - along) / max(
+                self.limits.max_speed * p.horizon, 1e-3)
+        else:
+            aim = np.broadcast_to(target, end[:, :2].shape)
+            off_path = np.hypot(target[0] - end[:, 0], target[1] - end[:, 1])
+            progress = np.zeros(len(end))
+        to_aim = np.hypot(aim[:, 0] - end[:, 0], aim[:, 1] - end[:, 1])
+        heading = np.abs(_wrap(np.arctan2(aim[:, 1] - end[:, 1], aim[:, 0] - end[:, 0])
+                               - end[:, 2])) / math.pi
+        heading = np.where(to_aim < 0.1, 0.0, heading)
+        # only getting closer to walls and readings costs: standing near one is no reason to stay
+        closer = np.clip((CLEAR - gap.min(axis=1)) / CLEAR, 0.0, 1.0)
+        clearance = np.maximum(closer - np.clip((CLEAR - gap0) / CLEAR, 0.0, 1.0), 0.0)
+        intrusion = 0.0
+        if len(crowd):
+            intrusion = self._intrusion(long_poses, crowd, path)
+        top = max(cap, 1e-3)
+        speed = np.clip((top - commands[:, 0]) / top, 0.0, 1.0)
+        return (p.w_progress * progress + p.w_heading * heading
+                + p.w_path * np.minimum(off_path, 1.0) + p.w_clearance * clearance
+                + p.w_people * intrusion + p.w_speed * speed)
+
+
+def _speeds(v0: float, commands: np.ndarray, times: np.ndarray, limits: Limits) -> np.ndarray:
+    """(s, k) forward speed at the sample times: ramping from v0 to each command."""
+    dv = commands[:, 0:1] - v0
+    return v0 + np.clip(dv, -limits.max_accel * times, limits.max_accel * times)
+
+
+def rollout(x, y, th, v0, w0, commands, times, limits: Limits) -> np.ndarray:
+    """(s, k, 3) poses at `times` for each command (s, 2): v and w ramp from (v0, w0) towards
+    the command at the acceleration limits and then hold it (midpoint integration)."""
+    commands = np.asarray(commands, dtype=float).reshape(-1, 2)
+    times = np.asarray(times, dtype=float)
+    edges = np.concatenate([[0.0], times])
+    mids = 0.5 * (edges[1:] + edges[:-1])
+    dts = np.diff(edges)
+    dv = commands[:, 0:1] - v0
+    dw = commands[:, 1:2] - w0
+    v = v0 + np.clip(dv, -limits.max_accel * mids, limits.max_accel * mids)
+    w = w0 + np.clip(dw, -limits.max_turn_accel * mids, limits.max_turn_accel * mids)
+    dth = w * dts
+    th_end = th + np.cumsum(dth, axis=1)
+    th_mid = th_end - 0.5 * dth
+    xs = x + np.cumsum(v * dts * np.cos(th_mid), axis=1)
+    ys = y + np.cumsum(v * dts * np.sin(th_mid), axis=1)
+    return np.stack([xs, ys, th_end], axis=-1)
+
+
+def _people_array(people) -> np.ndarray:
+    """(m, 4) x, y, vx, vy; a person slower than MOVING stands still (tracking noise)."""
+    if not people:
+        return np.zeros((0, 4))
+    crowd = np.array([[float(q.x), float(q.y), float(q.vx), float(q.vy)] for q in people])
+    crowd[np.hypot(crowd[:, 2], crowd[:, 3]) < MOVING, 2:] = 0.0
+    return crowd
+
+
+def _nearest(x: float, y: float, points: np.ndarray, crowd: np.ndarray):
+    """The nearest reading or person, as (x, y); None when there is neither."""
+    candidates = np.vstack([points.reshape(-1, 2), crowd[:, :2].reshape(-1, 2)])
+    if not len(candidates):
+        return None
+    i = int(np.argmin(np.hypot(candidates[:, 0] - x, candidates[:, 1] - y)))
+    return float(candidates[i, 0]), float(candidates[i, 1])
+
+
+def _within(points: np.ndarray, x: float, y: float, reach: float) -> np.ndarray:
+    if not len(points):
+        return points
+    return points[np.hypot(points[:, 0] - x, points[:, 1] - y) <= reach]
+
+
+def _wrap(angle):
+    return np.arctan2(np.sin(angle), np.cos(angle))
+
+
+def _length(path: np.ndarray) -> float:
+    if len(path) < 2:
+        return 0.0
+    return float(np.hypot(*np.diff(path, axis=0).T).sum())
+
+
+def _resample(path: np.ndarray, spacing: float, limit: float) -> tuple[np.ndarray, np.ndarray]:
+    """Points every `spacing` m along the path up to `limit` m, and their arc lengths."""
+    seg = np.hypot(*np.diff(path, axis=0).T)
+    cum = np.concatenate([[0.0], np.cumsum(seg)])
+    along = np.arange(0.0, min(limit, cum[-1]) + 1e-9, spacing)
+    xs = np.interp(along, cum, path[:, 0])
+    ys = np.interp(along, cum, path[:, 1])
+    return np.column_stack([xs, ys]), along
+
+
+def _point_along(path: np.ndarray, distance: float) -> np.ndarray:
+    """The point `distance` m along the path (its end if shorter)."""
+    if len(path) < 2:
+        return path[-1]
+    seg = np.hypot(*np.diff(path, axis=0).T)
+    cum = np.concatenate([[0.0], np.cumsum(seg)])
+    d = min(distance, cum[-1])
+    return np.array([np.interp(d, cum, path[:, 0]), np.interp(d, cum, path[:, 1])])
+
+
+def _project(points: np.ndarray, samples: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(arc length, distance) of each point's nearest sample of a path resampled every 5 cm."""
+    d = np.hypot(points[:, None, 0] - samples[None, :, 0], points[:, None, 1] - samples[None, :, 1])
+    nearest = d.argmin(axis=1)
+    return nearest * 0.05, d[np.arange(len(points)), nearest]
