@@ -263,6 +263,12 @@ def _describe(event: dict[str, Any], robot: str) -> str | None:
         return f"{t} FAULT: {event['reason']} (the robot is stopped)"
     if kind == "skill" and event.get("status") == "failed":
         return f"{t}   skill {event['name']} failed: {event['reason']}"
+    if kind == "link":
+        return (f"{t} LINK DOWN: {event['reason']} (the robot is stopped)"
+                if event["state"] == "down" else
+                f"{t} link back up after {event['after']:.1f} s")
+    if kind == "dropped":
+        return f"{t}   dropped {event['count']} reading(s): {event['reason']}"
     return None
 
 
