@@ -8,6 +8,7 @@ synchronous=FULL before the robot asks the next question: a crash loses nothing 
 """
 from __future__ import annotations
 
+import re
 import sqlite3
 import time
 import uuid
@@ -64,9 +65,23 @@ def run_script(db: sqlite3.Connection, path: Path) -> list[Diagnostic]:
         try:
             db.execute(statement.sql)
         except sqlite3.Error as exc:
-            return [error(f"{exc} in: {statement.sql.splitlines()[0][:60]}",
-                          Location(str(path), statement.line, 1), "database")]
+            line, column = _where_near(statement, str(exc))
+            return [error(f"{exc} in: {statement.sql.splitlines()[0][:60]}"
+                          + ("" if line == statement.line else
+                             f" (the statement starts at line {statement.line})"),
+                          Location(str(path), line, column), "database")]
     return []
+
+
+def _where_near(statement: Statement, message: str) -> tuple[int, int]:
+    """Line and column of the text SQLite names in `near "…": syntax error` when it occurs
+    once in the statement (so it is surely the place), else the statement's first line."""
+    match = re.match(r'near "(.*)": ', message, re.DOTALL)
+    at = statement.sql.find(match.group(1)) if match else -1
+    if at < 0 or statement.sql.count(match.group(1)) > 1:
+        return statement.line, 1
+    before = statement.sql[:at]
+    return statement.line + before.count("\n"), at - (before.rfind("\n") + 1) + 1
 
 
 class ApplicationDatabase:

@@ -132,6 +132,8 @@ class Run:
         while True:
             percepts = robot.sense()
             now = percepts.t
+            for event in robot.events():     # what was sensed (an answer) before what it causes
+                self._emit(event)
             self._hot_reload(machine, percepts, now)
             fired = machine.step(percepts, now)
             if fired is not None:
