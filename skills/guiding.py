@@ -4,14 +4,16 @@ While the robot leads someone (GuidePerson), that person walks *behind* it, wher
 does not look and the camera (240°) barely does. So the follower is estimated from two sources,
 each tick:
 
-1. a confirmed people track: the guided user's own track while it lives, else the nearest
-   track behind the robot (more than 90° off its heading, within `reach`), which then becomes
-   the followed track;
-2. the rear sonars (more than 110° off the heading): an echo whose end point lies more than
+1. the guided user's own people track, while the tracker keeps it (at the start the user
+   stands in front of the robot; once behind it the camera loses them within seconds);
+2. else the nearest of: a confirmed track behind the robot (more than 90° off the way it leads,
+   within `reach`), and
+3. the sonars looking back (more than 110° off the way): an echo whose end point lies more than
    0.25 m from every wall of the map is something standing in the open behind the robot; the
    nearest one counts, at its range plus a person's body radius.
 
-The track wins when there is one; sonar covers the blind cone behind. Other people walking
+An echo counts only when the end points of three rays across the sonar's cone (its axis and
+both edges) all lie in the open: an echo off a wall at the cone's edge is the map's. Other people walking
 behind the robot look like the follower to both sources (a known limit).
 
 The behavior owns the decisions (lead, stop and wait, give up); this skill owns the state that
@@ -45,8 +47,8 @@ OUTCOME_USER_LOST = "user lost"
 OUTCOME_NAVIGATION = "navigation failed"
 OUTCOME_CANCELLED = "cancelled"
 
-BEHIND = math.radians(90)          # a track this far off the heading is behind the robot
-REAR_SONAR = math.radians(110)     # sonars pointing this far off the heading look back
+BEHIND = math.radians(90)          # a track this far off the way is behind the robot
+REAR_SONAR = math.radians(110)     # sonars pointing this far off the way look back
 OPEN_SPACE = 0.25                  # m from every wall: an echo there is not the map's
 BODY_RADIUS = 0.2                  # m, a person's body circle (sonar echoes come off its front)
 SONAR_REACH = 4.0                  # m; farther rear echoes are too wide to tell a person
@@ -80,13 +82,14 @@ class Guiding(Skill):
         self.grid = grid
         self.reach = reach
         poses = sonar.poses if sonar is not None else np.zeros((0, 3))
-        self._rear = np.abs(np.arctan2(np.sin(poses[:, 2]), np.cos(poses[:, 2]))) >= REAR_SONAR
         self._sonar_poses = poses
+        self._cone = sonar.cone if sonar is not None else 0.0
         self.state = GuideState()
         self.user_id: int | None = None
         self._started = 0.0
         self._seen_at: float | None = None
         self._waiting_since: float | None = None
+        self._forward: float | None = None     # heading while leading: what "behind" means
 
     # -- the API for behaviors -------------------------------------------------------------
 
@@ -101,6 +104,7 @@ class Guiding(Skill):
         self._started = now
         self._seen_at = now
         self._waiting_since = None
+        self._forward = None
         self.state = GuideState(LEADING, place)
         self.set_status(RUNNING, now)
         self.sense(now)
@@ -148,7 +152,12 @@ class Guiding(Skill):
         pose = self.localization.state
         if pose is None:
             return
-        seen = self._from_track(pose) or self._from_sonar(pose)
+        if self.state.phase == LEADING and abs(pose.v) > 0.05:
+            self._forward = pose.th     # a robot turned round to look keeps its way's "behind"
+        seen = self._own_track(pose)
+        if seen is None:       # the nearest of a track behind the robot and a rear echo
+            found = [f for f in (self._track_behind(pose), self._from_sonar(pose)) if f]
+            seen = min(found, key=lambda f: f[0], default=None)
         if seen is not None:
             self._seen_at = now
             distance, bearing, xy, source = seen
@@ -165,35 +174,40 @@ class Guiding(Skill):
             self.state = replace(self.state, waiting_for=now - self._waiting_since)
         self._publish(now)
 
-    def _from_track(self, pose):
-        tracks = self.perception.tracks
-        own = next((t for t in tracks if t.id == self.user_id), None)
-        if own is None:
-            behind = [t for t in tracks if abs(_bearing(t.x, t.y, pose)) > BEHIND
-                      and math.hypot(t.x - pose.x, t.y - pose.y) <= self.reach]
-            own = min(behind, key=lambda t: math.hypot(t.x - pose.x, t.y - pose.y), default=None)
-            if own is None:
-                return None
-            self.user_id = own.id
-        distance = math.hypot(own.x - pose.x, own.y - pose.y)
-        return distance, _bearing(own.x, own.y, pose), (own.x, own.y), "track"
+    def _own_track(self, pose):
+        """The guided user's own track, while the tracker still has it."""
+        own = next((t for t in self.perception.tracks if t.id == self.user_id), None)
+        return None if own is None else _seen(own, pose)
+
+    def _track_behind(self, pose):
+        """The nearest confirmed track behind the robot within reach."""
+        behind = [t for t in self.perception.tracks if abs(self._off_way(t.x, t.y, pose)) > BEHIND
+                  and math.hypot(t.x - pose.x, t.y - pose.y) <= self.reach]
+        nearest = min(behind, key=lambda t: math.hypot(t.x - pose.x, t.y - pose.y), default=None)
+        return None if nearest is None else _seen(nearest, pose)
 
     def _from_sonar(self, pose):
-        if self.grid is None or not len(pose.sonar) or not self._rear.any():
+        if self.grid is None or not len(pose.sonar) or not len(self._sonar_poses):
             return None
         ranges = np.asarray(pose.sonar, dtype=float)[: len(self._sonar_poses)]
         poses = self._sonar_poses[: len(ranges)]
-        use = self._rear[: len(ranges)] & np.isfinite(ranges) & (ranges <= SONAR_REACH)
+        forward = pose.th if self._forward is None else self._forward
+        off_way = poses[:, 2] + pose.th - forward
+        rear = np.abs(np.arctan2(np.sin(off_way), np.cos(off_way))) >= REAR_SONAR
+        use = rear & np.isfinite(ranges) & (ranges <= SONAR_REACH)
         if not use.any():
             return None
         r, p = ranges[use], poses[use]
-        lx = p[:, 0] + r * np.cos(p[:, 2])
-        ly = p[:, 1] + r * np.sin(p[:, 2])
         c, s = math.cos(pose.th), math.sin(pose.th)
-        wx, wy = pose.x + c * lx - s * ly, pose.y + s * lx + c * ly
-        open_ = self.grid.clearance(wx, wy) > OPEN_SPACE
+        open_ = np.ones(len(r), dtype=bool)
+        for edge in (-0.5, 0.0, 0.5):            # the cone's edges and its axis
+            a = p[:, 2] + edge * self._cone
+            lx, ly = p[:, 0] + r * np.cos(a), p[:, 1] + r * np.sin(a)
+            wx, wy = pose.x + c * lx - s * ly, pose.y + s * lx + c * ly
+            open_ &= self.grid.clearance(wx, wy) > OPEN_SPACE
         if not open_.any():
             return None
+        lx, ly = p[:, 0] + r * np.cos(p[:, 2]), p[:, 1] + r * np.sin(p[:, 2])
         d = np.hypot(lx, ly)
         d[~open_] = np.inf
         i = int(np.argmin(d))
@@ -203,8 +217,20 @@ class Guiding(Skill):
         y = pose.y + centre * math.sin(pose.th + bearing)
         return float(centre), bearing, (x, y), "sonar"
 
+    def _off_way(self, x: float, y: float, pose) -> float:
+        """Bearing of (x, y) from the robot, relative to the way it leads (its heading while
+        driving; a robot that turned round to look for the user still counts its way)."""
+        forward = pose.th if self._forward is None else self._forward
+        a = math.atan2(y - pose.y, x - pose.x) - forward
+        return math.atan2(math.sin(a), math.cos(a))
+
     def _publish(self, now: float) -> None:
         self.write("guide/state", self.state, now)
+
+
+def _seen(track, pose):
+    return (math.hypot(track.x - pose.x, track.y - pose.y), _bearing(track.x, track.y, pose),
+            (track.x, track.y), "track")
 
 
 def _bearing(x: float, y: float, pose) -> float:

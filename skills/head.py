@@ -76,4 +76,8 @@ class HeadControl(Skill):
     def _point_at(self, xy: tuple[float, float], state) -> None:
         bearing = math.atan2(xy[1] - state.y, xy[0] - state.x) - state.th
         target = math.atan2(math.sin(bearing), math.cos(bearing))
+        pan, _ = self.head.read()
+        if not self.spec.pan_min <= target <= self.spec.pan_max and abs(target) > 2.5 \
+                and pan * target < 0:
+            target = -target      # nearly straight back: stay on the side the head is on
         self.head.point(min(max(target, self.spec.pan_min), self.spec.pan_max), 0.0)
