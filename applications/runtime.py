@@ -224,6 +224,11 @@ class Run:
         kind = event["kind"]
         if kind == "answer":
             self._record_answer(event)
+        elif kind == "guide" and self.database is not None:
+            self.database.record_guide_run(
+                robot=self.robot.name, place=event.get("place", ""),
+                outcome=event.get("outcome", ""), reason=event.get("reason", ""),
+                duration=float(event.get("duration", 0.0)), robot_time=event["t"])
         line = _describe(event, self.robot.name)
         if line:
             self._say_line(line)
@@ -261,6 +266,9 @@ def _describe(event: dict[str, Any], robot: str) -> str | None:
         return f"{t}   {robot} asks {event['question']}: {event['text']} [{' | '.join(event['buttons'])}]"
     if kind == "answer":
         return f"{t}   answer {event['question']} = {event['answer']}"
+    if kind == "guide":
+        why = f": {event['reason']}" if event.get("reason") else ""
+        return f"{t}   guide to {event.get('place')}: {event.get('outcome')}{why}"
     if kind == "fault":
         return f"{t} FAULT: {event['reason']} (the robot is stopped)"
     if kind == "skill" and event.get("status") == "failed":

@@ -81,6 +81,10 @@ SCHEMA: dict[str, KeySpec] = {spec.key: spec for spec in (
          "phase, goal, distance_left, blocked_for, blocker, replans, failure and reason"),
     _key("navigation/path", "tuple[tuple[float, float], ...]", "m (map frame)", "navigation",
          "waypoints of the current global path, start to goal"),
+    # guiding (skills.guiding)
+    _key("guide/state", "GuideState", "m, rad, s (fields)", "guide",
+         "phase, place, the follower's distance, bearing and source, unseen_for, waiting_for, "
+         "outcome and reason"),
 )}
 
 SKILL_STATUS_PREFIX = "skills/"      # skills/<name>/status: SkillStatus, written by skill <name>
