@@ -66,8 +66,8 @@ class SocketTransport:
         conn.settimeout(None)
 
     def read(self, timeout: float) -> bytes | None:
-        self.conn.settimeout(timeout)
         try:
+            self.conn.settimeout(timeout)    # raises too when a take-over closed it meanwhile
             data = self.conn.recv(4096)
         except socket.timeout:
             return b""
