@@ -19,6 +19,7 @@ from skills.navigation.navigation import BLOCKED, PAUSED
 BEHIND_GRACE = 1.0       # s the user must stay behind before the guide stops for them
 RESUME_SLACK = 0.5       # m beyond the following distance at which the guide drives on
 WAIT_SLACK = 1.5         # m beyond the following distance at which the guide stops
+IN_A_WALL = 0.15         # m: a "person" closer than this to a wall is a door jamb's echo
 
 
 class Drive(SkillLeaf):
@@ -49,7 +50,8 @@ class Drive(SkillLeaf):
 class AskToPass(SkillLeaf):
     """While the way is blocked by a person (a track within `near` m of what blocks it), say
     `text` (once per blocked episode, again every `every` s): people standing in the way step
-    aside when asked. A wall corner or a box is not asked. Never finishes."""
+    aside when asked. A wall corner or a box is not asked, nor a track that sits on a wall (a
+    door jamb the leg detector took for legs). Never finishes."""
 
     def __init__(self, ctx: BehaviorContext, text: str, every: float = 10.0,
                  near: float = 0.6) -> None:
@@ -79,8 +81,10 @@ class AskToPass(SkillLeaf):
         if pose is None:
             return False
         ahead = (math.cos(pose.th), math.sin(pose.th))
+        grid = self.skills.map
         return any(math.hypot(t.x - blocker[0], t.y - blocker[1]) <= self.near
                    and (t.x - pose.x) * ahead[0] + (t.y - pose.y) * ahead[1] > 0
+                   and (grid is None or float(grid.clearance(t.x, t.y)) > IN_A_WALL)
                    for t in self.skills.perception.tracks)
 
 

@@ -1,20 +1,19 @@
 """Guiding: watch the person who follows the robot, and keep the guide's state for the graph.
 
 While the robot leads someone (GuidePerson), that person walks *behind* it, where the laser
-does not look and the camera (240°) barely does. So the follower is estimated from two sources,
-each tick:
+does not look and the camera (240°) barely does. So the follower is estimated each tick from:
 
 1. the guided user's own people track, while the tracker keeps it (at the start the user
    stands in front of the robot; once behind it the camera loses them within seconds);
 2. else the nearest of: a confirmed track behind the robot (more than 90° off the way it leads,
    within `reach`), and
-3. the sonars looking back (more than 110° off the way): an echo whose end point lies more than
-   0.25 m from every wall of the map is something standing in the open behind the robot; the
-   nearest one counts, at its range plus a person's body radius.
+3. the sonars looking back (more than 110° off the way): an echo that no wall of the map
+   explains is something standing in the open behind the robot; the nearest one counts, at
+   its range plus a person's body radius.
 
-An echo counts only when the end points of three rays across the sonar's cone (its axis and
-both edges) all lie in the open: an echo off a wall at the cone's edge is the map's. Other people walking
-behind the robot look like the follower to both sources (a known limit).
+A wall explains an echo when any of five rays across the sonar's cone meets it no farther
+than 0.25 m beyond the echo's range (a sonar hears the nearest thing anywhere in its cone).
+Other people walking behind the robot look like the follower to both sources (a known limit).
 
 The behavior owns the decisions (lead, stop and wait, give up); this skill owns the state that
 conditions read (`guide/state`) and the log event of a finished guide run (`guide`, with
@@ -49,9 +48,12 @@ OUTCOME_CANCELLED = "cancelled"
 
 BEHIND = math.radians(90)          # a track this far off the way is behind the robot
 REAR_SONAR = math.radians(110)     # sonars pointing this far off the way look back
-OPEN_SPACE = 0.25                  # m from every wall: an echo there is not the map's
 BODY_RADIUS = 0.2                  # m, a person's body circle (sonar echoes come off its front)
-SONAR_REACH = 4.0                  # m; farther rear echoes are too wide to tell a person
+SONAR_REACH = 3.0                  # m; farther rear echoes are too wide to tell a person
+CONE_RAYS = (-0.5, -0.25, 0.0, 0.25, 0.5)   # rays across a sonar's cone, in cone widths
+MARCH_STEP = 0.05                  # m between the points checked along a ray
+WALL_SLACK = 0.25                  # m beyond the echo a wall may be and still explain it
+WALL_HIT = 0.08                    # m: a ray point this close to a wall has met it
 FORGET_AFTER = 1.0                 # s unseen after which user_distance is absent
 
 
@@ -199,12 +201,16 @@ class Guiding(Skill):
             return None
         r, p = ranges[use], poses[use]
         c, s = math.cos(pose.th), math.sin(pose.th)
+        # the echo is the map's when a ray across the cone meets a wall before it (or at it)
+        steps = np.arange(0.0, float(r.max()) + WALL_SLACK + 1e-9, MARCH_STEP)
         open_ = np.ones(len(r), dtype=bool)
-        for edge in (-0.5, 0.0, 0.5):            # the cone's edges and its axis
+        for edge in CONE_RAYS:
             a = p[:, 2] + edge * self._cone
-            lx, ly = p[:, 0] + r * np.cos(a), p[:, 1] + r * np.sin(a)
+            t = np.minimum(steps[None, :], (r + WALL_SLACK)[:, None])       # n × samples
+            lx = p[:, 0, None] + t * np.cos(a)[:, None]
+            ly = p[:, 1, None] + t * np.sin(a)[:, None]
             wx, wy = pose.x + c * lx - s * ly, pose.y + s * lx + c * ly
-            open_ &= self.grid.clearance(wx, wy) > OPEN_SPACE
+            open_ &= (self.grid.clearance(wx, wy) > WALL_HIT).all(axis=1)
         if not open_.any():
             return None
         lx, ly = p[:, 0] + r * np.cos(p[:, 2]), p[:, 1] + r * np.sin(p[:, 2])

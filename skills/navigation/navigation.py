@@ -32,6 +32,7 @@ from skills.navigation.costmap import CostMap, cost_map
 from skills.navigation.gridmap import GridMap, MapError
 from skills.navigation.planner import GlobalPlanner, Plan
 from skills.perception import PeoplePerception
+from skills.safety import STOP_DISTANCE
 from skills.skill import Skill
 from skills.status import IDLE, SkillStatus, Status, failed
 
@@ -59,6 +60,9 @@ SONAR_RANGE = 1.5            # m: farther sonar echoes are too wide to steer by
 @dataclass(frozen=True)
 class NavigationParams:
     goal_tolerance: float = 0.15          # m from the goal counted as there
+    # m from the goal counted as there when the safety arbiter will not let the robot closer
+    # (a place drawn near a wall, approached facing the wall)
+    wall_goal_tolerance: float = 0.3
     heading_tolerance: float = math.radians(8)
     replan_after: float = 3.0             # s blocked before planning around the obstruction
     give_up_after: float = 30.0           # s blocked before failing
@@ -225,7 +229,9 @@ class Navigation(Skill):
             return 0.0, 0.0
         x, y, th = state.x, state.y, state.th
         tx, ty, heading = self._target
-        if self.state.phase == TURNING or math.hypot(tx - x, ty - y) <= self.params.goal_tolerance:
+        to_goal = math.hypot(tx - x, ty - y)
+        if (self.state.phase == TURNING or to_goal <= self.params.goal_tolerance
+                or (to_goal <= self.params.wall_goal_tolerance and self._wall_ahead())):
             return self._turn_on_goal(heading, th, state.w, now)
         rest = self._rest_of_path(x, y)
         if math.hypot(rest[0, 0] - x, rest[0, 1] - y) > OFF_PATH:
@@ -316,6 +322,11 @@ class Navigation(Skill):
                               blocked_for=blocked_for, blocker=where, replans=replans,
                               reason=command.reason + note)
         self.set_status(SkillStatus(Status.RUNNING, f"blocked for {int(blocked_for)} s{at}"), now)
+
+    def _wall_ahead(self) -> bool:
+        """The safety arbiter stops forward motion here (too little free space ahead), so
+        creeping on to the goal would stand still until the skill gives up."""
+        return self.blackboard.value("obstacles/front", math.inf) < STOP_DISTANCE + 0.02
 
     def _stuck(self, left: float, now: float) -> bool:
         """No 0.2 m of progress along the path for `stuck_after` seconds (a local minimum of

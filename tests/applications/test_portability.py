@@ -23,6 +23,7 @@ SURVEY = BUNDLED / "survey"
 SCENARIOS = sorted(p.stem for p in (SURVEY / "scenarios").glob("*.toml"))
 APPLICATIONS = [        # one line per bundled application that must run unchanged on every base
     "survey",
+    "guide",
 ]
 ROBOTS = ("horos", "perses", "argos")     # P2OS, rFLEX, CANopen; the first is the reference
 CASES = [(app, scenario) for app in APPLICATIONS

@@ -1,0 +1,158 @@
+"""GuidePerson and GoTo in the simulated office: a guide waits for a user who lags behind and
+asks them to follow, leads on when they catch up, gives up on one who walks away, and halts
+exactly once when switched off."""
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from behaviors.robot import open_robot
+from skills.guiding import OUTCOME_ARRIVED, OUTCOME_CANCELLED, OUTCOME_USER_LOST, WAITING
+
+# A visitor stands in front of the robot (robot_home faces north) and follows it when it
+# speaks; `extra` options of the follow step make them lag or leave.
+SCENARIO = """
+[scenario]
+name = "{name}"
+duration = 120.0
+robot = "robot_home"
+[[person]]
+id = "uma"
+at = [0.0, 0.35]
+steps = [ {{ follow = 1.2, after_call = true, goal = "room_n3"{extra} }}{then} ]
+"""
+
+
+def scenario(tmp_path, name: str, extra: str = "", then: str = "") -> str:
+    path = tmp_path / f"{name}.toml"
+    path.write_text(SCENARIO.format(name=name, extra=extra, then=then))
+    return str(path)
+
+
+class Guide:
+    """A robot with GuidePerson active, ticked on the simulated clock, with what happened."""
+
+    def __init__(self, robot_name: str, path: str, **params) -> None:
+        self.robot = open_robot(robot_name, fast=True, scenario=path, seed=1)
+        self.events: list[dict] = []
+        self.phases: list[tuple[float, str, float]] = []     # t, guide phase, |v|
+        self.tick(10)                                        # the tracker confirms the user
+        self.robot.activate("GuidePerson", {"place": "room_n3", "give_up_after": 15.0, **params})
+
+    def tick(self, n: int) -> None:
+        robot = self.robot
+        for _ in range(n):
+            robot.sense(); robot.act(); robot.wait_until(robot.now() + 0.1)
+            self.events += robot.events()
+            guide = robot.skills.guide.state
+            body = robot.skills.hardware.simulation.world.body
+            self.phases.append((robot.now(), guide.phase, abs(body.v)))
+
+    def run_until_done(self, seconds: float) -> str | None:
+        for _ in range(int(seconds / 0.1)):
+            self.tick(1)
+            if self.robot.active.status in ("SUCCESS", "FAILURE"):
+                return self.robot.active.status
+        return self.robot.active.status
+
+    def said(self) -> list[str]:
+        return [e["text"] for e in self.events if e["kind"] == "say"]
+
+    def guide_events(self) -> list[dict]:
+        return [e for e in self.events if e["kind"] == "guide"]
+
+    def close(self) -> None:
+        self.robot.close()
+
+
+@pytest.mark.parametrize("robot_name", ["horos", "perses"])
+def test_waits_for_a_lagging_user_asks_them_to_follow_and_leads_on(tmp_path, robot_name):
+    path = scenario(tmp_path, "lagging", ", stop_after_m = 1.5, stop_for = 8.0")
+    guide = Guide(robot_name, path)
+    try:
+        status = guide.run_until_done(80.0)
+        world = guide.robot.skills.hardware.simulation.world
+        assert status == "SUCCESS"
+        waiting = [(t, v) for t, phase, v in guide.phases if phase == WAITING]
+        assert waiting, "the guide never stopped for the user"
+        # it stood while waiting (after braking and, on PERSES, turning round on the spot)
+        assert min(v for _, v in waiting) < 0.02
+        assert "Please follow me, I am waiting for you." in guide.said()
+        assert guide.said()[-1] == "Here we are."
+        assert [e["outcome"] for e in guide.guide_events()] == [OUTCOME_ARRIVED]
+        assert world.measures.contact_count() == 0
+    finally:
+        guide.close()
+
+
+@pytest.mark.parametrize("robot_name", ["horos", "perses"])
+def test_gives_up_on_a_user_who_walks_away_with_a_reason(tmp_path, robot_name):
+    path = scenario(tmp_path, "away", ", until = 5.0", ', { leave = "hall_east" }')
+    guide = Guide(robot_name, path)
+    try:
+        status = guide.run_until_done(80.0)
+        assert status == "FAILURE"
+        (event,) = guide.guide_events()
+        assert event["outcome"] == OUTCOME_USER_LOST
+        assert event["reason"].startswith("the user did not follow")
+        assert guide.robot.skills.navigation.state.phase == "idle"    # navigation cancelled
+        values = guide.robot.sense()
+        assert values["guide.user_lost"] and values["behavior.failed"]
+    finally:
+        guide.close()
+
+
+@pytest.mark.parametrize("robot_name", ["horos", "perses"])
+def test_switching_off_halts_exactly_once(tmp_path, robot_name, monkeypatch):
+    guide = Guide(robot_name, scenario(tmp_path, "switch"))
+    skills = guide.robot.skills
+    calls = {"navigation": 0, "guide": 0}
+    for name in calls:
+        skill = getattr(skills, name)
+        original = skill.cancel
+
+        def counted(now, _original=original, _name=name):
+            calls[_name] += 1
+            _original(now)
+        monkeypatch.setattr(skill, "cancel", counted)
+    try:
+        guide.tick(40)                                       # leading by now
+        assert skills.navigation.state.phase in ("driving", "turning")
+        guide.robot.activate("Idle")
+        guide.tick(15)                                       # braking takes up to 1.2 s
+        assert calls == {"navigation": 1, "guide": 1}
+        assert [e["outcome"] for e in guide.guide_events()] == [OUTCOME_CANCELLED]
+        assert skills.navigation.state.phase == "idle"
+        assert skills.motion.goal is None
+        assert max(v for _, _, v in guide.phases[-3:]) < 0.05        # standing again
+        if skills.head is not None:
+            assert skills.head.target is None                         # looking ahead again
+        guide.robot.activate("Wait")                         # a second switch halts nothing
+        guide.tick(2)
+        assert calls == {"navigation": 1, "guide": 1}
+    finally:
+        guide.close()
+
+
+def test_go_to_drives_to_the_place_and_is_done(tmp_path):
+    path = tmp_path / "empty.toml"
+    path.write_text('[scenario]\nname = "empty"\nduration = 60.0\nrobot = "robot_home"\n')
+    robot = open_robot("perses", fast=True, scenario=str(path), seed=2)
+    try:
+        robot.activate("GoTo", {"place": "door_n3"})
+        for _ in range(400):
+            robot.sense(); robot.act(); robot.wait_until(robot.now() + 0.1)
+            if robot.active.status == "SUCCESS":
+                break
+        body = robot.skills.hardware.simulation.world.body
+        x, y, _ = robot.skills.map.places["door_n3"]
+        assert robot.active.status == "SUCCESS"
+        assert math.hypot(body.x - x, body.y - y) < 0.25
+        robot.activate("GoTo", {"place": "nowhere"})
+        robot.sense(); robot.act()
+        robot.sense()
+        assert robot.active.status == "FAILURE"
+        assert robot.sense()["navigation.failure"] == "unknown place"
+    finally:
+        robot.close()

@@ -1,0 +1,80 @@
+"""The guiding skill finds the person behind the robot (a track, else the sonars looking back)
+and does not take the hallway's walls for one."""
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from skills.skillset import open_skills
+
+SCENARIO = """
+[scenario]
+name = "behind"
+duration = 60.0
+robot = [0.0, 0.0, 0]
+{people}
+"""
+PERSON = """
+[[person]]
+id = "pat"
+at = [{x}, 0.0]
+steps = [ {{ pause = 600.0 }} ]
+"""
+
+
+def open_with(tmp_path, robot: str, person_x: float | None):
+    path = tmp_path / "behind.toml"
+    people = PERSON.format(x=person_x) if person_x is not None else ""
+    path.write_text(SCENARIO.format(people=people))
+    return open_skills(robot, fast=True, scenario=str(path), seed=4)
+
+
+def tick(skills, n: int) -> list:
+    states = []
+    for _ in range(n):
+        skills.sense(); skills.act(); skills.hardware.clock.advance(0.1)
+        states.append(skills.guide.state)
+    return states
+
+
+@pytest.mark.parametrize("robot", ["horos", "perses"])
+def test_a_person_standing_behind_the_robot_is_the_follower(tmp_path, robot):
+    skills = open_with(tmp_path, robot, person_x=-1.3)    # robot faces east, person to its west
+    try:
+        skills.guide.start("hall_east", skills.now())
+        state = tick(skills, 10)[-1]
+        assert state.source in ("sonar", "track")
+        assert state.user_distance == pytest.approx(1.3, abs=0.2)
+        assert abs(state.user_bearing) > math.radians(150)          # straight behind
+    finally:
+        skills.close()
+
+
+@pytest.mark.parametrize("robot", ["horos", "perses"])
+def test_walls_are_no_follower_while_the_robot_drives_down_the_hallway(tmp_path, robot):
+    skills = open_with(tmp_path, robot, person_x=None)
+    try:
+        skills.guide.start("hall_east", skills.now())
+        skills.navigation.go_to("hall_east", skills.now())
+        states = tick(skills, 80)
+        assert skills.hardware.simulation.world.body.x > 2.0       # it drove
+        assert all(s.user_distance is None for s in states[15:])
+        assert states[-1].unseen_for > 6.0
+    finally:
+        skills.close()
+
+
+def test_finish_logs_the_run_once_and_cancel_after_it_logs_nothing(tmp_path):
+    skills = open_with(tmp_path, "horos", person_x=None)
+    try:
+        skills.guide.start("room_n1", skills.now())
+        tick(skills, 3)
+        skills.guide.finish("arrived", skills.now(), "arrived at room_n1")
+        skills.guide.finish("user lost", skills.now(), "again")      # already finished
+        skills.guide.cancel(skills.now())
+        events = [e.as_dict() for e in skills.events.drain() if e.kind == "guide"]
+        assert [(e["place"], e["outcome"]) for e in events] == [("room_n1", "arrived")]
+        assert skills.guide.state.phase == "idle"
+    finally:
+        skills.close()
