@@ -129,7 +129,7 @@ class LocalController:
         long_poses = rollout(x, y, th, v0, w0, commands, self._long_times, self.limits)
         poses = long_poses[:, : len(self._times)]
         speeds = _speeds(v0, commands, self._times, self.limits)
-        gap, gap0 = self._gaps(x, y, poses, speeds, near, crowd)
+        gap, gap0 = self._gaps(x, y, v0, poses, speeds, near, crowd)
         unsafe = (gap < 0.0) & (gap < gap0[:, None] - 1e-9)
         ok = ~unsafe.any(axis=1)
         if not ok.any():
@@ -221,7 +221,7 @@ class LocalController:
         grid_v, grid_w = np.meshgrid(vs, ws, indexing="ij")
         return np.column_stack([grid_v.ravel(), grid_w.ravel()])
 
-    def _gaps(self, x, y, poses, speeds, points, crowd):
+    def _gaps(self, x, y, v0, poses, speeds, points, crowd):
         """Free space (m) beyond body + margin at every pose (s, k), and at the start (s,).
 
         A walking person counts only where the robot is still moving then (passive safety):
@@ -240,7 +240,12 @@ class LocalController:
         if len(crowd):
             d = self._people_distance(poses, crowd, self._times)
             walking = np.hypot(crowd[:, 2], crowd[:, 3]) > 0.0
-            d = np.where(walking[None, None, :] & (speeds[..., None] <= STOPPED), np.inf, d)
+            # the robot counts as moving at a pose when it moved at any time since the previous
+            # one: it may stop between two poses, and a walker reaching it before it has stopped
+            # would fall through a check at the poses alone (speed ramps are monotonic)
+            before = np.concatenate([np.full((len(speeds), 1), v0), speeds[:, :-1]], axis=1)
+            still = np.maximum(before, speeds) <= STOPPED
+            d = np.where(walking[None, None, :] & still[..., None], np.inf, d)
             gap = np.minimum(gap, d.min(axis=-1) - self.radius - PERSON_RADIUS)
             gap0 = min(gap0, float(np.hypot(crowd[:, 0] - x, crowd[:, 1] - y).min())
                        - self.radius - PERSON_RADIUS)
