@@ -70,6 +70,7 @@ class Localization(Skill):
         self._last_odometry: tuple[float, float, float] | None = None
         self._last_scan_t: float | None = None
         self._down = False                    # in a link episode (a "down" event was emitted)
+        self._lost_reason: str | None = None  # why the current lost episode began
         self._started: float | None = None    # the first tick's time
         self._ever_up = False                 # the base has reported at least once
         self._down_since = 0.0
@@ -101,9 +102,15 @@ class Localization(Skill):
         elif not fresh:
             self.set_status(failed(self._why_stale(state, now)), now)
         elif self.lost:
-            self.set_status(failed(f"localization lost: {self._why_lost()}"), now)
+            # the reason of the episode's first tick: one status event per episode, not one
+            # per tick as the figures move
+            if self._lost_reason is None:
+                self._lost_reason = f"localization lost: {self._why_lost()}"
+            self.set_status(failed(self._lost_reason), now)
         else:
             self.set_status(RUNNING, now)
+        if not self.lost:
+            self._lost_reason = None
         self._link_episode(fresh, state, now)
         self._dropped_readings(state, now)
 
