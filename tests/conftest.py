@@ -25,3 +25,10 @@ def standing_person(tmp_path):
         path.write_text(STANDING_PERSON.format(x=x, y=y))
         return path
     return write
+
+
+@pytest.fixture(scope="session")
+def app_runs(tmp_path_factory):
+    """Bundled-application runs made once per session (tests/applications/app_runs.py)."""
+    from tests.applications.app_runs import AppRuns
+    return AppRuns(tmp_path_factory.mktemp("app-runs"))

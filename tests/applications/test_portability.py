@@ -15,8 +15,6 @@ from pathlib import Path
 import pytest
 
 import applications
-from applications.cli import main
-from applications.trace import read_trace
 
 BUNDLED = Path(applications.__file__).parent / "bundled"
 SURVEY = BUNDLED / "survey"
@@ -30,13 +28,6 @@ CASES = [(app, scenario) for app in APPLICATIONS
          for scenario in sorted(p.stem for p in (BUNDLED / app / "scenarios").glob("*.toml"))]
 
 
-def run(tmp_path: Path, robot: str, scenario: str, app: str = "survey") -> list[dict]:
-    trace = tmp_path / f"{app}-{robot}-{scenario}.jsonl"
-    code = main(["run", str(BUNDLED / app), "--robot", robot, "--scenario", scenario, "--fast",
-                 "--seed", "0", "--trace", str(trace), "--data", str(tmp_path / f"data-{robot}"),
-                 "--quiet"])
-    assert code == 0
-    return read_trace(trace)
 
 
 def states(trace: list[dict]) -> list[str]:
@@ -53,8 +44,12 @@ def test_every_bundled_scenario_is_covered():
 
 @pytest.mark.slow
 @pytest.mark.parametrize("app, scenario", CASES)
-def test_same_states_on_every_base(tmp_path, app, scenario):
-    traces = {robot: run(tmp_path, robot, scenario, app) for robot in ROBOTS}
+def test_same_states_on_every_base(app_runs, app, scenario):
+    # the runs are shared with the applications' own end-to-end tests (tests/applications/
+    # app_runs.py): the same command line, made once
+    runs = {robot: app_runs.run(app, robot, scenario) for robot in ROBOTS}
+    assert all(run.code == 0 for run in runs.values()), {r: run.code for r, run in runs.items()}
+    traces = {robot: run.trace for robot, run in runs.items()}
     reference = traces[ROBOTS[0]]
     assert len(states(reference)) >= 1
     for robot, trace in traces.items():

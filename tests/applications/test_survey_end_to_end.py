@@ -45,16 +45,17 @@ def states(trace: list[dict]) -> list[str]:
 
 
 @pytest.mark.parametrize("scenario", sorted(EXPECTED))
-def test_scenario_states_and_answers(tmp_path, scenario):
-    trace, answers, code = run_survey(tmp_path, scenario)
+def test_scenario_states_and_answers(app_runs, scenario):
+    run = app_runs.run("survey", "horos", scenario)
     expected_states, expected_answers = EXPECTED[scenario]
-    assert code == 0
-    assert states(trace) == expected_states
-    assert answers == expected_answers
+    assert run.code == 0
+    assert run.states == expected_states
+    assert run.rows("survey", "SELECT question, answer FROM answers ORDER BY id") == \
+        expected_answers
 
 
-def test_trace_lines_carry_time_kind_and_fields(tmp_path):
-    trace, _, _ = run_survey(tmp_path, "complete")
+def test_trace_lines_carry_time_kind_and_fields(app_runs):
+    trace = app_runs.run("survey", "horos", "complete").trace
     kinds = {e["kind"] for e in trace}
     assert {"transition", "behavior", "say", "ask", "answer", "skill"} <= kinds
     assert all(isinstance(e["t"], (int, float)) for e in trace)
@@ -72,9 +73,9 @@ def test_same_seed_same_trace(tmp_path):
     assert first == second
 
 
-def test_dialog_manager_override_is_traced(tmp_path):
+def test_dialog_manager_override_is_traced(app_runs):
     """The person is still far (> 2.5 m) on entering CreateAttention: AttractAttention, not FaceUser."""
-    trace, _, _ = run_survey(tmp_path, "complete")
+    trace = app_runs.run("survey", "horos", "complete").trace
     entered = next(i for i, e in enumerate(trace)
                    if e["kind"] == "transition" and e["to"] == "CreateAttention")
     behavior = next(e for e in trace[entered:] if e["kind"] == "behavior")

@@ -262,6 +262,9 @@ def test_unplug_and_reconnect_sends_zero_first_and_never_resumes_by_itself(realt
         emulator.serve_pty(link=link)                    # plug a new line in under the same name
         assert wait_until(lambda: base.link_up, timeout=5.0)
         assert base.stats["reconnects"] == 1
+        # the emulator's reader may file the ENABLE a moment after the driver says link up
+        assert wait_until(lambda: any(pkt.kind == p.Cmd.ENABLE
+                                      for t, pkt in list(emulator.received) if t >= replugged))
         after = [(pkt.kind, p.decode_argument(pkt.data)) for t, pkt in list(emulator.received)
                  if t >= replugged]
         kinds = [k for k, _ in after]
