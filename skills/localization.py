@@ -43,6 +43,10 @@ class Localization(Skill):
     name = "localization"
     STALE_AFTER = 0.5    # s: five missed 10 Hz cycles
     FIRST_REPORT_WITHIN = 2.0   # s after the first tick: a base may start reporting a bit late
+    UPDATE_AFTER_MOVING = 0.02  # m of odometry since the last weighed scan …
+    UPDATE_AFTER_TURNING = math.radians(2)   # … or rad: the robot moves
+    STANDING_SHORT_SHARE = 0.3  # standing: a scan with more beams cut short is not weighed …
+    STANDING_LONG_SHARE = 0.05  # … unless more than this reach beyond the map's walls
 
     def __init__(self, blackboard, events, base: Base, *, grid: GridMap | None = None,
                  laser: Laser | None = None, laser_range: float = 8.0,
@@ -69,6 +73,7 @@ class Localization(Skill):
                 self.filter.reset_global()
         self._last_odometry: tuple[float, float, float] | None = None
         self._last_scan_t: float | None = None
+        self._corrected_at: tuple[float, float, float] | None = None   # odometry of that scan
         self._down = False                    # in a link episode (a "down" event was emitted)
         self._lost_reason: str | None = None  # why the current lost episode began
         self._started: float | None = None    # the first tick's time
@@ -156,9 +161,26 @@ class Localization(Skill):
             self.filter.predict(self._last_odometry, odometry)
         self._last_odometry = odometry
         beams = self._beams(state)
-        if beams is not None:
+        if beams is not None and self._worth_correcting(odometry, beams):
             self.filter.correct(beams[0], beams[1], now)
+            self._corrected_at = odometry
         return self.filter.pose
+
+    def _worth_correcting(self, odometry, beams) -> bool:
+        """A robot that has not moved since the last weighed scan cannot have become lost,
+        while a visitor right in front of it can hide most of the scan: standing still, a scan
+        mostly cut short by something unmapped is not weighed (it would drag the estimate away
+        and call the robot lost). A scan with beams beyond the map's walls (the robot was
+        carried off: no obstacle lengthens a beam) still counts."""
+        f, last = self.filter, self._corrected_at
+        if last is None or f.w_slow is None or f.lost:
+            return True
+        moved = math.hypot(odometry[0] - last[0], odometry[1] - last[1])
+        turned = abs(math.remainder(odometry[2] - last[2], math.tau))
+        if moved >= self.UPDATE_AFTER_MOVING or turned >= self.UPDATE_AFTER_TURNING:
+            return True
+        short, long = f.disagreement(*beams)
+        return short <= self.STANDING_SHORT_SHARE or long > self.STANDING_LONG_SHARE
 
     def _beams(self, state: BaseState):
         """(beam poses in the robot frame, ranges) of a new scan, or None."""

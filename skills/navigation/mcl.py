@@ -339,6 +339,22 @@ class MonteCarloLocalization:
         self.w_slow += p.alpha_slow * (average - self.w_slow)
         self.w_fast += p.alpha_fast * (average - self.w_fast)
 
+    def disagreement(self, beam_poses, ranges) -> tuple[float, float]:
+        """The shares of a scan's usable beams that end well before (short) and well beyond
+        (long) the map's wall seen from the estimate. Something unmapped in view makes beams
+        short only; a wrong estimate makes some long too, which no obstacle can."""
+        beam_poses, ranges = self._usable(np.asarray(beam_poses, float), np.asarray(ranges, float))
+        if len(ranges) == 0:
+            return 0.0, 0.0
+        cone = self.model.cone
+        fractions = (-1 / 3, 0.0, 1 / 3) if cone > 0.0 else (0.0,)
+        rays = [beam_poses + (0.0, 0.0, f * cone) for f in fractions]
+        seen = [expected_ranges(self.grid, self.pose, r, self.model.max_range) for r in rays]
+        margin = 2 * self.model.fit_distance
+        short = ranges < np.min(seen, axis=0) - margin
+        long = ranges > np.max(seen, axis=0) + margin
+        return float(short.mean()), float(long.mean())
+
     def _short(self, pose, beam_poses, ranges) -> np.ndarray:
         """Beams that end well before the map's wall seen from `pose`: something unmapped (a
         person, a cart) is in the way. They say nothing about the fit, unless most of the scan

@@ -312,3 +312,40 @@ def test_without_range_sensors_the_pose_is_the_odometry(tmp_path):
 def test_a_bad_map_is_a_clear_error_and_closes_the_hardware(tmp_path):
     with pytest.raises(MapError, match="nowhere.yaml"):
         open_skills("horos", fast=True, map=tmp_path / "nowhere.yaml")
+
+
+PASSING_CLOSE = """[scenario]
+name = "passing_close"
+duration = 40.0
+robot = "robot_home"
+[[person]]
+id = "victor"
+appear = 0.0
+at = "hall_west"
+speed = 1.0
+steps = [ {{ walk = [[-2.0, 0.3]] }}, {{ approach = 0.5 }}, {{ pause = 2.0 }},
+          {{ leave = "hall_east" }} ]
+"""
+
+
+@pytest.mark.parametrize("robot", ["horos", "perses"])
+def test_a_visitor_brushing_past_a_standing_robot_is_not_taken_for_being_lost(tmp_path, robot):
+    """Seen in a user's trial: a visitor walking close past the standing robot hid most of the
+    laser's view; the filter weighed those scans, spread out and called itself lost."""
+    scenario = tmp_path / "passing.toml"
+    scenario.write_text(PASSING_CLOSE.format())
+    skills = open_skills(robot, scenario=scenario, fast=True, seed=0)
+    lost, errors, nearest = [], [], []
+
+    def record(s):
+        lost.append(s.blackboard.value("localization/lost"))
+        errors.append(error(s)[0])
+        body = s.hardware.simulation.world.body
+        nearest.extend(math.hypot(p.x - body.x, p.y - body.y)
+                       for p in s.hardware.simulation.world.present_people())
+    try:
+        run(skills, 30.0, each=record)
+    finally:
+        skills.close()
+    assert min(nearest) < 0.9                       # the visitor did come close
+    assert not any(lost) and max(errors) <= 0.10
