@@ -4,7 +4,6 @@ the right column that says what to write instead; and no text whatever ends in a
 ConditionError."""
 from __future__ import annotations
 
-from dataclasses import dataclass
 from fractions import Fraction
 
 import pytest
@@ -16,16 +15,7 @@ from applications.conditions.condition import default_declarations
 from applications.conditions.hints import (ARITHMETIC, BOOLEAN_WORDS, KEYWORDS, NUMBER_WORDS,
                                            OPERATORS, STRAY, SYMBOLS, TYPOGRAPHIC_QUOTES,
                                            UNIT_ALIASES, WORD_OPERATORS, WORD_PHRASES)
-
-
-@dataclass(frozen=True)
-class Spec:
-    """A stand-in for behaviors.percepts.PerceptSpec, with the `values` of a string percept."""
-    name: str
-    type: str
-    unit: str | None = None
-    range: tuple[float, float] | None = None
-    values: tuple[str, ...] | None = None
+from behaviors.percepts import PerceptSpec as Spec
 
 
 DECLARATIONS = {**default_declarations(),

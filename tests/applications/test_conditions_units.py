@@ -4,7 +4,6 @@ in many ways). The reference arithmetic here uses `decimal`/`fractions`, not the
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from decimal import Decimal, localcontext
 from fractions import Fraction
 
@@ -14,18 +13,11 @@ from hypothesis import strategies as st
 
 from applications.conditions import compile_condition
 from applications.conditions.analysis import EXCLUSIVE, OVERLAP, can_both_be_true
+from behaviors.percepts import PerceptSpec as Spec
 
 FACTORS = {"s": Fraction(1), "ms": Fraction(1, 1000), "min": Fraction(60),
            "m": Fraction(1), "cm": Fraction(1, 100)}
 DIMENSIONS = {"time": ("s", "ms", "min"), "length": ("m", "cm")}
-
-
-@dataclass(frozen=True)
-class Spec:
-    name: str
-    type: str
-    unit: str | None = None
-    range: tuple[float, float] | None = None
 
 
 def declarations(unit: str) -> dict:

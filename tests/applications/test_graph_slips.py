@@ -3,7 +3,6 @@ unknown value is an error with a did-you-mean, `!=` with one a warning, exclusiv
 priorities), at file:line:col; and the whole-number reader for attributes."""
 from __future__ import annotations
 
-from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
@@ -11,17 +10,8 @@ import pytest
 from applications.conditions.condition import default_declarations
 from applications.graph.loader import check_graph_bytes
 from applications.graph.numbers import NumberSlip, whole_number
+from behaviors.percepts import PerceptSpec as Spec
 from test_graph_corpus import fake_catalog
-
-
-@dataclass(frozen=True)
-class Spec:
-    """Stands in for behaviors.percepts.PerceptSpec with the `values` field."""
-    name: str
-    type: str
-    unit: str | None = None
-    range: tuple[float, float] | None = None
-    values: tuple[str, ...] | None = None
 
 
 DECLARATIONS = {**default_declarations(),
