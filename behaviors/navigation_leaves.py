@@ -19,6 +19,8 @@ from skills.navigation.navigation import BLOCKED, PAUSED
 BEHIND_GRACE = 1.0       # s the user must stay behind before the guide stops for them
 RESUME_SLACK = 0.5       # m beyond the following distance at which the guide drives on
 WAIT_SLACK = 1.5         # m beyond the following distance at which the guide stops
+NO_PLACE = ("no place to go: the parameter 'place' was not set (its percept had no value or "
+            "the database no row for it)")
 IN_A_WALL = 0.15         # m: a "person" closer than this to a wall is a door jamb's echo
 
 
@@ -31,9 +33,13 @@ class Drive(SkillLeaf):
         self.place, self.speed = place, speed
 
     def start(self) -> None:
-        self.skills.require("navigation").go_to(self.place, self.now, speed=self.speed)
+        if self.place is not None:
+            self.skills.require("navigation").go_to(self.place, self.now, speed=self.speed)
 
     def update(self) -> Status:
+        if self.place is None:
+            self.feedback_message = NO_PLACE
+            return Status.FAILURE
         status = self.skills.navigation.status
         if status.succeeded:
             return Status.SUCCESS
@@ -43,7 +49,7 @@ class Drive(SkillLeaf):
         return Status.RUNNING
 
     def finish(self, new_status: Status) -> None:
-        if new_status == Status.INVALID:
+        if new_status == Status.INVALID and self.place is not None:
             self.skills.navigation.cancel(self.now)
 
 
@@ -107,6 +113,8 @@ class Lead(SkillLeaf):
         self._turned = False
 
     def start(self) -> None:
+        if self.place is None:
+            return
         skills, now = self.skills, self.now
         user = skills.perception.user
         skills.require("guide").start(self.place, now, user.id if user is not None else None)
@@ -114,6 +122,9 @@ class Lead(SkillLeaf):
         self._behind_since, self._turned = None, False
 
     def update(self) -> Status:
+        if self.place is None:
+            self.feedback_message = NO_PLACE
+            return Status.FAILURE
         skills, now = self.skills, self.now
         nav, guide = skills.navigation, skills.guide
         if nav.status.succeeded:
@@ -168,7 +179,7 @@ class Lead(SkillLeaf):
         self.skills.motion.start(Goal("turn_to", bearing=bearing), now)
 
     def finish(self, new_status: Status) -> None:
-        if new_status == Status.INVALID:
+        if new_status == Status.INVALID and self.place is not None:
             self.skills.navigation.cancel(self.now)
             self.skills.guide.cancel(self.now)
 

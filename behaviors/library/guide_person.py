@@ -32,7 +32,7 @@ GIVE_UP_AFTER = 30.0      # s
 
 
 def build(ctx: BehaviorContext, with_head: bool):
-    lead = Lead(ctx, ctx.params["place"], pace=ctx.param("pace", None),
+    lead = Lead(ctx, ctx.param("place", None), pace=ctx.param("pace", None),
                 follow_distance=ctx.param("follow_distance", FOLLOW_DISTANCE),
                 give_up_after=ctx.param("give_up_after", GIVE_UP_AFTER),
                 turn_back=not with_head)
