@@ -14,7 +14,7 @@ from behaviors.registry import BehaviorContext
 from skills.guiding import (GAVE_UP, LEADING, OUTCOME_ARRIVED, OUTCOME_NAVIGATION,
                             OUTCOME_USER_LOST, WAITING)
 from skills.motion import Goal
-from skills.navigation.navigation import BLOCKED, PAUSED
+from skills.navigation.navigation import BLOCKED, PAUSED, TURNING
 
 BEHIND_GRACE = 1.0       # s the user must stay behind before the guide stops for them
 RESUME_SLACK = 0.5       # m beyond the following distance at which the guide drives on
@@ -101,7 +101,8 @@ class Lead(SkillLeaf):
 
     SUCCESS on arrival; FAILURE when the user did not come (guide.user_lost) or navigation
     failed (navigation.failure), with the reason as feedback. With `turn_back` (a robot without
-    a head) the robot turns round to look for a user it does not see while it waits."""
+    a head) the robot turns round to look for the user (towards where it last saw them) once
+    per wait. On the goal, turning to the place's heading, it arrives before it waits."""
 
     def __init__(self, ctx: BehaviorContext, place: str, *, pace: float | None,
                  follow_distance: float, give_up_after: float, turn_back: bool) -> None:
@@ -138,7 +139,7 @@ class Lead(SkillLeaf):
         distance = state.user_distance
         if state.phase == LEADING:
             behind = distance is None or distance > self.follow_distance + WAIT_SLACK
-            if not behind:
+            if not behind or nav.state.phase == TURNING:     # on the goal: arrive first
                 self._behind_since = None
             elif self._behind_since is None:
                 self._behind_since = now
@@ -160,7 +161,7 @@ class Lead(SkillLeaf):
                 guide.finish(OUTCOME_USER_LOST, now, reason)
                 self.feedback_message = reason
                 return Status.FAILURE
-            elif self.turn_back and not self._turned and state.source != "track":
+            elif self.turn_back and not self._turned:
                 self._look_round(now)
         elif state.phase == GAVE_UP:
             return Status.FAILURE
