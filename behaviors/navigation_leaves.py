@@ -14,11 +14,13 @@ from behaviors.registry import BehaviorContext
 from skills.guiding import (GAVE_UP, LEADING, OUTCOME_ARRIVED, OUTCOME_NAVIGATION,
                             OUTCOME_USER_LOST, WAITING)
 from skills.motion import Goal
-from skills.navigation.navigation import BLOCKED, PAUSED
+from skills.navigation.navigation import BLOCKED, PAUSED, TURNING
 
 BEHIND_GRACE = 1.0       # s the user must stay behind before the guide stops for them
 RESUME_SLACK = 0.5       # m beyond the following distance at which the guide drives on
 WAIT_SLACK = 1.5         # m beyond the following distance at which the guide stops
+NO_PLACE = ("no place to go: the parameter 'place' was not set (its percept had no value or "
+            "the database no row for it)")
 IN_A_WALL = 0.15         # m: a "person" closer than this to a wall is a door jamb's echo
 
 
@@ -31,9 +33,13 @@ class Drive(SkillLeaf):
         self.place, self.speed = place, speed
 
     def start(self) -> None:
-        self.skills.require("navigation").go_to(self.place, self.now, speed=self.speed)
+        if self.place is not None:
+            self.skills.require("navigation").go_to(self.place, self.now, speed=self.speed)
 
     def update(self) -> Status:
+        if self.place is None:
+            self.feedback_message = NO_PLACE
+            return Status.FAILURE
         status = self.skills.navigation.status
         if status.succeeded:
             return Status.SUCCESS
@@ -43,7 +49,7 @@ class Drive(SkillLeaf):
         return Status.RUNNING
 
     def finish(self, new_status: Status) -> None:
-        if new_status == Status.INVALID:
+        if new_status == Status.INVALID and self.place is not None:
             self.skills.navigation.cancel(self.now)
 
 
@@ -95,7 +101,8 @@ class Lead(SkillLeaf):
 
     SUCCESS on arrival; FAILURE when the user did not come (guide.user_lost) or navigation
     failed (navigation.failure), with the reason as feedback. With `turn_back` (a robot without
-    a head) the robot turns round to look for a user it does not see while it waits."""
+    a head) the robot turns round to look for the user (towards where it last saw them) once
+    per wait. On the goal, turning to the place's heading, it arrives before it waits."""
 
     def __init__(self, ctx: BehaviorContext, place: str, *, pace: float | None,
                  follow_distance: float, give_up_after: float, turn_back: bool) -> None:
@@ -107,6 +114,8 @@ class Lead(SkillLeaf):
         self._turned = False
 
     def start(self) -> None:
+        if self.place is None:
+            return
         skills, now = self.skills, self.now
         user = skills.perception.user
         skills.require("guide").start(self.place, now, user.id if user is not None else None)
@@ -114,6 +123,9 @@ class Lead(SkillLeaf):
         self._behind_since, self._turned = None, False
 
     def update(self) -> Status:
+        if self.place is None:
+            self.feedback_message = NO_PLACE
+            return Status.FAILURE
         skills, now = self.skills, self.now
         nav, guide = skills.navigation, skills.guide
         if nav.status.succeeded:
@@ -127,7 +139,7 @@ class Lead(SkillLeaf):
         distance = state.user_distance
         if state.phase == LEADING:
             behind = distance is None or distance > self.follow_distance + WAIT_SLACK
-            if not behind:
+            if not behind or nav.state.phase == TURNING:     # on the goal: arrive first
                 self._behind_since = None
             elif self._behind_since is None:
                 self._behind_since = now
@@ -149,7 +161,7 @@ class Lead(SkillLeaf):
                 guide.finish(OUTCOME_USER_LOST, now, reason)
                 self.feedback_message = reason
                 return Status.FAILURE
-            elif self.turn_back and not self._turned and state.source != "track":
+            elif self.turn_back and not self._turned:
                 self._look_round(now)
         elif state.phase == GAVE_UP:
             return Status.FAILURE
@@ -168,7 +180,7 @@ class Lead(SkillLeaf):
         self.skills.motion.start(Goal("turn_to", bearing=bearing), now)
 
     def finish(self, new_status: Status) -> None:
-        if new_status == Status.INVALID:
+        if new_status == Status.INVALID and self.place is not None:
             self.skills.navigation.cancel(self.now)
             self.skills.guide.cancel(self.now)
 

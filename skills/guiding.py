@@ -6,7 +6,8 @@ does not look and the camera (240°) barely does. So the follower is estimated e
 1. the guided user's own people track, while the tracker keeps it (at the start the user
    stands in front of the robot; once behind it the camera loses them within seconds);
 2. else the nearest of: a confirmed track behind the robot (more than 90° off the way it leads,
-   within `reach`), and
+   that is the direction of its path; in any direction within 1 m of the goal), within `reach`
+   and with no wall of the map in between, and
 3. the sonars looking back (more than 110° off the way): an echo that no wall of the map
    explains is something standing in the open behind the robot; the nearest one counts, at
    its range plus a person's body radius.
@@ -54,6 +55,8 @@ CONE_RAYS = (-0.5, -0.25, 0.0, 0.25, 0.5)   # rays across a sonar's cone, in con
 MARCH_STEP = 0.05                  # m between the points checked along a ray
 WALL_SLACK = 0.25                  # m beyond the echo a wall may be and still explain it
 WALL_HIT = 0.08                    # m: a ray point this close to a wall has met it
+AHEAD = 0.5                        # m along the path ahead of the robot that gives its way
+NEAR_GOAL = 1.0                    # m left: around the goal a track counts in any direction
 FORGET_AFTER = 1.0                 # s unseen after which user_distance is absent
 
 
@@ -91,7 +94,7 @@ class Guiding(Skill):
         self._started = 0.0
         self._seen_at: float | None = None
         self._waiting_since: float | None = None
-        self._forward: float | None = None     # heading while leading: what "behind" means
+        self._forward: float | None = None     # the way the robot leads: what "behind" means
 
     # -- the API for behaviors -------------------------------------------------------------
 
@@ -154,8 +157,7 @@ class Guiding(Skill):
         pose = self.localization.state
         if pose is None:
             return
-        if self.state.phase == LEADING and abs(pose.v) > 0.05:
-            self._forward = pose.th     # a robot turned round to look keeps its way's "behind"
+        self._forward = self._way(pose)
         seen = self._own_track(pose)
         if seen is None:       # the nearest of a track behind the robot and a rear echo
             found = [f for f in (self._track_behind(pose), self._from_sonar(pose)) if f]
@@ -183,8 +185,12 @@ class Guiding(Skill):
 
     def _track_behind(self, pose):
         """The nearest confirmed track behind the robot within reach."""
-        behind = [t for t in self.perception.tracks if abs(self._off_way(t.x, t.y, pose)) > BEHIND
-                  and math.hypot(t.x - pose.x, t.y - pose.y) <= self.reach]
+        nav = self.blackboard.value("navigation/state")
+        near_goal = nav is not None and nav.distance_left <= NEAR_GOAL
+        behind = [t for t in self.perception.tracks
+                  if (near_goal or abs(self._off_way(t.x, t.y, pose)) > BEHIND)
+                  and math.hypot(t.x - pose.x, t.y - pose.y) <= self.reach
+                  and self._in_sight(t.x, t.y, pose)]
         nearest = min(behind, key=lambda t: math.hypot(t.x - pose.x, t.y - pose.y), default=None)
         return None if nearest is None else _seen(nearest, pose)
 
@@ -222,6 +228,42 @@ class Guiding(Skill):
         x = pose.x + centre * math.cos(pose.th + bearing)
         y = pose.y + centre * math.sin(pose.th + bearing)
         return float(centre), bearing, (x, y), "sonar"
+
+    def _in_sight(self, x: float, y: float, pose) -> bool:
+        """No wall of the map between the robot and (x, y): a track through a wall is a ghost."""
+        if self.grid is None:
+            return True
+        n = max(2, int(math.hypot(x - pose.x, y - pose.y) / MARCH_STEP))
+        f = np.linspace(0.0, 1.0, n)
+        return bool((self.grid.clearance(pose.x + f * (x - pose.x),
+                                         pose.y + f * (y - pose.y)) > WALL_HIT / 2).all())
+
+    def _way(self, pose) -> float | None:
+        """The direction the robot leads in: from it towards the path `AHEAD` m on from the
+        point of the navigation's path nearest to it (a robot turned round to look still knows
+        its way); without a path, the last one known."""
+        path = self.blackboard.value("navigation/path")
+        if not path or len(path) < 2:
+            return self._forward
+        points = np.asarray(path, dtype=float)
+        a, b = points[:-1], points[1:]
+        ab = b - a
+        t = np.clip(np.einsum("ij,ij->i", (pose.x, pose.y) - a, ab)
+                    / np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-12), 0.0, 1.0)
+        nearest = a + t[:, None] * ab
+        i = int(np.argmin(np.hypot(nearest[:, 0] - pose.x, nearest[:, 1] - pose.y)))
+        ahead = np.vstack([nearest[i], points[i + 1:]])
+        steps = np.hypot(*np.diff(ahead, axis=0).T)
+        along = np.concatenate([[0.0], np.cumsum(steps)])
+        j = int(np.searchsorted(along, AHEAD))
+        if j >= len(ahead):
+            target = ahead[-1]
+        else:
+            f = (AHEAD - along[j - 1]) / max(steps[j - 1], 1e-12)
+            target = ahead[j - 1] + f * (ahead[j] - ahead[j - 1])
+        if math.hypot(target[0] - pose.x, target[1] - pose.y) < 0.1:
+            return self._forward           # on the goal: the way it came
+        return math.atan2(target[1] - pose.y, target[0] - pose.x)
 
     def _off_way(self, x: float, y: float, pose) -> float:
         """Bearing of (x, y) from the robot, relative to the way it leads (its heading while

@@ -16,7 +16,7 @@ EXCUSE = "Excuse me, may I pass, please?"
 
 
 def build(ctx: BehaviorContext):
-    drive = Drive(ctx, ctx.params["place"], ctx.param("speed", None))
+    drive = Drive(ctx, ctx.param("place", None), ctx.param("speed", None))
     steps = [Say(ctx, ctx.params["say"])] if ctx.param("say", None) else []
     going = py_trees.composites.Parallel(
         "Going", ParallelPolicy.SuccessOnSelected(children=[drive], synchronise=True),

@@ -1,6 +1,7 @@
 """GuidePerson: lead the user to a place at a pace they can follow, and make sure they do.
 
-The robot says `say` (e.g. "Please follow me"), drives to `place` at `pace`, and watches the
+The robot says `say` (e.g. "Please follow me"), drives to `place` at up to `pace` (default the
+robot's top speed, a slow walk: 0.6 m/s on HOROS and PERSES), and watches the
 user behind it (skills.guiding: a track behind the robot, else the rear sonars). When the user
 falls more than `follow_distance` + 1.5 m behind, or is not seen, it stops and calls `call`
 every 8 s until they are back within `follow_distance` + 0.5 m; after `give_up_after` s of
@@ -28,11 +29,10 @@ ARRIVAL = "Here we are."
 CALL = "Please follow me, I am waiting for you."
 FOLLOW_DISTANCE = 1.2     # m
 GIVE_UP_AFTER = 30.0      # s
-PACE = 0.5                # m/s
 
 
 def build(ctx: BehaviorContext, with_head: bool):
-    lead = Lead(ctx, ctx.params["place"], pace=ctx.param("pace", PACE),
+    lead = Lead(ctx, ctx.param("place", None), pace=ctx.param("pace", None),
                 follow_distance=ctx.param("follow_distance", FOLLOW_DISTANCE),
                 give_up_after=ctx.param("give_up_after", GIVE_UP_AFTER),
                 turn_back=not with_head)
@@ -64,6 +64,8 @@ GUIDE_PERSON = BehaviorSpec(
                                          default=FOLLOW_DISTANCE),
         "give_up_after": ParameterSpec("duration", "how long to wait for a user who fell "
                                        "behind before giving up", default=GIVE_UP_AFTER),
-        "pace": ParameterSpec("number", "driving speed in m/s while leading", default=PACE),
+        "pace": ParameterSpec("number", "top speed in m/s while leading (default: the robot's "
+                              "max_speed, 0.6 m/s on HOROS and PERSES; near people the profile's "
+                              "lower cap applies)"),
     },
 )

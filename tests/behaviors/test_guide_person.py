@@ -156,3 +156,21 @@ def test_go_to_drives_to_the_place_and_is_done(tmp_path):
         assert robot.sense()["navigation.failure"] == "unknown place"
     finally:
         robot.close()
+
+
+@pytest.mark.parametrize("behavior", ["GuidePerson", "GoTo"])
+def test_a_place_left_unset_at_run_time_fails_with_a_reason_not_a_fault(tmp_path, behavior):
+    path = tmp_path / "empty.toml"
+    path.write_text('[scenario]\nname = "empty"\nduration = 60.0\nrobot = "robot_home"\n')
+    robot = open_robot("horos", fast=True, scenario=str(path), seed=2)
+    try:
+        robot.activate(behavior, {"say": "Please follow me."})     # place missing: no answer
+        for _ in range(40):
+            robot.sense(); robot.act(); robot.wait_until(robot.now() + 0.1)
+        assert robot.fault is None
+        assert robot.active.status == "FAILURE"
+        assert robot.skills.navigation.state.phase == "idle"
+        robot.activate("Idle")                                      # halting it is harmless
+        assert robot.fault is None
+    finally:
+        robot.close()
