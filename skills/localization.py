@@ -10,7 +10,9 @@ the base's state as reported.
 The filter starts at `initial_pose`: the skill set passes the simulator's start pose (the
 scenario's robot pose) in simulation, and on a real robot an explicit pose or the map's
 `robot_home` place; with none of these it starts spread over the whole free map (global
-localization). A pose older than `STALE_AFTER` seconds, or a base that reports its link down,
+localization). `initial_std` (m, m, rad) is how far the start may be off: by default
+`MCLParams.initial_std` (a pose someone guessed or a robot parked by hand); the skill set
+passes `MCLParams.known_std` for the simulator's exact start on its own floor. A pose older than `STALE_AFTER` seconds, or a base that reports its link down,
 makes `robot/link` false (the safety arbiter then refuses to move); while the filter is lost
 the skill's status is `failed("localization lost: ...")`.
 
@@ -47,6 +49,7 @@ class Localization(Skill):
                  laser: Laser | None = None, laser_range: float = 8.0,
                  sonar: SonarSpec | None = None,
                  initial_pose: tuple[float, float, float] | None = None,
+                 initial_std: tuple[float, float, float] | None = None,
                  params: MCLParams = MCLParams(), seed: int = 0) -> None:
         super().__init__(blackboard, events)
         self.base = base
@@ -63,7 +66,7 @@ class Localization(Skill):
                 sonar.max_range, sonar.cone)
             self.filter = MonteCarloLocalization(grid, model, params, np.random.default_rng(seed))
             if initial_pose is not None:
-                self.filter.reset(initial_pose)
+                self.filter.reset(initial_pose, std=initial_std)
             else:
                 self.filter.reset_global()
         self._last_odometry: tuple[float, float, float] | None = None
