@@ -428,7 +428,7 @@ class Navigation(Skill):
             scan = self.laser.read()
             if scan is not None:
                 hit = np.isfinite(scan.ranges)
-                r, a = scan.ranges[hit], scan.angles[hit] + scan.origin[2]
+                r, a = scan.ranges[hit], scan.angles[hit]     # robot frame: mount included
                 laser_points = np.column_stack([scan.origin[0] + r * np.cos(a),
                                                 scan.origin[1] + r * np.sin(a)])
                 local.append(laser_points)
