@@ -48,6 +48,9 @@ class ControllerParams:
     block_margin: float = 0.10     # m: an obstacle this close to the path's swept body blocks it
     block_lookahead: float = 2.0   # m of path checked for obstructions
     standoff: float = 0.35         # m the robot stops (centre, along the path) before an obstruction
+    resume_margin: float = 0.15    # m more the way must open before a robot held up creeps on (the
+                                   # blocker's estimate jitters by centimetres: stop-and-creep
+                                   # would split one wait into many)
     rotate_first: float = math.radians(70)   # heading error beyond which it turns on the spot
     brake: float = 0.8             # fraction of max_accel planned for stopping (goal, obstruction)
     w_progress: float = 1.0
@@ -96,12 +99,14 @@ class LocalController:
     # -- the tick --------------------------------------------------------------------------
 
     def step(self, pose, velocity, path, *, points=None, people: Sequence = (),
-             max_speed: float | None = None, block_points=None) -> Command:
+             max_speed: float | None = None, block_points=None, held: bool = False) -> Command:
         """The command for this tick. `pose` (x, y, th) and `velocity` (v, w) of the robot;
         `path` (n, 2) the rest of the global path from the robot's projection to the goal;
         `points` (k, 2) range readings in the map frame; `people` with x, y, vx, vy;
         `block_points` the readings precise enough to say the path is blocked (default:
-        `points`; wide sonar cones place an echo too loosely for that)."""
+        `points`; wide sonar cones place an echo too loosely for that); `held` while the
+        caller counts the robot as held up by an obstruction (it then stands `resume_margin`
+        further back before it moves towards the obstruction again)."""
         p = self.params
         x, y, th = (float(v) for v in pose)
         v0, w0 = (float(v) for v in velocity)
@@ -116,7 +121,7 @@ class LocalController:
         cap, cap_why = self._speed_cap(x, y, th, v0, path, crowd, max_speed)
         block_at, blocker = self._obstruction(path, block_near, crowd)
         if block_at is not None:
-            room = max(0.0, block_at - p.standoff)
+            room = max(0.0, block_at - p.standoff - (p.resume_margin if held else 0.0))
             stop_cap = math.sqrt(2 * p.brake * self.limits.max_accel * room) if room > 0.05 else 0.0
             if stop_cap < cap:
                 cap, cap_why = stop_cap, "obstruction"

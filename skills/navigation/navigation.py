@@ -235,7 +235,8 @@ class Navigation(Skill):
         people = [Person(t.x, t.y, t.vx, t.vy) for t in self.perception.tracks]
         command = self.controller.step((x, y, th), (state.v, state.w), rest, points=self.points,
                                        people=people, max_speed=self._speed,
-                                       block_points=self.block_points)
+                                       block_points=self.block_points,
+                                       held=self._blocked_since is not None)
         self.last_command = command
         left = _length(rest)
         if command.blocked:

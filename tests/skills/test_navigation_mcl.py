@@ -215,6 +215,29 @@ def test_the_simulators_exact_start_is_kept_while_standing_still():
     assert max(e[1] for e in errors) < math.radians(1)
 
 
+@pytest.mark.parametrize("start", ["robot_home", "hall_east"])
+def test_the_odometry_before_the_first_packet_is_not_taken_for_motion(tmp_path, start):
+    # the P2OS driver reports (0, 0, 0) until its first SIP; the next reading is the start pose
+    # in odometry (9.5 m and 180 deg away at hall_east): a new frame, not a drive
+    scenario = tmp_path / "start.toml"
+    scenario.write_text(f'[scenario]\nname = "start"\nduration = 60.0\nrobot = "{start}"\n')
+    skills = open_skills("horos", fast=True, seed=2, scenario=scenario)
+    clock, errors, first = skills.hardware.clock, [], None
+    try:
+        for _ in range(30):                       # sense before the clock moves, as a run does
+            skills.sense()
+            skills.act()
+            first = first or skills.blackboard.value("robot/odometry")
+            errors.append(error(skills)[0])
+            clock.advance(0.1)
+        jumps = skills.localization._odometry_jumps
+    finally:
+        skills.close()
+    assert first == (0.0, 0.0, 0.0)               # the placeholder this guards against
+    assert jumps == 1
+    assert max(errors) < 0.02
+
+
 def test_a_given_start_or_another_map_is_a_guess_the_filter_searches_around(tmp_path):
     home = (0.0, -0.75, math.pi / 2)
     skills = open_skills("horos", fast=True, seed=0, initial_pose=home)
