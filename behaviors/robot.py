@@ -184,8 +184,13 @@ def tree_snapshot(node) -> dict | None:
 def open_robot(robot: str | Path, *, port: str | None = None, scenario: str | Path | None = None,
                fast: bool = False, seed: int = 0, gui: str | None = None,
                speech_wav: str | Path | None = None, language: str = "en",
-               voice: str | None = None, listen: bool = False, replay=None) -> Robot:
-    """Open `robot` with its skills and hardware (simulated unless `port`). `gui`
+               voice: str | None = None, listen: bool = False, replay=None,
+               map: str | Path | None = None,
+               initial_pose: tuple[float, float, float] | None = None) -> Robot:
+    """Open `robot` with its skills and hardware (simulated unless `port`). `map` (a bundled
+    floor name, a floor .toml or a map_server .yaml) replaces the simulated floor's map for
+    localization and navigation, or gives a real base one; `initial_pose` (x m, y m, heading
+    rad) is where localization starts (see `skills.skillset.open_skills`). `gui`
     ([HOST:]PORT) serves the tablet page; `speech_wav`, `language`, `voice` set speech output
     and `listen` speech input (see `skills.skillset.open_skills`, which passes them on).
     `replay` plays a recording instead of hardware: an object with `devices` (the recorded
@@ -194,6 +199,7 @@ def open_robot(robot: str | Path, *, port: str | None = None, scenario: str | Pa
     try:
         return Robot(open_skills(robot, port=port, scenario=scenario, fast=fast, seed=seed,
                                  gui=gui, speech_wav=speech_wav, language=language, voice=voice,
-                                 listen=listen, replay=replay))
+                                 listen=listen, replay=replay, map=map,
+                                 initial_pose=initial_pose))
     except SkillError as exc:
         raise RobotOpenError(str(exc)) from exc

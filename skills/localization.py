@@ -10,7 +10,9 @@ the base's state as reported.
 The filter starts at `initial_pose`: the skill set passes the simulator's start pose (the
 scenario's robot pose) in simulation, and on a real robot an explicit pose or the map's
 `robot_home` place; with none of these it starts spread over the whole free map (global
-localization). A pose older than `STALE_AFTER` seconds, or a base that reports its link down,
+localization). `initial_std` (m, m, rad) is how far the start may be off: by default
+`MCLParams.initial_std` (a pose someone guessed or a robot parked by hand); the skill set
+passes `MCLParams.known_std` for the simulator's exact start on its own floor. A pose older than `STALE_AFTER` seconds, or a base that reports its link down,
 makes `robot/link` false (the safety arbiter then refuses to move); while the filter is lost
 the skill's status is `failed("localization lost: ...")`.
 
@@ -39,6 +41,14 @@ from skills.skill import Skill
 from skills.status import RUNNING, SkillStatus, Status, failed
 
 
+# An odometry step is motion when the base could have driven it in the time between the two
+# readings plus this much (a late tick, timestamps of the packets' arrival), within the
+# profile's speed and turn rate plus a margin.
+JUMP_SLACK_TIME = 0.2    # s
+JUMP_SLACK = 0.05        # m
+JUMP_SLACK_TURN = math.radians(5)
+
+
 class Localization(Skill):
     name = "localization"
     STALE_AFTER = 0.5    # s: five missed 10 Hz cycles
@@ -52,6 +62,7 @@ class Localization(Skill):
                  laser: Laser | None = None, laser_range: float = 8.0,
                  sonar: SonarSpec | None = None,
                  initial_pose: tuple[float, float, float] | None = None,
+                 initial_std: tuple[float, float, float] | None = None,
                  params: MCLParams = MCLParams(), seed: int = 0) -> None:
         super().__init__(blackboard, events)
         self.base = base
@@ -68,10 +79,12 @@ class Localization(Skill):
                 sonar.max_range, sonar.cone)
             self.filter = MonteCarloLocalization(grid, model, params, np.random.default_rng(seed))
             if initial_pose is not None:
-                self.filter.reset(initial_pose)
+                self.filter.reset(initial_pose, std=initial_std)
             else:
                 self.filter.reset_global()
         self._last_odometry: tuple[float, float, float] | None = None
+        self._last_odometry_t = 0.0
+        self._odometry_jumps = 0         # odometry steps skipped as new frames (for tests)
         self._last_scan_t: float | None = None
         self._corrected_at: tuple[float, float, float] | None = None   # odometry of that scan
         self._down = False                    # in a link episode (a "down" event was emitted)
@@ -157,9 +170,10 @@ class Localization(Skill):
         """The map pose: the filter's estimate after this odometry step and scan."""
         if self.filter is None:
             return odometry
-        if self._last_odometry is not None:
+        if self._last_odometry is not None and self._drivable(odometry, state.t):
             self.filter.predict(self._last_odometry, odometry)
         self._last_odometry = odometry
+        self._last_odometry_t = state.t
         beams = self._beams(state)
         if beams is not None and self._worth_correcting(odometry, beams):
             self.filter.correct(beams[0], beams[1], now)
@@ -181,6 +195,25 @@ class Localization(Skill):
             return True
         short, long = f.disagreement(*beams)
         return short <= self.STANDING_SHORT_SHARE or long > self.STANDING_LONG_SHARE
+
+    def _drivable(self, odometry, t: float) -> bool:
+        """Whether the odometry step since the last tick is one the base could have driven.
+
+        A larger one is a new odometry frame, not motion: the first real reading after the
+        placeholder a driver reports before its first packet (0, 0, 0 while the base stands at
+        its start pose elsewhere), or counters zeroed by a reconnect. Applied as motion it
+        would throw every particle metres away; skipped, the scans correct the one tick of
+        motion it may hide."""
+        limits = self.base.limits
+        dt = max(t - self._last_odometry_t, 0.0) + JUMP_SLACK_TIME
+        x0, y0, th0 = self._last_odometry
+        moved = math.hypot(odometry[0] - x0, odometry[1] - y0)
+        turned = abs(math.atan2(math.sin(odometry[2] - th0), math.cos(odometry[2] - th0)))
+        if moved <= limits.max_speed * dt + JUMP_SLACK and \
+                turned <= limits.max_turn_rate * dt + JUMP_SLACK_TURN:
+            return True
+        self._odometry_jumps += 1
+        return False
 
     def _beams(self, state: BaseState):
         """(beam poses in the robot frame, ranges) of a new scan, or None."""

@@ -37,7 +37,8 @@ class ObstacleSensing(Skill):
             scan = self.laser.read()
             if scan is not None:
                 hit = np.isfinite(scan.ranges)
-                ranges, angles = scan.ranges[hit], scan.angles[hit] + scan.origin[2]
+                # the beams' angles are in the robot frame already (the mount heading included)
+                ranges, angles = scan.ranges[hit], scan.angles[hit]
                 free = min(free, self._free_ahead_points(scan.origin[0] + ranges * np.cos(angles),
                                                          scan.origin[1] + ranges * np.sin(angles)))
         self.write("obstacles/front", free, now)

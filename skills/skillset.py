@@ -7,6 +7,7 @@ only with a map.
 """
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -23,6 +24,7 @@ from skills.head import HeadControl
 from skills.localization import Localization
 from skills.motion import Motion
 from skills.navigation.gridmap import GridMap, load_map, map_from_floor
+from skills.navigation.mcl import MCLParams
 from skills.navigation.navigation import Navigation
 from skills.obstacles import ObstacleSensing
 from skills.perception import PeoplePerception
@@ -53,7 +55,10 @@ class SkillSet:
         self.events = EventLog()
         bb, ev = self.blackboard, self.events
         self.map = _robot_map(hardware, map)
-        self.localization = _localization(bb, ev, hardware, self.map, initial_pose, seed)
+        if initial_pose is not None:
+            initial_pose = check_initial_pose(initial_pose, self.map)
+        self.localization = _localization(bb, ev, hardware, self.map, initial_pose, seed,
+                                          own_floor=_is_floor_map(hardware, self.map))
         self.obstacles = ObstacleSensing(bb, ev, self.profile, self.localization, hardware.laser)
         user_range = self.profile.people_detector.range if self.profile.people_detector else 5.0
         self.perception = PeoplePerception(bb, ev, self.localization, hardware.people_detector,
@@ -229,7 +234,12 @@ def open_skills(robot: str | Path, *, port: str | None = None, scenario: str | P
     `initial_pose` (x m, y m, heading rad) where localization starts (default: the start pose
     in simulation, else the map's robot_home). The interaction options (tablet page, speech,
     listening) are the hardware's, see `robots.hardware.open_hardware`; `replay` plays a
-    recording instead of hardware."""
+    recording instead of hardware. A map that cannot be read, or a start pose that is not a
+    free place on the map, is refused before the hardware opens."""
+    if map is not None and not isinstance(map, GridMap):
+        map = load_map(map)               # a MapError (a SkillError) names the file and field
+    if initial_pose is not None and map is not None:    # else: checked on the simulated floor
+        initial_pose = check_initial_pose(initial_pose, map)
     try:
         hardware = open_hardware(robot, port=port, scenario=scenario, fast=fast, seed=seed,
                                  gui=gui, speech_wav=speech_wav, language=language, voice=voice,
@@ -264,18 +274,83 @@ def _robot_map(hardware: Hardware, map: str | Path | GridMap | None) -> GridMap 
 _floor_maps: dict[tuple, GridMap] = {}
 
 
+def _is_floor_map(hardware: Hardware, grid: GridMap | None) -> bool:
+    """Whether `grid` is the simulated floor itself (drawn the same), so that the simulator's
+    start pose is a pose on it."""
+    if grid is None or hardware.floor is None:
+        return False
+    floor_map = _robot_map(hardware, None)
+    return grid is floor_map or (
+        grid.resolution == floor_map.resolution and grid.origin == floor_map.origin
+        and grid.unknown is None and np.array_equal(grid.occupied, floor_map.occupied))
+
+
+def check_initial_pose(pose, grid: GridMap | None) -> tuple[float, float, float]:
+    """(x m, y m, heading rad) as floats; refused (SkillError) unless three finite numbers on
+    a free cell of the map. Without a map a start pose means nothing (the pose is the odometry)."""
+    try:
+        x, y, th = (float(v) for v in pose)
+    except (TypeError, ValueError):
+        raise SkillError(f"initial pose {pose!r} is not three numbers; allowed (x m, y m, "
+                         "heading rad)") from None
+    if not all(math.isfinite(v) for v in (x, y, th)):
+        raise SkillError(f"initial pose ({x}, {y}, {th}) is not finite; allowed finite numbers")
+    if grid is None:
+        raise SkillError("an initial pose needs a map to be a pose on: this robot has none "
+                         "(give a map: a floor name, a floor .toml or a map_server .yaml)")
+    rows, cols = grid.to_cells(x, y)
+    if not grid.inside(rows, cols):
+        x0, y0 = grid.origin
+        x1 = x0 + grid.shape[1] * grid.resolution
+        y1 = y0 + grid.shape[0] * grid.resolution
+        raise SkillError(f"initial pose ({x:g}, {y:g}) is off the map '{grid.name}'; allowed x "
+                         f"{x0:.2f} .. {x1:.2f} m, y {y0:.2f} .. {y1:.2f} m")
+    if not grid.free[rows, cols]:
+        depth = _distance_to_free(grid, int(rows), int(cols))
+        if depth > START_REACH:
+            what = "a wall" if grid.occupied[rows, cols] else "unknown space"
+            raise SkillError(f"initial pose ({x:g}, {y:g}) is {depth:.1f} m inside {what} of "
+                             f"the map '{grid.name}'; allowed a free place or within "
+                             f"{START_REACH:g} m of one{_home_example(grid)}")
+    return x, y, math.atan2(math.sin(th), math.cos(th))
+
+
+START_REACH = 1.0     # m: a start guess this close to free space is one the filter can correct
+                      # (its first particle cloud has a standard deviation of 0.5 m)
+
+
+def _distance_to_free(grid: GridMap, row: int, col: int) -> float:
+    """Metres from a cell to the nearest free cell (inf when the map has none)."""
+    free_rows, free_cols = np.nonzero(grid.free)
+    if not len(free_rows):
+        return math.inf
+    return float(np.hypot(free_rows - row, free_cols - col).min()) * grid.resolution
+
+
+def _home_example(grid: GridMap) -> str:
+    home = grid.places.get("robot_home")
+    if home is None:
+        return ""
+    return f" (e.g. robot_home {home[0]:g},{home[1]:g},{math.degrees(home[2]):g})"
+
+
 def _localization(bb, ev, hardware: Hardware, grid: GridMap | None, initial_pose,
-                  seed: int) -> Localization:
+                  seed: int, own_floor: bool = False) -> Localization:
     """MCL with the laser (else the sonar ring) on the map; the odometry alone without one.
 
     Start pose: explicit, else the simulator's start pose, else the map's robot_home; with
-    none of them the filter starts spread over the free map."""
+    none of them the filter starts spread over the free map. Only the simulator's start on the
+    simulator's own floor is known exactly (a tight particle cloud, `MCLParams.known_std`);
+    any other start is a guess the first scans must correct (`MCLParams.initial_std`)."""
     profile = hardware.profile
-    if initial_pose is None:
+    initial_std = None
+    if initial_pose is None and hardware.start_pose is not None:
         initial_pose = hardware.start_pose
+        if own_floor:
+            initial_std = MCLParams().known_std
     if initial_pose is None and grid is not None:
         initial_pose = grid.places.get("robot_home")
     laser_range = profile.laser.max_range if profile.laser is not None else 8.0
     return Localization(bb, ev, hardware.base, grid=grid, laser=hardware.laser,
                         laser_range=laser_range, sonar=profile.sonar, initial_pose=initial_pose,
-                        seed=seed)
+                        initial_std=initial_std, seed=seed)

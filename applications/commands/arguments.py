@@ -32,6 +32,61 @@ def refuse_simulation_options_on_a_port(args) -> None:
                          "allowed without --port only")
 
 
+def refuse_initial_pose_without_a_map(args) -> None:
+    """A real base has no map unless `--map` gives one, and a start pose needs a map to be on."""
+    if getattr(args, "port", None) is not None and getattr(args, "initial_pose", None) is not None \
+            and getattr(args, "map", None) is None:
+        raise UsageError("argument --initial-pose: a start pose is a pose on a map, and a real "
+                         "base has none unless --map gives one; add --map FILE")
+
+
+MAP_SUFFIXES = (".toml", ".yaml", ".yml")
+
+
+def map_source(text: str) -> str:
+    """A map: a bundled floor's name (office), a floor .toml, or a map_server .yaml. Only the
+    form is checked here; its content is read (and refused with file and field) before the
+    robot opens."""
+    allowed = "allowed a bundled floor name (e.g. office), a floor .toml or a map_server .yaml"
+    if not text.strip():
+        raise argparse.ArgumentTypeError(f"empty map name; {allowed}")
+    path = Path(text)
+    if path.suffix.lower() not in MAP_SUFFIXES:
+        if path.is_dir():
+            raise argparse.ArgumentTypeError(f"{text} is a folder; {allowed}")
+        if path.suffix or len(path.parts) > 1 or path.exists():
+            raise argparse.ArgumentTypeError(f"{text} is not a map file; {allowed}")
+        return text                                  # a floor's name: the loader knows them
+    if path.is_dir():
+        raise argparse.ArgumentTypeError(f"{text} is a folder; {allowed}")
+    if not path.is_file():
+        raise argparse.ArgumentTypeError(f"file {text} does not exist; {allowed}")
+    if not os.access(path, os.R_OK):
+        raise argparse.ArgumentTypeError(f"cannot read {text} (permission denied); {allowed}")
+    return text
+
+
+def initial_pose(text: str) -> tuple[float, float, float]:
+    """X,Y,HEADING_DEG: where the robot stands on the map (m, m, degrees counter-clockwise
+    from the map's x axis); returned as (x m, y m, heading rad)."""
+    allowed = "allowed X,Y,HEADING_DEG in metres and degrees (e.g. 0,-0.75,90)"
+    parts = [p.strip() for p in text.split(",")]
+    if len(parts) != 3:
+        raise argparse.ArgumentTypeError(f"{text!r} has {len(parts)} value"
+                                         f"{'' if len(parts) == 1 else 's'}; {allowed}")
+    values = []
+    for name, part in zip(("X", "Y", "HEADING_DEG"), parts):
+        try:
+            value = float(part)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} {part!r} is not a number; {allowed}") \
+                from None
+        if not math.isfinite(value):
+            raise argparse.ArgumentTypeError(f"{name} {part} is not finite; {allowed}")
+        values.append(value)
+    return values[0], values[1], math.radians(values[2])
+
+
 def seed(text: str) -> int:
     """A random seed: a whole number 0 .. 2^32 - 1."""
     try:

@@ -46,7 +46,9 @@ class ReplayCommand:
         app = load_application(folder, robot=robot_name)
         dialog = load_dialog(folder / "dialog.xml", app.states, load_catalog(robot_name).behaviors)
         feed = ReplayFeed(recording)
-        robot = open_robot(robot_name, replay=feed, seed=int(meta.get("seed") or 0))
+        pose = meta.get("initial_pose")
+        robot = open_robot(robot_name, replay=feed, seed=int(meta.get("seed") or 0),
+                           map=meta.get("map"), initial_pose=tuple(pose) if pose else None)
         comparator = Comparator(feed, stop=not args.all)
         print(f"interbot: replaying {recording.path} ({meta.get('app')} on {robot_name}) "
               f"with {folder}", flush=True)

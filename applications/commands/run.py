@@ -31,6 +31,15 @@ class RunCommand:
                                                "(e.g. complete) or a .toml file")
         parser.add_argument("--fast", action="store_true",
                             help="run on a simulated clock as fast as the CPU allows")
+        parser.add_argument("--map", type=arguments.map_source, metavar="FILE",
+                            help="the map to localize and navigate on: a bundled floor name "
+                                 "(office), a floor .toml or a map_server .yaml (default: the "
+                                 "simulated floor; none on a real base)")
+        parser.add_argument("--initial-pose", type=arguments.initial_pose,
+                            metavar="X,Y,HEADING_DEG",
+                            help="where the robot stands on the map, in metres and degrees "
+                                 "(default: the scenario's start in simulation, else the map's "
+                                 "robot_home)")
         parser.add_argument("--duration", type=arguments.duration, help="seconds of robot time to run "
                                                            "(default: the scenario's length)")
         parser.add_argument("--seed", type=arguments.seed, default=0, help="random seed of the simulation")
@@ -59,6 +68,7 @@ class RunCommand:
         from behaviors.robot import open_robot
 
         arguments.refuse_simulation_options_on_a_port(args)
+        arguments.refuse_initial_pose_without_a_map(args)
         folder = find_application(args.app)
         if args.robot:
             robot_capabilities(args.robot)        # an unknown robot: one line naming the known ones
@@ -69,7 +79,8 @@ class RunCommand:
         robot = trace = database = run = watching = summary = None
         try:
             robot = open_robot(robot_name, port=args.port, scenario=scenario, fast=args.fast,
-                               seed=args.seed, **interaction_options(args))
+                               seed=args.seed, map=args.map, initial_pose=args.initial_pose,
+                               **interaction_options(args))
             announce_interaction(robot)
             needed = {state.behavior for state in app.states.values()}
             needed |= {rule.behavior for rule in dialog.overrides}
@@ -92,7 +103,9 @@ class RunCommand:
             watching = observing.open_observers(
                 args, app=app, folder=folder, robot=robot, robot_name=robot_name, fast=args.fast,
                 meta={"scenario": str(scenario) if scenario else None, "seed": args.seed,
-                      "fast": args.fast, "port": args.port})
+                      "fast": args.fast, "port": args.port, "map": map_meta(args.map),
+                      "initial_pose": (list(args.initial_pose) if args.initial_pose
+                                       else None)})
             reload = _watcher(folder, robot_name) if args.watch else None
             run = Run(app, robot, dialog=dialog, duration=args.duration, trace=trace,
                       database=database, echo=echo, reload=reload,
@@ -177,6 +190,15 @@ def announce_interaction(robot) -> None:
         print(f"interbot: tablet page at {robot.tablet_url}", flush=True)
     for note in robot.notes:
         print(f"interbot: {note}", file=sys.stderr)
+
+
+def map_meta(text: str | None) -> str | None:
+    """The --map as a recording keeps it: a file as its absolute path (a replay may run
+    elsewhere), a floor's name as it is."""
+    if text is None:
+        return None
+    path = Path(text)
+    return str(path.resolve()) if path.is_file() else text
 
 
 def resolve_scenario(folder: Path, scenario: str | None) -> Path | None:

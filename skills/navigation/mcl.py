@@ -84,6 +84,10 @@ class MCLParams:
     floor_xy: float = 0.01
     floor_th: float = math.radians(0.3)
     initial_std: tuple[float, float, float] = (0.5, 0.5, math.radians(20))
+    # a start pose known exactly (the simulator's own, on its own floor): a cloud about as wide
+    # as the filter keeps standing still, so the first scans refine the pose instead of
+    # searching 0.5 m for it (one laser scan pins a hallway pose along the hallway to ±5-10 cm)
+    known_std: tuple[float, float, float] = (0.03, 0.03, math.radians(1.5))
     resample_ess: float = 0.5        # resample when the effective sample size < this · N
     alpha_slow: float = 0.005        # averaging rates of the recovery's likelihood averages
     alpha_fast: float = 0.2

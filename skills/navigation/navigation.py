@@ -241,7 +241,8 @@ class Navigation(Skill):
         people = [Person(t.x, t.y, t.vx, t.vy) for t in self.perception.tracks]
         command = self.controller.step((x, y, th), (state.v, state.w), rest, points=self.points,
                                        people=people, max_speed=self._speed,
-                                       block_points=self.block_points)
+                                       block_points=self.block_points,
+                                       held=self._blocked_since is not None)
         self.last_command = command
         left = _length(rest)
         if command.blocked:
@@ -439,7 +440,7 @@ class Navigation(Skill):
             scan = self.laser.read()
             if scan is not None:
                 hit = np.isfinite(scan.ranges)
-                r, a = scan.ranges[hit], scan.angles[hit] + scan.origin[2]
+                r, a = scan.ranges[hit], scan.angles[hit]     # robot frame: mount included
                 laser_points = np.column_stack([scan.origin[0] + r * np.cos(a),
                                                 scan.origin[1] + r * np.sin(a)])
                 local.append(laser_points)

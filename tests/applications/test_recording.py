@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import json
+import math
 import os
 import shutil
 import signal
@@ -86,6 +87,31 @@ def test_a_recorded_run_replays_without_divergence(recorded, capsys):
     assert main(["replay", str(path)]) == 0
     out = capsys.readouterr().out
     assert "no divergence in 601 ticks" in out
+
+
+def test_a_run_on_a_given_map_and_start_pose_replays_on_them(tmp_path, capsys, monkeypatch):
+    # localization decides the robot's pose: the replay must start it where the run did
+    import behaviors.robot
+    opened, real = [], behaviors.robot.open_robot
+
+    def spy(*args, **kwargs):
+        opened.append(real(*args, **kwargs))
+        return opened[-1]
+    monkeypatch.setattr(behaviors.robot, "open_robot", spy)
+    path = tmp_path / "run.mcap"
+    assert main(["run", "survey", "--scenario", "complete", "--fast", "--duration", "8",
+                 "--quiet", "--no-progress", "--record", str(path), "--data", str(tmp_path),
+                 "--map", "office", "--initial-pose", "0.2,-0.6,80"]) == 0
+    meta = open_recording(path).meta
+    assert meta["map"] == "office"
+    assert meta["initial_pose"] == pytest.approx([0.2, -0.6, math.radians(80)])
+    capsys.readouterr()
+    assert main(["replay", str(path)]) == 0
+    assert "no divergence in 81 ticks" in capsys.readouterr().out
+    run, replay = (robot.skills for robot in opened)
+    assert replay.localization.initial_pose == run.localization.initial_pose
+    assert replay.localization.initial_pose == pytest.approx((0.2, -0.6, math.radians(80)))
+    assert replay.map.name == "office"
 
 
 def test_a_changed_application_shows_the_first_divergence(recorded, tmp_path, capsys):

@@ -155,3 +155,16 @@ def test_a_reading_off_the_path_does_not_block():
     path = np.array([(1.0, 3.2), (5.5, 3.2)])
     command = CONTROLLER.step((1.0, 3.2, 0.0), (0.3, 0.0), path, points=np.array([(2.0, 2.3)]))
     assert not command.blocked and command.v > 0.0
+
+
+def test_a_robot_held_up_does_not_creep_on_for_a_few_centimetres_of_room():
+    # stopped before a standing person with 8 cm more room than the standoff (the person's
+    # estimate moved): free, it creeps on; held up, it waits until the way opens clearly
+    params = ControllerParams()
+    path = np.array([(1.0, 3.2), (5.5, 3.2)])
+    contact = RADIUS + PERSON_RADIUS + params.block_margin     # the path is blocked from here
+    person = Person(1.0 + params.standoff + 0.08 + contact + 0.01, 3.2)
+    free = CONTROLLER.step((1.0, 3.2, 0.0), (0.0, 0.0), path, people=[person])
+    held = CONTROLLER.step((1.0, 3.2, 0.0), (0.0, 0.0), path, people=[person], held=True)
+    assert free.v > 0.0 and not free.blocked
+    assert held.v == 0.0 and held.blocked and held.blocker == (person.x, person.y)

@@ -201,6 +201,61 @@ def test_laser_converges_from_a_1m_30deg_wrong_start_within_5s(direction_deg):
         skills.close()
 
 
+def test_the_simulators_exact_start_is_kept_while_standing_still():
+    # the start is the truth: a cloud of 0.5 m would make the first scans search for it, and
+    # one scan pins the home pose along the hallway only to a few centimetres
+    skills = open_skills("horos", fast=True, seed=0)
+    errors = []
+    try:
+        assert np.std(skills.localization.filter.particles[:, 0]) < 0.05
+        run(skills, 3.0, each=lambda s: errors.append(error(s)))
+    finally:
+        skills.close()
+    assert max(e[0] for e in errors) < 0.02
+    assert max(e[1] for e in errors) < math.radians(1)
+
+
+@pytest.mark.parametrize("start", ["robot_home", "hall_east"])
+def test_the_odometry_before_the_first_packet_is_not_taken_for_motion(tmp_path, start):
+    # the P2OS driver reports (0, 0, 0) until its first SIP; the next reading is the start pose
+    # in odometry (9.5 m and 180 deg away at hall_east): a new frame, not a drive
+    scenario = tmp_path / "start.toml"
+    scenario.write_text(f'[scenario]\nname = "start"\nduration = 60.0\nrobot = "{start}"\n')
+    skills = open_skills("horos", fast=True, seed=2, scenario=scenario)
+    clock, errors, first = skills.hardware.clock, [], None
+    try:
+        for _ in range(30):                       # sense before the clock moves, as a run does
+            skills.sense()
+            skills.act()
+            first = first or skills.blackboard.value("robot/odometry")
+            errors.append(error(skills)[0])
+            clock.advance(0.1)
+        jumps = skills.localization._odometry_jumps
+    finally:
+        skills.close()
+    assert first == (0.0, 0.0, 0.0)               # the placeholder this guards against
+    assert jumps == 1
+    assert max(errors) < 0.02
+
+
+def test_a_given_start_or_another_map_is_a_guess_the_filter_searches_around(tmp_path):
+    home = (0.0, -0.75, math.pi / 2)
+    skills = open_skills("horos", fast=True, seed=0, initial_pose=home)
+    try:
+        spread = np.std(skills.localization.filter.particles, axis=0)
+    finally:
+        skills.close()
+    assert spread[:2] == pytest.approx(MCLParams().initial_std[:2], rel=0.1)
+    floor = tmp_path / "lab.toml"
+    floor.write_text(ASYMMETRIC_FLOOR)
+    skills = open_skills("horos", fast=True, seed=0, map=floor)   # not the simulated floor
+    try:
+        spread = np.std(skills.localization.filter.particles, axis=0)
+    finally:
+        skills.close()
+    assert spread[:2] == pytest.approx(MCLParams().initial_std[:2], rel=0.1)
+
+
 def test_pose_is_the_map_estimate_and_odometry_is_kept_apart():
     skills = open_skills("horos", fast=True, seed=1)
     try:
@@ -217,7 +272,11 @@ def test_pose_is_the_map_estimate_and_odometry_is_kept_apart():
 
 
 def test_local_kidnapping_is_noticed_and_corrected():
-    skills = open_skills("horos", fast=True, seed=2)
+    # started from home as a given (guessed) pose: the office is point-symmetric, and the slip
+    # below has a twin pose through the origin that fits the scan as well; from either start
+    # the recovery settles on the twin in about one run in six (seeds 0-39, measured) and this
+    # seed's random stream is the one the test was written with
+    skills = open_skills("horos", fast=True, seed=2, initial_pose=(0.0, -0.75, math.pi / 2))
     try:
         run(skills, 2.0)
         body = skills.hardware.simulation.world.body

@@ -1,0 +1,87 @@
+"""Obstacle sensing and the navigation's readings: the laser's mount heading counts once (its
+beams' angles are in the robot frame already), and a robot whose profile has no sonar ring runs
+over the P2OS emulator although the controller still reports its sixteen sonars."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from robots.devices import LaserScan
+from robots.profile import PROFILE_DIR, load_profile
+from skills.blackboard import Blackboard
+from skills.events import EventLog
+from skills.obstacles import ObstacleSensing
+from skills.skillset import open_skills
+
+
+def profile_variant(folder, *, laser_heading_deg: float | None = None, sonar: bool = True):
+    """A copy of the HOROS profile under another name: the laser mounted turned, no sonar."""
+    text = (PROFILE_DIR / "horos.toml").read_text()
+    name = "horos_variant"
+    text = text.replace('name = "horos"', f'name = "{name}"', 1)
+    if not sonar:
+        start = text.index("[sonar]")
+        end = text.index("\n[", start + 1)
+        text = text[:start] + text[end + 1:]
+    if laser_heading_deg is not None:
+        start = text.index("[laser]")
+        assert "heading_deg = 0.0" in text[start:]
+        text = text[:start] + text[start:].replace("heading_deg = 0.0",
+                                                   f"heading_deg = {laser_heading_deg}", 1)
+    path = folder / f"{name}.toml"
+    path.write_text(text)
+    return path
+
+
+class OneScan:
+    def __init__(self, scan: LaserScan) -> None:
+        self.scan = scan
+
+    def read(self) -> LaserScan:
+        return self.scan
+
+
+class Standing:
+    """The localization's part ObstacleSensing reads: the newest base state, without sonar."""
+    class state:
+        sonar = ()
+
+
+def test_a_laser_mounted_turned_places_its_beams_once_turned(tmp_path):
+    profile = load_profile(profile_variant(tmp_path, laser_heading_deg=90.0, sonar=False))
+    # looking left, 180 deg wide: the beam straight ahead (robot frame 0) is its first one
+    angles = math.pi / 2 + np.linspace(-math.pi / 2, math.pi / 2, 181)
+    ranges = np.full(181, np.inf)
+    ranges[0] = 1.0                               # something 1 m ahead of the laser
+    ranges[90] = 0.5                              # something 0.5 m to the left: not ahead
+    scan = LaserScan(t=0.0, angles=angles, ranges=ranges, origin=(0.16, 0.0, math.pi / 2))
+    blackboard = Blackboard(profile.name)
+    sensing = ObstacleSensing(blackboard, EventLog(), profile, Standing(), OneScan(scan))
+    sensing.sense(0.0)
+    assert blackboard.value("obstacles/front") == pytest.approx(0.16 + 1.0 - sensing.front)
+
+
+@pytest.mark.parametrize("heading", [0.0, 90.0])
+def test_without_sonar_over_the_p2os_emulator_the_laser_alone_sees_ahead(tmp_path, heading):
+    path = profile_variant(tmp_path, laser_heading_deg=heading, sonar=False)
+    skills = open_skills(path, fast=True, seed=0)
+    try:
+        assert skills.profile.sonar is None and skills.hardware.base.__class__.__name__ == \
+            "P2OSBase"
+        for _ in range(10):
+            skills.wait_until(skills.now() + 0.1)
+            skills.sense()
+            skills.act()
+        state = skills.localization.state
+        assert len(state.sonar) == 16             # the controller's ring, which no pose places
+        front = skills.blackboard.value("obstacles/front")
+        points, _ = skills.navigation._readings(state)
+        clearance = skills.map.clearance(points[:, 0], points[:, 1])
+    finally:
+        skills.close()
+    # at home, facing the hallway's north side: the same wall ahead whichever way the laser
+    # is turned, and its end points lie on the map's walls
+    assert front == pytest.approx(1.71, abs=0.05)
+    assert len(points) > 50 and np.mean(clearance < 0.1) > 0.95
