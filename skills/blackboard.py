@@ -81,6 +81,10 @@ SCHEMA: dict[str, KeySpec] = {spec.key: spec for spec in (
          "phase, goal, distance_left, blocked_for, blocker, replans, failure and reason"),
     _key("navigation/path", "tuple[tuple[float, float], ...]", "m (map frame)", "navigation",
          "waypoints of the current global path, start to goal"),
+    # following a customer (skills.following)
+    _key("following/state", "FollowState", "m, s (fields)", "following",
+         "phase, target track, distance, setpoint, lost_for, predicted and last seen place, "
+         "losses, reacquisitions, calls and reason"),
 )}
 
 SKILL_STATUS_PREFIX = "skills/"      # skills/<name>/status: SkillStatus, written by skill <name>

@@ -38,6 +38,8 @@ from skills.navigation.mcl import (MCLParams, MonteCarloLocalization, laser_mode
 from skills.skill import Skill
 from skills.status import RUNNING, failed
 
+ODOMETRY_JUMP = 1.0      # m in one reading: no base drives that far in a tick; a re-based counter
+
 
 class Localization(Skill):
     name = "localization"
@@ -121,8 +123,14 @@ class Localization(Skill):
         """The map pose: the filter's estimate after this odometry step and scan."""
         if self.filter is None:
             return odometry
-        if self._last_odometry is not None:
-            self.filter.predict(self._last_odometry, odometry)
+        last = self._last_odometry
+        if last is not None and math.hypot(odometry[0] - last[0],
+                                           odometry[1] - last[1]) > ODOMETRY_JUMP:
+            # not a motion: the odometry was re-based (a driver's state before its first
+            # packet reads 0, 0, 0; a reconnect restarts the counters). Keep the estimate.
+            last = None
+        if last is not None:
+            self.filter.predict(last, odometry)
         self._last_odometry = odometry
         beams = self._beams(state)
         if beams is not None:
