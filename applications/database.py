@@ -17,6 +17,7 @@ from pathlib import Path
 from applications.exceptions import ApplicationError
 from applications.graph.diagnostics import Diagnostic, error
 from applications.graph.location import Location
+from applications.search import SearchResult, entries, search
 
 SCHEMA_FILE = "database.sql"
 ANSWER_COLUMNS = ("run_id", "robot", "session", "question", "answer", "robot_time", "wall_time")
@@ -110,6 +111,28 @@ class ApplicationDatabase:
 
     def lookup(self, table: str, column: str, key: str) -> str | None:
         return lookup(self._db, table, column, key)
+
+    def search(self, table: str, query: str, *, robot: str, session: int, question: str,
+               robot_time: float) -> SearchResult:
+        """The row of `table` that `query` names (applications/search.py), logged in the
+        searches table with its outcome."""
+        result = search(entries(self._db, table), query)
+        with self._db:
+            self._db.execute(
+                "INSERT INTO searches (run_id, robot, session, question, query, outcome, found,"
+                " score, robot_time, wall_time) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+                (self.run_id, robot, session, question, query, result.outcome, result.found,
+                 result.score, robot_time, time.time()))
+        return result
+
+    def searches(self, run_only: bool = True) -> list[tuple[str, str, str, str | None]]:
+        """(question, query, outcome, found) rows, oldest first."""
+        query = "SELECT question, query, outcome, found FROM searches"
+        args: tuple = ()
+        if run_only:
+            query += " WHERE run_id = ?"
+            args = (self.run_id,)
+        return list(self._db.execute(query + " ORDER BY id", args))
 
     def close(self) -> None:
         self._db.close()
