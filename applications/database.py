@@ -8,6 +8,7 @@ synchronous=FULL before the robot asks the next question: a crash loses nothing 
 """
 from __future__ import annotations
 
+import re
 import sqlite3
 import time
 import uuid
@@ -21,6 +22,11 @@ from applications.search import SearchResult, entries, search
 
 SCHEMA_FILE = "database.sql"
 ANSWER_COLUMNS = ("run_id", "robot", "session", "question", "answer", "robot_time", "wall_time")
+# The log of guide runs (GuidePerson) the runtime fills when the application's database.sql
+# makes this table: one row per run, with where to, how it ended and why.
+GUIDE_RUNS_TABLE = "guide_runs"
+GUIDE_RUN_COLUMNS = ("run_id", "robot", "place", "outcome", "reason", "duration", "robot_time",
+                     "wall_time")
 ANSWERS_TABLE_SQL = """CREATE TABLE IF NOT EXISTS answers (
     id          INTEGER PRIMARY KEY AUTOINCREMENT,
     run_id      TEXT    NOT NULL,   -- one run of `interbot run`
@@ -65,9 +71,23 @@ def run_script(db: sqlite3.Connection, path: Path) -> list[Diagnostic]:
         try:
             db.execute(statement.sql)
         except sqlite3.Error as exc:
-            return [error(f"{exc} in: {statement.sql.splitlines()[0][:60]}",
-                          Location(str(path), statement.line, 1), "database")]
+            line, column = _where_near(statement, str(exc))
+            return [error(f"{exc} in: {statement.sql.splitlines()[0][:60]}"
+                          + ("" if line == statement.line else
+                             f" (the statement starts at line {statement.line})"),
+                          Location(str(path), line, column), "database")]
     return []
+
+
+def _where_near(statement: Statement, message: str) -> tuple[int, int]:
+    """Line and column of the text SQLite names in `near "…": syntax error` when it occurs
+    once in the statement (so it is surely the place), else the statement's first line."""
+    match = re.match(r'near "(.*)": ', message, re.DOTALL)
+    at = statement.sql.find(match.group(1)) if match else -1
+    if at < 0 or statement.sql.count(match.group(1)) > 1:
+        return statement.line, 1
+    before = statement.sql[:at]
+    return statement.line + before.count("\n"), at - (before.rfind("\n") + 1) + 1
 
 
 class ApplicationDatabase:
@@ -99,6 +119,23 @@ class ApplicationDatabase:
                 "INSERT INTO answers (run_id, robot, session, question, answer, robot_time,"
                 " wall_time) VALUES (?, ?, ?, ?, ?, ?, ?)",
                 (self.run_id, robot, session, question, answer, robot_time, time.time()))
+
+    def record_guide_run(self, *, robot: str, place: str, outcome: str, reason: str,
+                         duration: float, robot_time: float) -> bool:
+        """Log one finished guide run in the application's `guide_runs` table, when it has one
+        (an application that does not guide has none); True when recorded."""
+        if not self._has_table(GUIDE_RUNS_TABLE):
+            return False
+        with self._db:
+            self._db.execute(
+                f"INSERT INTO {GUIDE_RUNS_TABLE} (run_id, robot, place, outcome, reason, "
+                "duration, robot_time, wall_time) VALUES (?, ?, ?, ?, ?, ?, ?, ?)",
+                (self.run_id, robot, place, outcome, reason, duration, robot_time, time.time()))
+        return True
+
+    def _has_table(self, name: str) -> bool:
+        return self._db.execute("SELECT 1 FROM sqlite_master WHERE type = 'table' AND name = ?",
+                                (name,)).fetchone() is not None
 
     def answers(self, run_only: bool = True) -> list[tuple[int, str, str]]:
         """(session, question, answer) rows, oldest first."""
@@ -169,8 +206,10 @@ class DatabaseContent:
         return [row[1] for row in self.db.execute(f"PRAGMA table_info({_quote(table)})")]
 
     def tables(self) -> list[str]:
+        """Tables and views (a view can join tables for a look-up: staff to their room's place)."""
         return [row[0] for row in self.db.execute(
-            "SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE 'sqlite_%'")]
+            "SELECT name FROM sqlite_master WHERE type IN ('table', 'view') "
+            "AND name NOT LIKE 'sqlite_%'")]
 
     def key_column(self, table: str) -> str:
         """The table's primary key column, else its first column."""

@@ -136,6 +136,8 @@ class Run:
         while True:
             percepts = self._with_searches(robot.sense())
             now = percepts.t
+            for event in robot.events():     # what was sensed (an answer) before what it causes
+                self._emit(event)
             self._hot_reload(machine, percepts, now)
             fired = machine.step(percepts, now)
             if fired is not None:
@@ -226,6 +228,11 @@ class Run:
         kind = event["kind"]
         if kind == "answer":
             self._record_answer(event)
+        elif kind == "guide" and self.database is not None:
+            self.database.record_guide_run(
+                robot=self.robot.name, place=event.get("place", ""),
+                outcome=event.get("outcome", ""), reason=event.get("reason", ""),
+                duration=float(event.get("duration", 0.0)), robot_time=event["t"])
         line = _describe(event, self.robot.name)
         if line:
             self._say_line(line)
@@ -295,10 +302,19 @@ def _describe(event: dict[str, Any], robot: str) -> str | None:
         return f"{t}   {robot} asks {event['question']}: {event['text']} [{' | '.join(event['buttons'])}]"
     if kind == "answer":
         return f"{t}   answer {event['question']} = {event['answer']}"
+    if kind == "guide":
+        why = f": {event['reason']}" if event.get("reason") else ""
+        return f"{t}   guide to {event.get('place')}: {event.get('outcome')}{why}"
     if kind == "fault":
         return f"{t} FAULT: {event['reason']} (the robot is stopped)"
     if kind == "skill" and event.get("status") == "failed":
         return f"{t}   skill {event['name']} failed: {event['reason']}"
+    if kind == "link":
+        return (f"{t} LINK DOWN: {event['reason']} (the robot is stopped)"
+                if event["state"] == "down" else
+                f"{t} link back up after {event['after']:.1f} s")
+    if kind == "dropped":
+        return f"{t}   dropped {event['count']} reading(s): {event['reason']}"
     return None
 
 

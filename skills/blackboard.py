@@ -85,6 +85,10 @@ SCHEMA: dict[str, KeySpec] = {spec.key: spec for spec in (
     _key("following/state", "FollowState", "m, s (fields)", "following",
          "phase, target track, distance, setpoint, lost_for, predicted and last seen place, "
          "losses, reacquisitions, calls and reason"),
+    # guiding (skills.guiding)
+    _key("guide/state", "GuideState", "m, rad, s (fields)", "guide",
+         "phase, place, the follower's distance, bearing and source, unseen_for, waiting_for, "
+         "outcome and reason"),
 )}
 
 SKILL_STATUS_PREFIX = "skills/"      # skills/<name>/status: SkillStatus, written by skill <name>

@@ -24,19 +24,39 @@ class HeadControl(Skill):
         self.localization = localization
         self.perception = perception
         self.tracking = False
+        self.target: tuple[float, float] | None = None     # a map point to look at instead
+
+    def look_at(self, xy: tuple[float, float] | None, now: float) -> None:
+        """Keep the head pointed at a map point (a guide looking back at its follower), as far
+        as the pan range allows; None keeps the head where it is pointed now."""
+        self.tracking = False
+        if xy is None:
+            return
+        self.target = (float(xy[0]), float(xy[1]))
+        state = self.localization.state
+        if state is not None:
+            self._point_at(self.target, state)
+        self.set_status(RUNNING, now)
 
     def look_at_user(self, now: float) -> None:
+        self.target = None
         self.tracking = True
         self.set_status(RUNNING, now)
 
     def center(self, now: float) -> None:
         self.tracking = False
+        self.target = None
         self.head.point(0.0, 0.0)
         self.set_status(IDLE, now)
 
     def sense(self, now: float) -> None:
         pan, tilt = self.head.read()
         self.write("head/pan_tilt", (pan, tilt), now)
+        if self.target is not None:
+            state = self.localization.state
+            if state is not None:
+                self._point_at(self.target, state)
+            return
         if not self.tracking:
             return
         user, state = self.perception.user, self.localization.state
@@ -52,3 +72,12 @@ class HeadControl(Skill):
             self.set_status(SUCCEEDED, now)
         elif not self.status.failed:
             self.set_status(RUNNING, now)
+
+    def _point_at(self, xy: tuple[float, float], state) -> None:
+        bearing = math.atan2(xy[1] - state.y, xy[0] - state.x) - state.th
+        target = math.atan2(math.sin(bearing), math.cos(bearing))
+        pan, _ = self.head.read()
+        if not self.spec.pan_min <= target <= self.spec.pan_max and abs(target) > 2.5 \
+                and pan * target < 0:
+            target = -target      # nearly straight back: stay on the side the head is on
+        self.head.point(min(max(target, self.spec.pan_min), self.spec.pan_max), 0.0)

@@ -36,7 +36,7 @@ from skills.navigation.gridmap import GridMap
 from skills.navigation.mcl import (MCLParams, MonteCarloLocalization, laser_model,
                                    sonar_model)
 from skills.skill import Skill
-from skills.status import RUNNING, failed
+from skills.status import RUNNING, SkillStatus, Status, failed
 
 ODOMETRY_JUMP = 1.0      # m in one reading: no base drives that far in a tick; a re-based counter
 
@@ -44,6 +44,7 @@ ODOMETRY_JUMP = 1.0      # m in one reading: no base drives that far in a tick; 
 class Localization(Skill):
     name = "localization"
     STALE_AFTER = 0.5    # s: five missed 10 Hz cycles
+    FIRST_REPORT_WITHIN = 2.0   # s after the first tick: a base may start reporting a bit late
 
     def __init__(self, blackboard, events, base: Base, *, grid: GridMap | None = None,
                  laser: Laser | None = None, laser_range: float = 8.0,
@@ -70,7 +71,9 @@ class Localization(Skill):
                 self.filter.reset_global()
         self._last_odometry: tuple[float, float, float] | None = None
         self._last_scan_t: float | None = None
-        self._fresh: bool | None = None       # None until the first tick
+        self._down = False                    # in a link episode (a "down" event was emitted)
+        self._started: float | None = None    # the first tick's time
+        self._ever_up = False                 # the base has reported at least once
         self._down_since = 0.0
         self._dropped = 0
 
@@ -90,25 +93,46 @@ class Localization(Skill):
         self.write("robot/velocity", (state.v, state.w), state.t)
         self.write("robot/link", fresh, now)
         self._write_uncertainty(state.t)
-        if not fresh:
+        if self._started is None:
+            self._started = now
+        self._ever_up = self._ever_up or fresh
+        if not fresh and self._awaiting_first_report(now):
+            # robot/link stays false, so nothing moves meanwhile; but it is no fault yet
+            self.set_status(SkillStatus(Status.RUNNING, "waiting for the base's first report"),
+                            now)
+        elif not fresh:
             self.set_status(failed(self._why_stale(state, now)), now)
         elif self.lost:
-            self.set_status(failed(f"localization lost: the {self.mode} scan fits the map at "
-                                   f"the estimate for {self.filter.fit:.0%} of the beams"), now)
+            self.set_status(failed(f"localization lost: {self._why_lost()}"), now)
         else:
             self.set_status(RUNNING, now)
         self._link_episode(fresh, state, now)
         self._dropped_readings(state, now)
 
+    def _why_lost(self) -> str:
+        """The filter's reason, in the words of its three tests (fit, likelihood, spread)."""
+        f = self.filter
+        if f.fit < f.model.lost_fit:
+            return (f"the {self.mode} scan fits the map at the estimate for {f.fit:.0%} of the "
+                    f"beams (below {f.model.lost_fit:.0%})")
+        if f.spread > f.params.lost_spread / 2:
+            return f"the pose estimate spreads over {f.spread:.2f} m"
+        ratio = f.w_fast / f.w_slow if f.w_slow else 1.0
+        return (f"the {self.mode} scan's likelihood fell to {ratio:.0%} of its recent average "
+                f"(the map and the view disagree, or something unmapped is in view)")
+
+    def _awaiting_first_report(self, now: float) -> bool:
+        """Before the base's first report, within FIRST_REPORT_WITHIN: starting, not a fault."""
+        return not self._ever_up and now - self._started < self.FIRST_REPORT_WITHIN
+
     def _link_episode(self, fresh: bool, state: BaseState, now: float) -> None:
-        was = self._fresh
-        self._fresh = fresh
-        if was is None or was == fresh:
-            return
-        if not fresh:
-            self._down_since = now
+        """A `link` event when an episode starts (down, with why) and when it ends (up, after
+        how long); before the first report, within its grace, the base is starting, not down."""
+        if not fresh and not self._down and not self._awaiting_first_report(now):
+            self._down, self._down_since = True, now
             self.events.emit(now, "link", state="down", reason=self._why_stale(state, now))
-        else:
+        elif fresh and self._down:
+            self._down = False
             self.events.emit(now, "link", state="up", after=round(now - self._down_since, 3))
 
     def _dropped_readings(self, state: BaseState, now: float) -> None:

@@ -4,18 +4,25 @@ editors such as Qt Creator's.
 Mapping: <state>/<final> ↔ state; <transition target cond> ↔ transition (document order is
 SCXML's priority, so prioritised transitions are written first, and our priority is kept in an
 interbot attribute); <onentry><send event="Behavior" type="urn:interbot:behavior"/> names the
-state's behavior. Markup in other namespaces (e.g. Qt's layout data) is kept both ways.
+state's behavior, and the state's parameters are that send's <param>s: a written value as
+expr="'text'" (a string literal), a value taken from a percept as location="answer.office",
+its database lookup as interbot:lookup. Markup in other namespaces (e.g. Qt's layout data) is
+kept both ways.
 """
 from __future__ import annotations
 
+import json
+from collections.abc import Mapping
 from pathlib import Path
+from typing import Any
 
 from lxml import etree
 
 from ..conditions import ConditionError, compile_condition
+from ..conditions.condition import default_declarations
 from ..exceptions import ApplicationError
 from .diagnostics import Diagnostic, error
-from .model import Application, Foreign, State, Transition
+from .model import Application, Foreign, Param, State, Transition
 from .numbers import NumberSlip, whole_number
 from .source import SourceMap
 from .xmlsafe import parse_xml_bytes, read_bytes, source_text
@@ -46,7 +53,10 @@ def export_scxml(application: Application) -> str:
             element.set(_I + "final", "true")
         _add_foreign(element, state.foreign)
         onentry = etree.SubElement(element, _S + "onentry")
-        etree.SubElement(onentry, _S + "send", event=state.behavior, type=BEHAVIOR_SEND_TYPE)
+        send = etree.SubElement(onentry, _S + "send", event=state.behavior,
+                                type=BEHAVIOR_SEND_TYPE)
+        for param in state.params:
+            _add_param(send, param)
         for transition in state.ordered_transitions():
             child = etree.SubElement(element, _S + "transition", target=transition.target,
                                      cond=transition.when)
@@ -55,6 +65,16 @@ def export_scxml(application: Application) -> str:
             _add_foreign(child, transition.foreign)
     etree.indent(root, space="  ")
     return etree.tostring(root, encoding="unicode", pretty_print=True)
+
+
+def _add_param(send: etree._Element, param: Param) -> None:
+    element = etree.SubElement(send, _S + "param", name=param.name)
+    if param.source is not None:
+        element.set("location", param.source)
+        if param.lookup is not None:
+            element.set(_I + "lookup", param.lookup)
+    else:
+        element.set("expr", _literal(param.value))
 
 
 def _add_foreign(element: etree._Element, foreign: Foreign) -> None:
@@ -77,7 +97,7 @@ def import_scxml(path: str | Path, name: str | None = None) -> Application:
     tree = parse_xml_bytes(data, str(path))
     source = SourceMap(source_text(data, tree), str(path))
     source.bind(tree.getroot())
-    importer = _Importer(source)
+    importer = _Importer(source, _OpenAnswers(default_declarations()))
     application = importer.application(tree.getroot(), name or path.stem, path)
     if importer.diagnostics:
         raise ScxmlImportError(f"{path}: cannot import:\n" + "\n".join(
@@ -85,9 +105,34 @@ def import_scxml(path: str | Path, name: str | None = None) -> Application:
     return application
 
 
+class _OpenAnswers(Mapping):
+    """The percepts, plus any `answer.<id>` as text: a chart comes without its dialog.xml, so
+    its questions are unknown here; the check after the import types them against the dialog."""
+
+    def __init__(self, declared: Mapping[str, Any]) -> None:
+        self.declared = declared
+
+    def __getitem__(self, name: str) -> Any:
+        if name in self.declared or not name.startswith("answer.") or name == "answer.":
+            return self.declared[name]
+        from behaviors.percepts import PerceptSpec
+        return PerceptSpec(name, "str", doc="an answer (its question is in dialog.xml)")
+
+    def __contains__(self, name: object) -> bool:
+        return name in self.declared or (isinstance(name, str) and name.startswith("answer.")
+                                         and name != "answer.")
+
+    def __iter__(self):
+        return iter(self.declared)
+
+    def __len__(self) -> int:
+        return len(self.declared)
+
+
 class _Importer:
-    def __init__(self, source: SourceMap) -> None:
+    def __init__(self, source: SourceMap, declarations: Mapping[str, Any]) -> None:
         self.source = source
+        self.declarations = declarations
         self.diagnostics: list[Diagnostic] = []
 
     def report(self, message: str, element: etree._Element) -> None:
@@ -115,20 +160,22 @@ class _Importer:
     def unsupported(self, element: etree._Element) -> None:
         local = etree.QName(element).localname
         self.report(f"SCXML <{local}> is outside the subset interbot reads (state, final, "
-                    "transition with cond and target, onentry with a behavior send): remove it "
-                    "or move it into a foreign namespace", element)
+                    "transition with cond and target, onentry with a behavior send and its "
+                    "params): remove it or move it into a foreign namespace", element)
 
     def state(self, element: etree._Element):
         name = element.get("id")
         if not name:
             self.report("a state without an id: give it id=\"…\"", element)
             return None
-        behavior, transitions = None, []
+        behavior, transitions, params = None, [], ()
         for child in element:
             if not isinstance(child.tag, str) or _foreign(child.tag):
                 continue
             if child.tag == _S + "onentry":
-                behavior = self.behavior(child) or behavior
+                found = self.behavior(child)
+                if found is not None:
+                    behavior, params = found
             elif child.tag == _S + "transition":
                 transition = self.transition(child)
                 if transition is not None:
@@ -141,10 +188,11 @@ class _Importer:
             behavior = ""
         final = element.tag == _S + "final" or element.get(_I + "final") == "true"
         return State(name=name, behavior=behavior, transitions=tuple(transitions), final=final,
-                     location=self.source.element(element),
+                     location=self.source.element(element), params=params,
                      foreign=_foreign_of(element, skip=(_I + "final",)))
 
-    def behavior(self, onentry: etree._Element) -> str | None:
+    def behavior(self, onentry: etree._Element) -> tuple[str, tuple[Param, ...]] | None:
+        """The behavior a state's <onentry><send> names, with the send's <param>s."""
         sends = [c for c in onentry if c.tag == _S + "send"]
         ours = [s for s in sends if s.get("type") == BEHAVIOR_SEND_TYPE] or sends[:1]
         for child in onentry:
@@ -155,7 +203,33 @@ class _Importer:
         if not ours[0].get("event"):
             self.report("the behavior <send> needs event=\"BehaviorName\"", ours[0])
             return None
-        return ours[0].get("event")
+        params = []
+        for child in ours[0]:
+            if not isinstance(child.tag, str) or _foreign(child.tag):
+                continue
+            param = self.param(child) if child.tag == _S + "param" else self.unsupported(child)
+            if param is not None:
+                params.append(param)
+        return ours[0].get("event"), tuple(params)
+
+    def param(self, element: etree._Element) -> Param | None:
+        """<param name location [interbot:lookup]> or <param name expr="'text'">."""
+        name, location, expr = element.get("name"), element.get("location"), element.get("expr")
+        where = self.source.element(element)
+        if not name or (location is None) == (expr is None):
+            self.report("a behavior <param> needs name=\"…\" and either location=\"a.percept\" "
+                        "or expr=\"'a text'\"", element)
+            return None
+        if location is not None:
+            return Param(name, None, location.strip(), element.get(_I + "lookup"), where,
+                         self.source.value(element, "location"))
+        value = _string_literal(expr)
+        if value is None:
+            self.report(f"<param name=\"{name}\"> expr must be a quoted text such as "
+                        f"expr=\"'room_n2'\" (interbot reads no script expressions), not {expr!r}",
+                        element)
+            return None
+        return Param(name, value, None, None, where, self.source.value(element, "expr"))
 
     def transition(self, element: etree._Element):
         target = element.get("target")
@@ -169,7 +243,8 @@ class _Importer:
         priority = self.priority(element)
         location = self.source.element(element)
         try:
-            condition = compile_condition(when, self.source.value(element, "cond"))
+            condition = compile_condition(when, self.source.value(element, "cond"),
+                                          self.declarations)
         except ConditionError as problem:
             self.diagnostics.append(error(f"in condition: {problem.reason}",
                                           self.source.value(element, "cond", problem.offset),
@@ -190,6 +265,27 @@ class _Importer:
             self.diagnostics.append(error(str(slip), self.source.value(
                 element, _I + "priority", slip.offset), "bad-value"))
             return slip.meant
+
+
+def _literal(text: str) -> str:
+    """`text` as a string literal an SCXML editor shows plainly ('room_n2')."""
+    if "'" not in text and "\\" not in text and text.isprintable():
+        return f"'{text}'"
+    return json.dumps(text, ensure_ascii=False)
+
+
+def _string_literal(expr: str) -> str | None:
+    """The text of a quoted string literal ('…' or "…" with JSON escapes), else None."""
+    expr = expr.strip()
+    if len(expr) < 2 or expr[0] != expr[-1] or expr[0] not in "'\"":
+        return None
+    body = expr[1:-1]
+    if expr[0] == "'":
+        body = body.replace('\\\'', "'").replace('"', '\\"')
+    try:
+        return json.loads(f'"{body}"')
+    except ValueError:
+        return None
 
 
 def _foreign(name: str) -> bool:

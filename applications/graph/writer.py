@@ -23,6 +23,14 @@ def graph_xml(application: Application, comment: str | None = None) -> str:
         if state.final:
             element.set("final", "true")
         _add_foreign(element, state.foreign)
+        for param in state.params:
+            child = etree.SubElement(element, "param", name=param.name)
+            if param.source is not None:
+                child.set("from", param.source)
+                if param.lookup is not None:
+                    child.set("lookup", param.lookup)
+            else:
+                child.set("value", param.value)
         for transition in state.transitions:
             child = etree.SubElement(element, "transition", to=transition.target,
                                      when=transition.when)

@@ -151,3 +151,18 @@ def test_listing_commands_show_parameters_percepts_and_version(capsys):
     with pytest.raises(SystemExit) as leaving:
         main(["--version"])
     assert leaving.value.code == 0 and capsys.readouterr().out.startswith("interbot ")
+
+
+@pytest.mark.parametrize("written, says", [
+    ("N9", "'answer.office' is never 'N9'; its values: \"N1\", \"N2\""),
+    ("n2", "'answer.office' is never 'n2' (did you mean 'N2'?)"),
+])
+def test_an_answer_the_dialog_does_not_offer_is_an_error_at_its_column(tmp_path, written, says):
+    app = folder(tmp_path)
+    graph = app / "graph.xml"
+    graph.write_text(graph.read_text().replace(
+        '<transition to="Tell" when="behavior.done"/>',
+        f'<transition to="Tell" when="answer.office == \'{written}\'"/>'))
+    # line 3, column 50: the quoted value inside the condition
+    assert problems(app) == [f"3:50: error: in condition: {says}"
+                             + ("" if written == "N9" else '; its values: "N1", "N2"')]

@@ -24,3 +24,16 @@ def test_answers_of_earlier_runs_are_kept(tmp_path):
     assert second.answers() == [(1, "q1", "yes")]
     assert second.answers(run_only=False) == [(1, "q1", "no"), (1, "q1", "yes")]
     second.close()
+
+
+def test_a_syntax_slip_in_database_sql_points_at_its_line_and_column(tmp_path):
+    from applications.database import run_script
+    script = tmp_path / "database.sql"
+    script.write_text("CREATE TABLE rooms (name TEXT, place TEXT);\n"
+                      "INSERT INTO rooms VALUES\n"
+                      "  ('N1', 'room_n1'),\n"
+                      "  ('N2' 'room_n2');\n")
+    (problem,) = run_script(sqlite3.connect(":memory:"), script)
+    assert (problem.location.line, problem.location.column) == (4, 9)    # 'room_n2'
+    assert problem.message == ('near "\'room_n2\'": syntax error in: INSERT INTO rooms VALUES '
+                               '(the statement starts at line 2)')

@@ -7,6 +7,7 @@ from pathlib import Path
 import pytest
 from lxml import etree
 
+from applications.appfolder import load_folder
 from applications.cli import main
 from applications.graph.loader import load_application
 from applications.graph.scxml import SCXML, ScxmlImportError, export_scxml, import_scxml
@@ -139,3 +140,38 @@ def test_a_priority_in_other_digits_is_an_error_with_the_fix_not_a_crash(tmp_pat
     (problem,) = caught.value.diagnostics
     assert (problem.location.line, problem.location.column) == (4, 67)
     assert fix in problem.message
+
+
+def test_parameters_travel_as_the_behavior_sends_params(tmp_path: Path) -> None:
+    """<param value> is expr="'text'", <param from lookup> is location + interbot:lookup, and an
+    answer in a condition imports before the dialog that declares it is there."""
+    original = load_folder("receptionist").app
+    chart = tmp_path / "receptionist.scxml"
+    chart.write_text(export_scxml(original))
+    written = chart.read_text()
+    assert ('<param name="say" location="answer.office" interbot:lookup="rooms.directions"/>'
+            in written)
+    imported = import_scxml(chart)
+    assert [s.params for s in imported.states.values()] == \
+        [s.params for s in original.states.values()]
+    assert graph_xml(imported).count('from="answer.office" lookup="rooms.directions"') == 1
+    texts = written.replace('location="answer.office" interbot:lookup="rooms.directions"',
+                            '''expr="'it is the room &quot;N2&quot;'"''')
+    chart.write_text(texts)
+    (param,) = [p for s in import_scxml(chart).states.values() for p in s.params]
+    assert (param.value, param.source) == ('it is the room "N2"', None)
+
+
+def test_a_param_with_a_script_expression_is_refused_with_the_fix(tmp_path: Path) -> None:
+    chart = tmp_path / "chart.scxml"
+    chart.write_text(f"""<scxml xmlns="{SCXML}" initial="A">
+  <state id="A">
+    <onentry><send event="Say" type="urn:interbot:behavior">
+      <param name="say" expr="greeting + name"/></send></onentry>
+  </state>
+</scxml>""", encoding="utf-8")
+    with pytest.raises(ScxmlImportError) as caught:
+        import_scxml(chart)
+    (problem,) = caught.value.diagnostics
+    assert problem.location.line == 4
+    assert "expr must be a quoted text such as expr=\"'room_n2'\"" in problem.message

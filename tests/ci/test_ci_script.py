@@ -1,5 +1,6 @@
-""".ci/run on a machine without Graphviz: apt-get through sudo when not root, and a clear
-message naming the package when neither root nor sudo can install it. Every other command the
+""".ci/run on a machine without the Debian packages the tests need (Graphviz, espeak-ng,
+Chromium and its driver): apt-get through sudo when not root, and a clear message naming the
+packages when neither root nor sudo can install them. Every other command the
 script runs is a stub that records its arguments, so nothing is installed and no test runs."""
 from __future__ import annotations
 
@@ -15,7 +16,8 @@ RECORDER = '#!/bin/sh\necho "${0##*/} $*" >> "$CALLS"\n{body}\n'
 
 
 def fake_machine(tmp_path: Path, uid: int, commands: dict[str, str]) -> dict[str, str]:
-    """A PATH holding only stubs (and dirname), as on a machine where `dot` is missing."""
+    """A PATH holding only stubs (and dirname), as on a machine where `dot`, `espeak-ng`,
+    `chromium` and `chromedriver` are missing (unless `commands` stubs them)."""
     bin_dir = tmp_path / "bin"
     bin_dir.mkdir()
     os.symlink(shutil.which("dirname"), bin_dir / "dirname")
@@ -34,18 +36,37 @@ def run_ci(tmp_path, env):
     return result, calls
 
 
-def test_not_root_installs_graphviz_through_sudo(tmp_path):
+EVERY = "graphviz espeak-ng chromium chromium-driver"
+
+
+def test_not_root_installs_the_packages_through_sudo(tmp_path):
     env = fake_machine(tmp_path, 1000, {"sudo": '"$@"', "apt-get": "exit 0"})
     result, calls = run_ci(tmp_path, env)
     assert "sudo apt-get update -qq" in calls
-    assert "sudo apt-get install -y -qq graphviz" in calls
+    assert f"sudo apt-get install -y -qq {EVERY}" in calls
+    assert result.returncode == 0, result.stderr
+
+
+def test_only_the_missing_packages_are_installed(tmp_path):
+    env = fake_machine(tmp_path, 0, {"apt-get": "exit 0", "dot": "exit 0",
+                                     "chromedriver": "exit 0"})
+    result, calls = run_ci(tmp_path, env)
+    assert "apt-get install -y -qq espeak-ng chromium" in calls
+    assert result.returncode == 0, result.stderr
+
+
+def test_nothing_is_installed_when_everything_is_there(tmp_path):
+    env = fake_machine(tmp_path, 1000, {name: "exit 0" for name in
+                                        ("dot", "espeak-ng", "chromium", "chromedriver")})
+    result, calls = run_ci(tmp_path, env)
+    assert not any("apt-get" in c for c in calls)
     assert result.returncode == 0, result.stderr
 
 
 def test_root_uses_apt_get_directly(tmp_path):
     env = fake_machine(tmp_path, 0, {"apt-get": "exit 0"})
     result, calls = run_ci(tmp_path, env)
-    assert "apt-get install -y -qq graphviz" in calls
+    assert f"apt-get install -y -qq {EVERY}" in calls
     assert not any(c.startswith("sudo") for c in calls)
     assert result.returncode == 0, result.stderr
 
@@ -56,5 +77,5 @@ def test_without_root_or_sudo_it_says_what_to_install(tmp_path, commands):
     env = fake_machine(tmp_path, 1000, commands)
     result, calls = run_ci(tmp_path, env)
     assert result.returncode == 1
-    assert "graphviz" in result.stderr and "dot" in result.stderr
+    assert EVERY in result.stderr and "'dot'" in result.stderr
     assert not any(c.startswith("lint-imports") for c in calls)

@@ -35,6 +35,8 @@ def assert_episode_recorded(finished, reason_part: str) -> None:
     assert events[1]["after"] > 0
     assert "link to the base: down 1 time(s), re-connected 1 time(s)" in finished.out
     assert finished.err.count("link down") == 1, finished.err      # once per episode
+    # the run's own time line says it too, in order with the transitions
+    assert finished.out.count("LINK DOWN: ") == 1 and "link back up after" in finished.out
     # The behaviors saw it: the application went to Halted while robot.fault held, and back.
     moves = [(e["from"], e["to"]) for e in finished.trace if e["kind"] == "transition"]
     assert ("Wait", "Halted") in moves and ("Halted", "Wait") in moves

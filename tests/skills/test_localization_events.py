@@ -53,3 +53,27 @@ def test_dropped_readings_become_events_that_add_up_to_the_drivers_count():
     dropped = [e.as_dict() for e in events.drain() if e.kind == "dropped"]
     assert [e["count"] for e in dropped] == [16, 32, 16]
     assert dropped[-1]["total"] == 64 and dropped[-1]["reason"] == "sonar number 20"
+
+
+def test_a_base_whose_first_report_comes_late_is_starting_not_down():
+    """rFLEX reports a tick or two after the link opens: no fault, no link episode; but the
+    link stays false (nothing moves) until the report is there."""
+    base, events = StubBase(), EventLog()
+    board = Blackboard("test")
+    localization = Localization(board, events, base)
+    t = ticks(localization, base, 0.0, 3, link_up=False, extra={"link_error": "no report yet"})
+    assert localization.status.running and "first report" in localization.status.reason
+    assert board.value("robot/link") is False
+    ticks(localization, base, t, 5, link_up=True, extra={})
+    assert [e for e in events.drain() if e.kind == "link"] == []
+    assert localization.status.running and board.value("robot/link") is True
+
+
+def test_a_base_that_never_reports_is_down_after_the_grace():
+    base, events = StubBase(), EventLog()
+    localization = Localization(Blackboard("test"), events, base)
+    ticks(localization, base, 0.0, 30, link_up=False, extra={"link_error": "no report yet"})
+    link = [e.as_dict() for e in events.drain() if e.kind == "link"]
+    assert [e["state"] for e in link] == ["down"]
+    assert link[0]["t"] == pytest.approx(0.1 + Localization.FIRST_REPORT_WITHIN, abs=0.11)
+    assert localization.status.failed and "no report yet" in localization.status.reason

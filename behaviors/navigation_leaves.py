@@ -1,0 +1,209 @@
+"""py_trees leaves for going places and leading people: drive, lead, look back, call, ask to pass.
+
+Like `behaviors.leaves`, each leaf cancels in `finish` what its `start` began, and only that,
+so halting a GoTo or GuidePerson tree stops the navigation goal and ends the guide run once.
+"""
+from __future__ import annotations
+
+import math
+
+from py_trees.common import Status
+
+from behaviors.leaves import SkillLeaf
+from behaviors.registry import BehaviorContext
+from skills.guiding import (GAVE_UP, LEADING, OUTCOME_ARRIVED, OUTCOME_NAVIGATION,
+                            OUTCOME_USER_LOST, WAITING)
+from skills.motion import Goal
+from skills.navigation.navigation import BLOCKED, PAUSED
+
+BEHIND_GRACE = 1.0       # s the user must stay behind before the guide stops for them
+RESUME_SLACK = 0.5       # m beyond the following distance at which the guide drives on
+WAIT_SLACK = 1.5         # m beyond the following distance at which the guide stops
+
+
+class Drive(SkillLeaf):
+    """Drive to a place (or pose) with the navigation skill: SUCCESS on arrival, FAILURE with
+    the skill's reason (the leaf's feedback message) when it fails."""
+
+    def __init__(self, ctx: BehaviorContext, place, speed: float | None = None) -> None:
+        super().__init__(f"Drive to {place}", ctx)
+        self.place, self.speed = place, speed
+
+    def start(self) -> None:
+        self.skills.require("navigation").go_to(self.place, self.now, speed=self.speed)
+
+    def update(self) -> Status:
+        status = self.skills.navigation.status
+        if status.succeeded:
+            return Status.SUCCESS
+        if status.failed:
+            self.feedback_message = status.reason
+            return Status.FAILURE
+        return Status.RUNNING
+
+    def finish(self, new_status: Status) -> None:
+        if new_status == Status.INVALID:
+            self.skills.navigation.cancel(self.now)
+
+
+class AskToPass(SkillLeaf):
+    """While the way is blocked by a person (a track within `near` m of what blocks it), say
+    `text` (once per blocked episode, again every `every` s): people standing in the way step
+    aside when asked. A wall corner or a box is not asked. Never finishes."""
+
+    def __init__(self, ctx: BehaviorContext, text: str, every: float = 10.0,
+                 near: float = 0.6) -> None:
+        super().__init__("AskToPass", ctx)
+        self.text, self.every, self.near = text, every, near
+        self._last: float | None = None
+
+    def update(self) -> Status:
+        state = self.skills.navigation.state
+        if state.phase != BLOCKED or not self._person_at(state.blocker):
+            if state.phase != BLOCKED:
+                self._last = None
+            return Status.RUNNING
+        now = self.now
+        speaking = self.skills.speech is not None and self.skills.speech.status.running
+        if not speaking and (self._last is None or now - self._last >= self.every):
+            self._last = now
+            if self.skills.speech is not None:
+                self.skills.speech.say(self.text, now)
+        return Status.RUNNING
+
+
+    def _person_at(self, blocker) -> bool:
+        if blocker is None:
+            return False
+        pose = self.skills.localization.state
+        if pose is None:
+            return False
+        ahead = (math.cos(pose.th), math.sin(pose.th))
+        return any(math.hypot(t.x - blocker[0], t.y - blocker[1]) <= self.near
+                   and (t.x - pose.x) * ahead[0] + (t.y - pose.y) * ahead[1] > 0
+                   for t in self.skills.perception.tracks)
+
+
+class Lead(SkillLeaf):
+    """Lead the user to `place`: drive at `pace` while they keep up, stop when they fall more
+    than `follow_distance` + 1.5 m behind (or are not seen) for a second, drive on when they
+    are back within `follow_distance` + 0.5 m, give up after `give_up_after` s of waiting.
+
+    SUCCESS on arrival; FAILURE when the user did not come (guide.user_lost) or navigation
+    failed (navigation.failure), with the reason as feedback. With `turn_back` (a robot without
+    a head) the robot turns round to look for a user it does not see while it waits."""
+
+    def __init__(self, ctx: BehaviorContext, place: str, *, pace: float | None,
+                 follow_distance: float, give_up_after: float, turn_back: bool) -> None:
+        super().__init__(f"Lead to {place}", ctx)
+        self.place, self.pace = place, pace
+        self.follow_distance, self.give_up_after = follow_distance, give_up_after
+        self.turn_back = turn_back
+        self._behind_since: float | None = None
+        self._turned = False
+
+    def start(self) -> None:
+        skills, now = self.skills, self.now
+        user = skills.perception.user
+        skills.require("guide").start(self.place, now, user.id if user is not None else None)
+        skills.require("navigation").go_to(self.place, now, speed=self.pace)
+        self._behind_since, self._turned = None, False
+
+    def update(self) -> Status:
+        skills, now = self.skills, self.now
+        nav, guide = skills.navigation, skills.guide
+        if nav.status.succeeded:
+            guide.finish(OUTCOME_ARRIVED, now, nav.status.reason)
+            return Status.SUCCESS
+        if nav.status.failed:
+            guide.finish(OUTCOME_NAVIGATION, now, nav.status.reason)
+            self.feedback_message = nav.status.reason
+            return Status.FAILURE
+        state = guide.state
+        distance = state.user_distance
+        if state.phase == LEADING:
+            behind = distance is None or distance > self.follow_distance + WAIT_SLACK
+            if not behind:
+                self._behind_since = None
+            elif self._behind_since is None:
+                self._behind_since = now
+            elif now - self._behind_since >= BEHIND_GRACE:
+                nav.pause(now)
+                guide.wait(now)
+                self._turned = False
+        elif state.phase == WAITING:
+            if distance is not None and distance <= self.follow_distance + RESUME_SLACK:
+                self._behind_since = None
+                guide.lead(now)
+                nav.resume(now)
+            elif state.waiting_for >= self.give_up_after:
+                seen = ("not seen" if distance is None
+                        else f"{distance:.1f} m away")
+                reason = (f"the user did not follow: {seen} after waiting "
+                          f"{state.waiting_for:.0f} s")
+                nav.cancel(now)
+                guide.finish(OUTCOME_USER_LOST, now, reason)
+                self.feedback_message = reason
+                return Status.FAILURE
+            elif self.turn_back and not self._turned and state.source != "track":
+                self._look_round(now)
+        elif state.phase == GAVE_UP:
+            return Status.FAILURE
+        return Status.RUNNING
+
+    def _look_round(self, now: float) -> None:
+        """Turn the body to face back along the way it came (the camera and laser then see the
+        user); navigation drives on from there when the user is back (it turns first)."""
+        pose = self.skills.localization.state
+        if pose is None or self.skills.navigation.state.phase != PAUSED:
+            return
+        self._turned = True
+        target = self.skills.guide.state.user_xy
+        bearing = (math.atan2(target[1] - pose.y, target[0] - pose.x) if target is not None
+                   else pose.th + math.pi)
+        self.skills.motion.start(Goal("turn_to", bearing=bearing), now)
+
+    def finish(self, new_status: Status) -> None:
+        if new_status == Status.INVALID:
+            self.skills.navigation.cancel(self.now)
+            self.skills.guide.cancel(self.now)
+
+
+class LookBack(SkillLeaf):
+    """Keep the pan-tilt head on the follower (or straight back when unseen); never finishes."""
+
+    def __init__(self, ctx: BehaviorContext) -> None:
+        super().__init__("LookBack (head)", ctx)
+
+    def update(self) -> Status:
+        skills = self.skills
+        pose, guide = skills.localization.state, skills.guide
+        if pose is not None and guide is not None and guide.active:
+            target = guide.state.user_xy or (pose.x - math.cos(pose.th), pose.y - math.sin(pose.th))
+            skills.require("head").look_at(target, self.now)
+        return Status.RUNNING
+
+    def finish(self, new_status: Status) -> None:
+        self.skills.head.center(self.now)
+
+
+class CallWhileWaiting(SkillLeaf):
+    """While the guide waits for the user, say `text` when it stops and every `every` s.
+    Never finishes."""
+
+    def __init__(self, ctx: BehaviorContext, text: str, every: float = 8.0) -> None:
+        super().__init__("CallWhileWaiting", ctx)
+        self.text, self.every = text, every
+        self._last: float | None = None
+
+    def update(self) -> Status:
+        guide, now = self.skills.guide, self.now
+        if guide is None or guide.state.phase != WAITING:
+            self._last = None
+            return Status.RUNNING
+        speech = self.skills.speech
+        if speech is not None and not speech.status.running and (
+                self._last is None or now - self._last >= self.every):
+            self._last = now
+            speech.say(self.text, now)
+        return Status.RUNNING
