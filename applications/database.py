@@ -221,8 +221,8 @@ class DatabaseContent:
 
     def keys(self, table: str) -> list[str]:
         key = self.key_column(table)
-        return [str(r[0]) for r in self.db.execute(
-            f"SELECT {_quote(key)} FROM {_quote(table)} ORDER BY rowid")]
+        return [str(r[0]) for r in _in_file_order(
+            self.db, f"SELECT {_quote(key)} FROM {_quote(table)}")]
 
     def check_column(self, table: str, column: str | None) -> None:
         """ApplicationError naming the tables or columns there are, when one is missing."""
@@ -242,8 +242,8 @@ class DatabaseContent:
         if label:
             self.check_column(table, label)
         label = label or value
-        return [(str(v), str(l)) for v, l in self.db.execute(
-            f"SELECT {_quote(value)}, {_quote(label)} FROM {_quote(table)} ORDER BY rowid")]
+        return [(str(v), str(l)) for v, l in _in_file_order(
+            self.db, f"SELECT {_quote(value)}, {_quote(label)} FROM {_quote(table)}")]
 
     def missing_answer_columns(self) -> list[str]:
         if "answers" not in self.tables():
@@ -264,6 +264,14 @@ def lookup(db: sqlite3.Connection, table: str, column: str, key: str) -> str | N
     found = db.execute(f"SELECT {_quote(column)} FROM {_quote(table)} WHERE "
                        f"{_quote(key_column)} = ?", (key,)).fetchone()
     return None if found is None or found[0] is None else str(found[0])
+
+
+def _in_file_order(db: sqlite3.Connection, select: str) -> list[tuple]:
+    """Rows in the order they were inserted (rowid); a view has no rowid and keeps its own."""
+    try:
+        return list(db.execute(select + " ORDER BY rowid"))
+    except sqlite3.OperationalError:
+        return list(db.execute(select))
 
 
 def _quote(name: str) -> str:

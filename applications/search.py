@@ -78,7 +78,7 @@ def entries(db: sqlite3.Connection, table: str) -> list[Entry]:
     extra = [c for c in OPTIONAL_COLUMNS if c in columns]
     select = ", ".join(_quote(c) for c in (*SEARCH_COLUMNS, *extra))
     found = []
-    for row in db.execute(f"SELECT {select} FROM {_quote(table)} ORDER BY rowid"):
+    for row in db.execute(f"SELECT {select} FROM {_quote(table)}"):
         values = dict(zip((*SEARCH_COLUMNS, *extra), row))
         terms = [values["name"], values["label"], values.get("category") or ""]
         terms += (values.get("aliases") or "").split(",")

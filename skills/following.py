@@ -90,6 +90,7 @@ class FollowState:
     distance: float | None = None        # m, robot centre to the customer (None when unseen)
     setpoint: float = 1.2                # m
     lost_for: float = 0.0                # s the customer has been unseen
+    waiting_for: float = 0.0             # s the customer has stood while the robot waited
     predicted: tuple[float, float] | None = None   # where the customer is believed to be
     last_seen: tuple[float, float] | None = None   # where they were last seen
     reacquisitions: int = 0              # times the customer was found again after a loss
@@ -145,6 +146,7 @@ class Following(Skill):
         self._trail: list[tuple[float, float]] = []   # where the customer walked, every 0.3 m
         self._search_goal: tuple[float, float] | None = None
         self._recent: list[tuple[float, float, float]] = []    # (t, x, y) seen, newest last
+        self._waiting_since: float | None = None
 
     # -- the API for behaviors -------------------------------------------------------------
 
@@ -223,7 +225,13 @@ class Following(Skill):
         self.motion.followed = track.id
         if self.navigation is not None:
             self.navigation.ignore_people = frozenset({track.id})
+        if phase != WAITING:
+            self._waiting_since = None
+        elif self._waiting_since is None:
+            self._waiting_since = now
+        waiting_for = 0.0 if self._waiting_since is None else now - self._waiting_since
         self.state = replace(self.state, phase=phase, target=track.id, distance=d, lost_for=0.0,
+                             waiting_for=waiting_for,
                              predicted=(track.x, track.y), last_seen=(track.x, track.y),
                              reacquisitions=self.state.reacquisitions + int(reacquired),
                              reason="")
@@ -282,8 +290,9 @@ class Following(Skill):
             phase = SEARCHING
             self._search(predicted, robot, now)
         reason = f"{phase} for {int(lost_for)} s"
+        self._waiting_since = None
         self.state = replace(self.state, phase=phase, distance=None, lost_for=lost_for,
-                             predicted=predicted, reason=reason)
+                             waiting_for=0.0, predicted=predicted, reason=reason)
         self.set_status(SkillStatus(Status.RUNNING, reason), now)
 
     def _approach_prediction(self, predicted, robot, now: float) -> None:
@@ -498,6 +507,7 @@ class Following(Skill):
         self._trail = []
         self._search_goal = None
         self._recent = []
+        self._waiting_since = None
 
     def _publish(self, now: float) -> None:
         self.write("following/state", self.state, now)

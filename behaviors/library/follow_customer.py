@@ -26,6 +26,8 @@ class Follow(SkillLeaf):
 
     def start(self) -> None:
         p = self.ctx
+        if p.param("say", None) and self.skills.speech is not None:
+            self.skills.speech.say(p.params["say"], self.now)
         self.skills.require("following").follow(
             self.now, distance=p.param("distance", 1.2), min_distance=p.param("min_distance", 0.8),
             give_up_after=p.param("give_up", 30.0), search_after=p.param("search_after", 4.0),
@@ -59,6 +61,7 @@ FOLLOW_CUSTOMER = BehaviorSpec(
         Realization("body", frozenset({"speech_out"}), lambda ctx: _build(ctx, False)),
     ),
     parameters={
+        "say": ParameterSpec("text", "said when following begins"),
         "distance": ParameterSpec("distance", "following distance, robot centre to customer",
                                   default=1.2),
         "min_distance": ParameterSpec("distance", "the robot never drives closer than this",
