@@ -59,6 +59,9 @@ PERSON_CLEARANCE = 0.15   # m: a track closer than this to a wall is not a perso
 BRAKE = 0.8               # share of the base's max_accel counted on for stopping
 LATENCY_MARGIN = 0.1      # m covered before a stop command takes effect (a tick or two)
 PACE_WINDOW = 0.4         # s over which the customer's walked distance gives their pace
+FRESH = 0.15              # s: a candidate for re-acquisition must have been seen this recently
+CONTEST_NEAR = 0.8        # m: another track this close to the customer's may swap ids with it
+UNTANGLE_REACH = 1.2      # m from where the customer should be after a contest, at most
 
 
 @dataclass(frozen=True)
@@ -76,7 +79,7 @@ class FollowParams:
     predict_for: float = 2.0       # s: the prediction runs on the velocity this long, then stands
     gate: float = 0.8              # m: the re-acquisition gate right after the loss ...
     gate_growth: float = 1.0       # m/s: ... grows at walking pace ...
-    max_gate: float = 3.0          # m: ... up to this
+    max_gate: float = 2.0          # m: ... up to this (and no further after search_after)
     jump: float = 1.5              # m: the target track this far off the prediction is a swap
     clearly_nearer: float = 0.5    # a candidate wins only at this fraction of the next distance
     call: str = CALL
@@ -96,6 +99,7 @@ class FollowState:
     reacquisitions: int = 0              # times the customer was found again after a loss
     losses: int = 0                      # times the customer was lost (hidden)
     calls: int = 0
+    swaps: int = 0                       # times a swap of track ids was undone (see _untangle)
     reason: str = ""
 
     @property
@@ -147,6 +151,8 @@ class Following(Skill):
         self._search_goal: tuple[float, float] | None = None
         self._recent: list[tuple[float, float, float]] = []    # (t, x, y) seen, newest last
         self._waiting_since: float | None = None
+        self._contest: _Belief | None = None          # the customer before someone came close
+        self._contest_ids: set[int] = set()
 
     # -- the API for behaviors -------------------------------------------------------------
 
@@ -193,12 +199,36 @@ class Following(Skill):
         if not self.active or pose is None:
             return
         robot = (pose.x, pose.y, pose.th)
+        if getattr(self.localization, "lost", False):
+            self._pose_lost(now)
+            self._publish(now)
+            return
         track = self._find_target(now)
         if track is not None:
             self._on_seen(track, robot, now)
         else:
             self._on_unseen(robot, now)
         self._publish(now)
+
+    def _pose_lost(self, now: float) -> None:
+        """Without a trustworthy pose every track is in the wrong place: stand still and take
+        nobody for the customer; the give-up clock runs on."""
+        self._hold(now)
+        goal = self.motion.goal
+        if goal is not None and goal.kind == "turn_to":
+            self.motion.cancel(now)
+        if self._lost_since is None:
+            self._lost_since = now
+            self.state = replace(self.state, losses=self.state.losses + 1)
+        lost_for = now - self._lost_since
+        if lost_for >= self.params.give_up_after:
+            self._fail(GAVE_UP_REASON, f"not seen for {lost_for:.0f} s; the robot's position "
+                       "was lost (localization), so it could not search", now)
+            return
+        reason = f"{HIDDEN} for {int(lost_for)} s: localization lost, standing still"
+        self.state = replace(self.state, phase=HIDDEN, distance=None, lost_for=lost_for,
+                             waiting_for=0.0, reason=reason)
+        self.set_status(SkillStatus(Status.RUNNING, reason), now)
 
     # -- seen ------------------------------------------------------------------------------
 
@@ -360,17 +390,21 @@ class Following(Skill):
         p = self.params
         tracks = self.perception.believed
         predicted = self._belief.at(now, p.predict_for)
-        unseen = max(now - self._belief.t, 0.0)
+        # the gate grows at walking pace while the prediction means something, then stops:
+        # someone near the last seen place long after the loss is as likely somebody else
+        unseen = min(max(now - self._belief.t, 0.0), p.search_after)
         gate = min(p.gate + p.gate_growth * unseen, p.max_gate)
         tracks = [t for t in tracks if self._plausible(t)]
         same = next((t for t in tracks if t.id == self.state.target), None)
-        if same is not None and same.status == CONFIRMED and same.last_seen >= now - 1e-6:
+        if same is not None and same.status == CONFIRMED:      # seen within lost_after (0.35 s)
             if math.hypot(same.x - predicted[0], same.y - predicted[1]) <= max(gate, p.jump):
-                self._note_others(tracks, same.id)
-                return same
+                same = self._untangle(same, tracks, now)
+                if same is not None:
+                    self._note_others(tracks, same.id)
+                    return same
         candidates = sorted(
             ((math.hypot(t.x - predicted[0], t.y - predicted[1]), t) for t in tracks
-             if t.status == CONFIRMED and t.last_seen >= now - 1e-6 and t.id not in self._others),
+             if t.status == CONFIRMED and t.last_seen >= now - FRESH and t.id not in self._others),
             key=lambda c: c[0])
         inside = [c for c in candidates if c[0] <= gate]
         if not inside:
@@ -380,8 +414,44 @@ class Following(Skill):
         return inside[0][1]
 
     def _note_others(self, tracks, target: int) -> None:
-        """People seen at the same time as the customer are somebody else, for good."""
-        self._others.update(t.id for t in tracks if t.id != target and t.status == CONFIRMED)
+        """People seen at the same time as the customer are somebody else, for good; not those
+        close to them, whose identity the tracker may just have swapped with theirs."""
+        self._others.update(t.id for t in tracks if t.id != target and t.status == CONFIRMED
+                            and t.id not in self._contest_ids)
+
+    def _untangle(self, target, tracks, now: float):
+        """Two people passing within CONTEST_NEAR of each other can swap track ids. While
+        someone is that close to the customer, remember where the customer was and how they
+        moved before; when the two are apart again, the customer is the track nearest that
+        prediction (one who stood still stayed, one who walked went on)."""
+        near = {t.id for t in tracks if t.id != target.id and t.status == CONFIRMED
+                and math.hypot(t.x - target.x, t.y - target.y) < CONTEST_NEAR}
+        if near:
+            if self._contest is None:
+                b = self._belief
+                standing = self._pace(target, now) < self.params.standing
+                self._contest = _Belief(b.x, b.y, 0.0 if standing else b.vx,
+                                        0.0 if standing else b.vy, b.t)
+            self._contest_ids |= near
+            return target
+        if self._contest is None:
+            return target
+        before, ids = self._contest, self._contest_ids | {target.id}
+        self._contest, self._contest_ids = None, set()
+        expected = before.at(now, self.params.predict_for)
+        options = [t for t in tracks if t.id in ids and t.status == CONFIRMED]
+        best = min(options, key=lambda t: math.hypot(t.x - expected[0], t.y - expected[1]))
+        if math.hypot(best.x - expected[0], best.y - expected[1]) > UNTANGLE_REACH:
+            # none of them is where the customer should be: they are hidden; the track that
+            # walked off with the id was somebody else
+            self._others.add(target.id)
+            self._belief = before
+            return None
+        if best.id != target.id:
+            self._recent = []                  # the pace so far was somebody else's
+            self._others.add(target.id)
+            self.state = replace(self.state, swaps=self.state.swaps + 1)
+        return best
 
     def _pace(self, track, now: float) -> float:
         """The customer's speed: the smaller of the track's (a constant-velocity Kalman filter
@@ -508,6 +578,8 @@ class Following(Skill):
         self._search_goal = None
         self._recent = []
         self._waiting_since = None
+        self._contest = None
+        self._contest_ids = set()
 
     def _publish(self, now: float) -> None:
         self.write("following/state", self.state, now)
