@@ -18,6 +18,7 @@ from applications.conditions.condition import default_declarations
 from applications.database import ANSWERS_TABLE_SQL, SCHEMA_FILE, DatabaseContent
 from applications.dialog import Dialog, check_dialog
 from applications.exceptions import ApplicationError
+from applications.search import OUTCOMES, SEARCH_LOG_COLUMNS, SEARCHES_TABLE, SEARCHES_TABLE_SQL
 from applications.graph.catalog import Catalog, load_catalog
 from applications.graph.diagnostics import (Diagnostic, did_you_mean, error, has_errors,
                                             sort_diagnostics)
@@ -88,6 +89,7 @@ def inspect_folder(name_or_path: str | Path, robot: str | None = None,
         records = records_answers(draft, dialog, catalog.behaviors)
         if records:
             found += check_answer_storage(content, records, folder)
+        found += check_search_log(content, dialog, folder)
     else:
         records = False
     found = sort_diagnostics(found)
@@ -109,6 +111,15 @@ def answer_declarations(dialog: Dialog) -> dict[str, Any]:
         specs[f"answer.{question['id']}"] = PerceptSpec(
             f"answer.{question['id']}", "str", doc=f"the answer to \"{question['text']}\"",
             values=values, provider=DIALOG_FILE)
+        if question.get("search"):
+            qid, table = question["id"], question["search"]
+            specs[f"found.{qid}"] = PerceptSpec(
+                f"found.{qid}", "str", doc=f"the {table} row (its name) the answer to "
+                f"\"{question['text']}\" names, exactly or closely; absent when none",
+                values=tuple(question["found"]) or None, provider=DIALOG_FILE)
+            specs[f"search.{qid}"] = PerceptSpec(
+                f"search.{qid}", "str", doc=f"how the answer matched a row of {table}: exact, "
+                "close (ask \"did you mean …?\") or none", values=OUTCOMES, provider=DIALOG_FILE)
     specs["dialog.answer"] = PerceptSpec(
         "dialog.answer", "str", doc="the last answer given in this session",
         values=None if any_text or not every else tuple(sorted(every)), provider="dialog")
@@ -220,4 +231,20 @@ def check_answer_storage(content: DatabaseContent, asker: str, folder: Path) -> 
         return [error(f"the application records answers ({asker}) but {SCHEMA_FILE} does not "
                       f"create an answers table with the columns {', '.join(missing)}; add:\n"
                       f"{ANSWERS_TABLE_SQL}", where, "database-answers")]
+    return []
+
+
+def check_search_log(content: DatabaseContent, dialog: Dialog, folder: Path) -> list[Diagnostic]:
+    """A question with `search=` logs each search: the database needs the searches table."""
+    searching = [q["id"] for q in dialog.questions if q.get("search")]
+    if not searching or not content.exists or content.problems:
+        return []
+    where = Location(str(_shown(folder / SCHEMA_FILE)), 1, 1)
+    present = set(content.columns(SEARCHES_TABLE)) if SEARCHES_TABLE in content.tables() else set()
+    missing = [c for c in SEARCH_LOG_COLUMNS if c not in present]
+    if missing:
+        return [error(f"question '{searching[0]}' searches the database, which logs each search, "
+                      f"but {SCHEMA_FILE} does not create a {SEARCHES_TABLE} table with the "
+                      f"columns {', '.join(missing)}; add:\n{SEARCHES_TABLE_SQL}", where,
+                      "database-searches")]
     return []

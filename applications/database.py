@@ -18,6 +18,7 @@ from pathlib import Path
 from applications.exceptions import ApplicationError
 from applications.graph.diagnostics import Diagnostic, error
 from applications.graph.location import Location
+from applications.search import SearchResult, entries, search
 
 SCHEMA_FILE = "database.sql"
 ANSWER_COLUMNS = ("run_id", "robot", "session", "question", "answer", "robot_time", "wall_time")
@@ -148,6 +149,28 @@ class ApplicationDatabase:
     def lookup(self, table: str, column: str, key: str) -> str | None:
         return lookup(self._db, table, column, key)
 
+    def search(self, table: str, query: str, *, robot: str, session: int, question: str,
+               robot_time: float) -> SearchResult:
+        """The row of `table` that `query` names (applications/search.py), logged in the
+        searches table with its outcome."""
+        result = search(entries(self._db, table), query)
+        with self._db:
+            self._db.execute(
+                "INSERT INTO searches (run_id, robot, session, question, query, outcome, found,"
+                " score, robot_time, wall_time) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+                (self.run_id, robot, session, question, query, result.outcome, result.found,
+                 result.score, robot_time, time.time()))
+        return result
+
+    def searches(self, run_only: bool = True) -> list[tuple[str, str, str, str | None]]:
+        """(question, query, outcome, found) rows, oldest first."""
+        query = "SELECT question, query, outcome, found FROM searches"
+        args: tuple = ()
+        if run_only:
+            query += " WHERE run_id = ?"
+            args = (self.run_id,)
+        return list(self._db.execute(query + " ORDER BY id", args))
+
     def close(self) -> None:
         self._db.close()
 
@@ -198,8 +221,8 @@ class DatabaseContent:
 
     def keys(self, table: str) -> list[str]:
         key = self.key_column(table)
-        return [str(r[0]) for r in self.db.execute(
-            f"SELECT {_quote(key)} FROM {_quote(table)} ORDER BY rowid")]
+        return [str(r[0]) for r in _in_file_order(
+            self.db, f"SELECT {_quote(key)} FROM {_quote(table)}")]
 
     def check_column(self, table: str, column: str | None) -> None:
         """ApplicationError naming the tables or columns there are, when one is missing."""
@@ -219,8 +242,8 @@ class DatabaseContent:
         if label:
             self.check_column(table, label)
         label = label or value
-        return [(str(v), str(l)) for v, l in self.db.execute(
-            f"SELECT {_quote(value)}, {_quote(label)} FROM {_quote(table)} ORDER BY rowid")]
+        return [(str(v), str(l)) for v, l in _in_file_order(
+            self.db, f"SELECT {_quote(value)}, {_quote(label)} FROM {_quote(table)}")]
 
     def missing_answer_columns(self) -> list[str]:
         if "answers" not in self.tables():
@@ -241,6 +264,14 @@ def lookup(db: sqlite3.Connection, table: str, column: str, key: str) -> str | N
     found = db.execute(f"SELECT {_quote(column)} FROM {_quote(table)} WHERE "
                        f"{_quote(key_column)} = ?", (key,)).fetchone()
     return None if found is None or found[0] is None else str(found[0])
+
+
+def _in_file_order(db: sqlite3.Connection, select: str) -> list[tuple]:
+    """Rows in the order they were inserted (rowid); a view has no rowid and keeps its own."""
+    try:
+        return list(db.execute(select + " ORDER BY rowid"))
+    except sqlite3.OperationalError:
+        return list(db.execute(select))
 
 
 def _quote(name: str) -> str:

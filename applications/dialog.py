@@ -304,7 +304,7 @@ class _DialogReader:
                             f"{did_you_mean(name, self.declarations)}", "dialog-placeholder")
 
     def question(self, element) -> dict[str, Any] | None:
-        self.known_attributes(element, ("id", "text", "typed"))
+        self.known_attributes(element, ("id", "text", "typed", "search"))
         qid, text = self.required(element, "id"), self.required(element, "text")
         typed = (element.get("typed") or "false").strip() == "true"
         if (element.get("typed") or "false").strip() not in ("true", "false"):
@@ -323,10 +323,35 @@ class _DialogReader:
         if not buttons and not typed:
             self.report(self.at(element), "<question> needs at least one <answer> (or "
                         "typed=\"true\" for a typed answer)", "dialog-question")
+        search, found = self.search_table(element)
         if not (qid and text):
             return None
-        return {"id": qid, "text": text, "buttons": buttons, "values": values, "typed": typed,
-                "line": self.at(element).line}
+        question = {"id": qid, "text": text, "buttons": buttons, "values": values,
+                    "typed": typed, "line": self.at(element).line}
+        if search:
+            question["search"], question["found"] = search, found
+        return question
+
+    def search_table(self, element) -> tuple[str | None, list[str]]:
+        """`search="products"`: the answer is looked up in that table (applications/search.py),
+        which needs the columns name and label; returns the table and its names."""
+        table = element.get("search")
+        if table is None:
+            return None, []
+        table = table.strip()
+        if not table:
+            self.report(self.at(element, "search"), "search is empty: name the table to look "
+                        "the answer up in (e.g. search=\"products\")", "dialog-attribute")
+            return None, []
+        if self.choices is None:
+            return table, []
+        try:
+            rows = self.choices(table, "name", "label")
+        except ApplicationError as exc:
+            self.report(self.at(element, "search"), f"search=\"{table}\": {exc} (a searched "
+                        "table needs the columns name and label)", "dialog-answers")
+            return None, []
+        return table, [value for value, _ in rows]
 
     def answers(self, question) -> tuple[list[str], list[str]]:
         buttons, values = [], []

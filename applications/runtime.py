@@ -107,6 +107,10 @@ class Run:
         self.observers = list(observers)
         self._robot_part = any(getattr(o, "robot_snapshot", True) for o in self.observers)
         self._tick_events: list[dict[str, Any]] = []
+        # questions whose answers are searched in a table (dialog.xml search="…"), and the
+        # newest result per question: the percepts search.<id> and found.<id>
+        self._searched = {q["id"]: q["search"] for q in self.dialog.questions if q.get("search")}
+        self._search_results: dict[str, Any] = {}
 
     def run(self) -> RunSummary:
         start_wall = time.perf_counter()
@@ -118,7 +122,7 @@ class Run:
         self._emit({"t": 0.0, "kind": "transition", "from": None, "to": machine.state.name,
                     "when": "initial"})
         try:
-            self._activate(machine, robot.sense())
+            self._activate(machine, self._with_searches(robot.sense()))
             self._loop(machine, t0)
         finally:                  # an interrupt or an error still leaves a summary behind
             self.summary.duration = robot.now() - t0
@@ -130,7 +134,7 @@ class Run:
         robot = self.robot
         next_tick = t0
         while True:
-            percepts = robot.sense()
+            percepts = self._with_searches(robot.sense())
             now = percepts.t
             for event in robot.events():     # what was sensed (an answer) before what it causes
                 self._emit(event)
@@ -232,6 +236,8 @@ class Run:
         line = _describe(event, self.robot.name)
         if line:
             self._say_line(line)
+        if kind == "answer":
+            self._search(event)
 
     def _record_answer(self, event: dict[str, Any]) -> None:
         self.summary.answers += 1
@@ -243,6 +249,36 @@ class Run:
         answered.add(event["question"])
         if len(answered) == len(self.dialog.questions) and answered:
             self.summary.surveys_completed += 1
+
+    def _search(self, event: dict[str, Any]) -> None:
+        """A searched question was answered: find the row it names and log the search."""
+        question = event["question"]
+        table = self._searched.get(question)
+        if table is None or self.database is None:
+            return
+        result = self.database.search(table, event["answer"], robot=self.robot.name,
+                                      session=event.get("session", 0), question=question,
+                                      robot_time=event["t"])
+        self._search_results[question] = result
+        found = f" -> {result.found}" if result.found else ""
+        more = f" (also: {', '.join(result.suggestions)})" if result.suggestions else ""
+        self._say_line(f"[{event['t']:7.1f} s]   search {question} '{event['answer']}': "
+                       f"{result.outcome}{found}{more}")
+
+    def _with_searches(self, percepts):
+        """The tick's percepts with search.<id> and found.<id> for each searched question whose
+        current answer has been searched (L3 adds them, as it adds time_in_state)."""
+        if not self._search_results:
+            return percepts
+        extra = {}
+        for question, result in self._search_results.items():
+            if percepts.get(f"answer.{question}") == result.query:
+                extra[f"search.{question}"] = result.outcome
+                if result.found is not None:
+                    extra[f"found.{question}"] = result.found
+        if not extra:
+            return percepts
+        return type(percepts)({**percepts, **extra}, percepts.t)
 
     def _say_line(self, text: str) -> None:
         if self.echo is not None:

@@ -219,14 +219,15 @@ class ReplayHardware(Hardware):
 
 def open_hardware(robot: str | Path, *, port: str | None = None, scenario: str | Path | None = None,
                   fast: bool = False, seed: int = 0, emulate: bool = True,
-                  floor: str | Path = "office", gui: str | None = None,
+                  floor: str | Path | None = None, gui: str | None = None,
                   speech_wav: str | Path | None = None, language: str = "en",
                   voice: str | None = None, listen: bool = False,
                   replay=None) -> Hardware:
     """Open `robot` (a profile name or path). `port` drives a real base; otherwise simulate.
 
     `emulate=False` forces the in-process simulated base even where an emulator exists;
-    `floor` is the simulated building (a bundled floor name or a floor .toml). The interaction
+    `floor` is the simulated building (a bundled floor name or a floor .toml; default the
+    scenario's `floor`, else the office). The interaction
     options are those of `Interaction`. `replay` (an object with `devices`, the recorded
     robot's devices, and iterating over tap logs) opens a robot that plays a recording instead
     (`robots.replay`).
@@ -274,7 +275,7 @@ def _open_real(profile: RobotProfile, clock, port: str) -> Hardware:
 
 
 def _open_simulated(profile: RobotProfile, clock, scenario, seed: int, emulate: bool,
-                    floor: str | Path = "office") -> Hardware:
+                    floor: str | Path | None = None) -> Hardware:
     from robots.sim.base import SimulatedBase
     from robots.sim.simulation import Simulation
 

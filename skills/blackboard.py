@@ -81,6 +81,10 @@ SCHEMA: dict[str, KeySpec] = {spec.key: spec for spec in (
          "phase, goal, distance_left, blocked_for, blocker, replans, failure and reason"),
     _key("navigation/path", "tuple[tuple[float, float], ...]", "m (map frame)", "navigation",
          "waypoints of the current global path, start to goal"),
+    # following a customer (skills.following)
+    _key("following/state", "FollowState", "m, s (fields)", "following",
+         "phase, target track, distance, setpoint, lost_for, predicted and last seen place, "
+         "losses, reacquisitions, calls and reason"),
     # guiding (skills.guiding)
     _key("guide/state", "GuideState", "m, rad, s (fields)", "guide",
          "phase, place, the follower's distance, bearing and source, unseen_for, waiting_for, "

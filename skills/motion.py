@@ -50,6 +50,9 @@ class Motion(Skill):
         self.perception = perception
         self.goal: Goal | None = None
         self.navigator = None     # the navigation skill: its velocity(now) drives a "navigate" goal
+        # the track a follower drives behind: not counted for the near-people cap while they
+        # walk away from the robot (it would never keep up); counted again when they come back
+        self.followed: int | None = None
 
     def start(self, goal: Goal, now: float) -> None:
         self.goal = goal
@@ -107,4 +110,13 @@ class Motion(Skill):
         state = self.localization.state
         if state is None or not self.perception.tracks:
             return math.inf
-        return min(math.hypot(t.x - state.x, t.y - state.y) for t in self.perception.tracks)
+        return min((math.hypot(t.x - state.x, t.y - state.y) for t in self.perception.tracks
+                    if not self._receding_followed(t, state)), default=math.inf)
+
+    def _receding_followed(self, track, state) -> bool:
+        """The followed customer while not walking towards the robot (approach ≤ 0.1 m/s)."""
+        if self.followed is None or track.id != self.followed:
+            return False
+        dx, dy = state.x - track.x, state.y - track.y
+        d = math.hypot(dx, dy)
+        return d > 0.0 and (track.vx * dx + track.vy * dy) / d <= 0.1

@@ -36,6 +36,7 @@ class PeoplePerception(Skill):
         self.tracker = PeopleTracker(TrackerParams(confirming_sources=confirming))
         self.selector = UserSelector(max_range=user_range)
         self.tracks: tuple = ()
+        self.believed: tuple = ()      # confirmed and lost (coasting) tracks: what a follower reads
         self.user = None
 
     def sense(self, now: float) -> None:
@@ -50,6 +51,7 @@ class PeoplePerception(Skill):
         world = [(*robot_to_world(d.x, d.y, d.cov, pose), d.source) for d in detections]
         tracks = self.tracker.update(now, world)
         self.tracks = tuple(t for t in tracks if t.status == "confirmed")
+        self.believed = tuple(t for t in tracks if t.believed)
         robot_xy = (state.x, state.y)
         self.user = self.selector.select(list(tracks), robot_xy, now)
         self.write("people/tracks", self.tracks, now)

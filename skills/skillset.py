@@ -19,6 +19,7 @@ from robots.profile import load_profile
 from skills.blackboard import SKILL_STATUS_PREFIX, Blackboard
 from skills.events import EventLog
 from skills.exceptions import SkillError, SkillUnavailableError
+from skills.following import Following
 from skills.guiding import Guiding
 from skills.head import HeadControl
 from skills.localization import Localization
@@ -79,9 +80,13 @@ class SkillSet:
         self.guide = (Guiding(bb, ev, self.localization, self.perception, self.map,
                               self.profile.sonar, reach=user_range)
                       if self.map is not None else None)
+        # following a customer: over tracking, and navigation where there is a map
+        self.following = Following(bb, ev, self.localization, self.perception, self.motion,
+                                   self.navigation, self.speech)
+        # following decides after perception and before navigation collects its readings
         self._sensing: list[Skill] = [s for s in (
             self.localization, self.obstacles, self.perception, self.guide, self.speech,
-            self.head, self.questionnaire, self.navigation) if s is not None]
+            self.head, self.questionnaire, self.following, self.navigation) if s is not None]
 
     @property
     def name(self) -> str:
@@ -133,7 +138,8 @@ class SkillSet:
         """Zero velocity now and drop every goal (a behavior raised, or the loop is ending)."""
         now = self.now()
         self.motion.stop_now(now)
-        for skill in (self.navigation, self.guide, self.speech, self.head, self.questionnaire):
+        for skill in (self.following, self.navigation, self.guide, self.speech, self.head,
+                      self.questionnaire):
             if skill is not None and hasattr(skill, "cancel"):
                 skill.cancel(now)
 

@@ -55,6 +55,7 @@ TURN_GAIN = 1.5              # rad/s per rad of heading error on the goal
 OFF_PATH = 1.0               # m from the path at which the robot plans again from where it is
 READING_SIZE = 0.25          # m drawn around an off-map reading when planning around it
 SONAR_RANGE = 1.5            # m: farther sonar echoes are too wide to steer by
+IGNORED_RADIUS = 0.45        # m around an ignored person whose readings do not block
 
 
 @dataclass(frozen=True)
@@ -119,6 +120,9 @@ class Navigation(Skill):
         self._progress: tuple[float, float] | None = None    # (distance left, time) of progress
         self._last_replan = -math.inf
         self._lost_since: float | None = None
+        # tracks the controller does not treat as people to keep away from and slow down for
+        # (the customer a follower drives behind; their legs still count as readings)
+        self.ignore_people: frozenset[int] = frozenset()
         motion.navigator = self
 
     @cached_property
@@ -208,6 +212,9 @@ class Navigation(Skill):
         if state is None or self.state.phase not in (DRIVING, TURNING, BLOCKED, PAUSED):
             return
         self.points, self.block_points = self._readings(state)
+        if self.ignore_people:
+            self.points = self._without_ignored(self.points)
+            self.block_points = self._without_ignored(self.block_points)
         if self.state.phase in (DRIVING, TURNING, BLOCKED):
             goal = self.motion.goal
             if goal is None or goal.kind != "navigate":
@@ -238,7 +245,8 @@ class Navigation(Skill):
             if not self._make_plan(now):        # pushed off the path, or a jump of the estimate
                 return 0.0, 0.0
             rest = self._rest_of_path(x, y)
-        people = [Person(t.x, t.y, t.vx, t.vy) for t in self.perception.tracks]
+        people = [Person(t.x, t.y, t.vx, t.vy) for t in self.perception.tracks
+                  if t.id not in self.ignore_people]
         command = self.controller.step((x, y, th), (state.v, state.w), rest, points=self.points,
                                        people=people, max_speed=self._speed,
                                        block_points=self.block_points,
@@ -462,6 +470,17 @@ class Navigation(Skill):
         everything = to_map(np.vstack(local))
         precise = to_map(laser_points) if self.laser is not None else to_map(sonar_points)
         return everything, precise
+
+    def _without_ignored(self, points: np.ndarray) -> np.ndarray:
+        """Readings off the legs of the people in `ignore_people` are left out: a follower
+        drives towards its customer at a pace that keeps its distance, which the controller,
+        taking legs for fixed obstacles, would not allow. The follower stops at its minimum
+        distance; the safety arbiter's stop before anything ahead stays in force."""
+        keep = np.ones(len(points), dtype=bool)
+        for t in self.perception.tracks:
+            if t.id in self.ignore_people:
+                keep &= np.hypot(points[:, 0] - t.x, points[:, 1] - t.y) > IGNORED_RADIUS
+        return points[keep]
 
     def _set_phase(self, phase: str, now: float, status: SkillStatus) -> None:
         self.state = _replace(self.state, phase=phase, reason=status.reason)
