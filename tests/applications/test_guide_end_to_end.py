@@ -2,12 +2,7 @@
 log of guide runs, in every bundled scenario."""
 from __future__ import annotations
 
-import sqlite3
-
 import pytest
-
-from applications.cli import main
-from applications.trace import read_trace
 
 ASK = ["Wait", "Attract", "AskWhat"]
 HOME = ["GoHome", "Wait"]
@@ -25,21 +20,18 @@ CALL = "Please follow me, I am waiting for you."
 EXCUSE = "Excuse me, may I pass, please?"
 
 
-def run(tmp_path, scenario: str, robot: str):
-    trace, data = tmp_path / "trace.jsonl", tmp_path / "data"
-    code = main(["run", "guide", "--robot", robot, "--scenario", scenario, "--fast",
-                 "--trace", str(trace), "--data", str(data), "--quiet"])
-    with sqlite3.connect(data / "guide.sqlite") as db:
-        answers = [tuple(r) for r in db.execute("SELECT question, answer FROM answers ORDER BY id")]
-        runs = [tuple(r) for r in db.execute(
-            "SELECT place, outcome, reason, duration FROM guide_runs ORDER BY id")]
-    return code, read_trace(trace), answers, runs
+def run(app_runs, scenario: str, robot: str):
+    """The run shared with the portability test (tests/applications/app_runs.py)."""
+    done = app_runs.run("guide", robot, scenario)
+    answers = done.rows("guide", "SELECT question, answer FROM answers ORDER BY id")
+    runs = done.rows("guide", "SELECT place, outcome, reason, duration FROM guide_runs ORDER BY id")
+    return done.code, done.trace, answers, runs
 
 
 @pytest.mark.parametrize("robot", ["horos", "perses"])
 @pytest.mark.parametrize("scenario", sorted(EXPECTED))
-def test_states_answers_and_guide_log_on_both_robots(tmp_path, scenario, robot):
-    code, trace, answers, runs = run(tmp_path, scenario, robot)
+def test_states_answers_and_guide_log_on_both_robots(app_runs, scenario, robot):
+    code, trace, answers, runs = run(app_runs, scenario, robot)
     states, expected_answers, expected_runs = EXPECTED[scenario]
     assert code == 0
     assert [e["to"] for e in trace if e["kind"] == "transition"] == states

@@ -22,6 +22,7 @@ SCENARIOS = sorted(p.stem for p in (SURVEY / "scenarios").glob("*.toml"))
 APPLICATIONS = [        # one line per bundled application that must run unchanged on every base
     "survey",
     "guide",
+    "receptionist",
 ]
 ROBOTS = ("horos", "perses", "argos")     # P2OS, rFLEX, CANopen; the first is the reference
 CASES = [(app, scenario) for app in APPLICATIONS

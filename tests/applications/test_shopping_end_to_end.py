@@ -3,12 +3,7 @@ HOROS, every bundled scenario, the searches logged, the customer followed, found
 given up on with a reason."""
 from __future__ import annotations
 
-import sqlite3
-
 import pytest
-
-from applications.cli import main
-from applications.trace import read_trace
 
 START = ["Wait", "Attract", "AskWhat"]
 END = ["AskMore", "Goodbye", "GoHome", "Wait"]
@@ -25,15 +20,13 @@ RUNS = [(s, "perses") for s in sorted(EXPECTED)] + [(s, "horos") for s in sorted
                                                      if s != "follow_me"]
 
 
-def run(tmp_path, scenario: str, robot: str):
-    trace, data = tmp_path / "trace.jsonl", tmp_path / "data"
-    code = main(["run", "shopping", "--robot", robot, "--scenario", scenario, "--fast",
-                 "--trace", str(trace), "--data", str(data), "--quiet"])
-    with sqlite3.connect(data / "shopping.sqlite") as db:
-        answers = [tuple(r) for r in db.execute("SELECT question, answer FROM answers ORDER BY id")]
-        searches = [tuple(r) for r in db.execute(
-            "SELECT question, query, outcome, found FROM searches ORDER BY id")]
-    return code, read_trace(trace), answers, searches
+def run(app_runs, scenario: str, robot: str):
+    """The run shared with the other tests that read it (tests/applications/app_runs.py)."""
+    done = app_runs.run("shopping", robot, scenario)
+    answers = done.rows("shopping", "SELECT question, answer FROM answers ORDER BY id")
+    searches = done.rows("shopping",
+                         "SELECT question, query, outcome, found FROM searches ORDER BY id")
+    return done.code, done.trace, answers, searches
 
 
 def states(trace) -> list[str]:
@@ -47,8 +40,8 @@ def following(trace) -> list[tuple[float, str, str]]:
 
 @pytest.mark.slow
 @pytest.mark.parametrize("scenario,robot", RUNS)
-def test_every_scenario_on_both_robots(tmp_path, scenario, robot):
-    code, trace, answers, searches = run(tmp_path, scenario, robot)
+def test_every_scenario_on_both_robots(app_runs, scenario, robot):
+    code, trace, answers, searches = run(app_runs, scenario, robot)
     assert code == 0
     assert states(trace) == EXPECTED[scenario]
     assert not any(e["kind"] == "fault" for e in trace)
