@@ -22,7 +22,8 @@ from applications.search import OUTCOMES, SEARCH_LOG_COLUMNS, SEARCHES_TABLE, SE
 from applications.graph.catalog import Catalog, load_catalog
 from applications.graph.diagnostics import (Diagnostic, did_you_mean, error, has_errors,
                                             sort_diagnostics)
-from applications.graph.loader import _shown, find_application, graph_path, inspect_graph_bytes
+from applications.graph.loader import (_shown, find_application, graph_path, inspect_graph_bytes,
+                                       refusal)
 from applications.graph.location import Location
 from applications.graph.model import Application, Param
 from applications.graph.reader import Draft, DraftState
@@ -54,10 +55,7 @@ def load_folder(name_or_path: str | Path, robot: str | None = None,
     """The checked application; ApplicationError with every diagnostic when there is an error."""
     _, loaded, diagnostics = inspect_folder(name_or_path, robot, catalog)
     if loaded is None:
-        errors = [d for d in diagnostics if d.is_error]
-        summary = "\n".join(str(d) for d in diagnostics)
-        raise ApplicationError(f"{len(errors)} error(s) in application '{name_or_path}':\n"
-                               f"{summary}", diagnostics)
+        raise refusal(name_or_path, diagnostics)
     return loaded
 
 

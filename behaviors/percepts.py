@@ -9,14 +9,12 @@ means *absent* (no user, stale data): a comparison with an absent value is false
 """
 from __future__ import annotations
 
-import logging
 from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cache
-from importlib.metadata import entry_points
 from typing import Any, Callable, Iterator
 
-log = logging.getLogger("interbot.percepts")
+from behaviors.plugins import load_plugins
 
 GROUP = "interbot.percepts"
 
@@ -81,17 +79,8 @@ class PerceptCatalog:
 @cache
 def percept_catalog() -> PerceptCatalog:
     """Every percept provider by entry point; one that fails to load is reported, not fatal."""
-    providers, problems = [], {}
-    for ep in sorted(entry_points(group=GROUP), key=lambda e: e.name):
-        try:
-            provider = ep.load()
-            if not isinstance(provider, PerceptProvider):
-                raise TypeError(f"{ep.value} is a {type(provider).__name__}, not a PerceptProvider")
-        except Exception as exc:   # a broken plugin disables only its own percepts
-            problems[ep.name] = f"{type(exc).__name__}: {exc}"
-            log.warning("percept plugin '%s' (%s) failed to load: %s", ep.name, ep.value, exc)
-            continue
-        providers.append(provider)
+    loaded, problems = load_plugins(GROUP, PerceptProvider, "percept")
+    providers = list(loaded.values())
     specs: dict[str, PerceptSpec] = {}
     for provider in providers:
         for item in provider.specs:

@@ -6,18 +6,15 @@ capabilities it needs; the first realization whose needs the robot meets is the 
 """
 from __future__ import annotations
 
-import logging
 from dataclasses import dataclass, field
 from functools import cache
-from importlib.metadata import entry_points
 from typing import Any, Callable
 
 import py_trees
 
-from behaviors.exceptions import BehaviorError, UnknownBehaviorError, UnsupportedBehaviorError
+from behaviors.exceptions import UnknownBehaviorError, UnsupportedBehaviorError
 from behaviors.parameters import ParameterSpec
-
-log = logging.getLogger("interbot.behaviors")
+from behaviors.plugins import load_plugins
 
 GROUP = "interbot.behaviors"
 
@@ -71,18 +68,7 @@ class BehaviorContext:
 
 @cache
 def _load() -> tuple[dict[str, BehaviorSpec], dict[str, str]]:
-    specs, problems = {}, {}
-    for ep in entry_points(group=GROUP):
-        try:
-            spec = ep.load()
-            if not isinstance(spec, BehaviorSpec):
-                raise TypeError(f"{ep.value} is a {type(spec).__name__}, not a BehaviorSpec")
-        except Exception as exc:   # a broken plugin disables only its own behavior
-            problems[ep.name] = f"{type(exc).__name__}: {exc}"
-            log.warning("behavior plugin '%s' (%s) failed to load: %s", ep.name, ep.value, exc)
-            continue
-        specs[ep.name] = spec
-    return specs, problems
+    return load_plugins(GROUP, BehaviorSpec, "behavior")
 
 
 def behavior_specs() -> dict[str, BehaviorSpec]:

@@ -139,11 +139,16 @@ def load_application(name_or_path: str | Path, robot: str | None = None,
     """The checked model; ApplicationError with every diagnostic when there is any error."""
     application, diagnostics = check_application(name_or_path, robot, catalog, declarations)
     if application is None:
-        errors = [d for d in diagnostics if d.is_error]
-        summary = "\n".join(str(d) for d in diagnostics)
-        raise ApplicationError(f"{len(errors)} error(s) in application "
-                               f"'{name_or_path}':\n{summary}", diagnostics)
+        raise refusal(name_or_path, diagnostics)
     return application
+
+
+def refusal(name_or_path: str | Path, diagnostics: list[Diagnostic]) -> ApplicationError:
+    """The error that refuses an application: how many errors, then every diagnostic."""
+    errors = [d for d in diagnostics if d.is_error]
+    summary = "\n".join(str(d) for d in diagnostics)
+    return ApplicationError(f"{len(errors)} error(s) in application '{name_or_path}':\n"
+                            f"{summary}", diagnostics)
 
 
 def build_model(draft: Draft, folder: Path, graph_file: Path) -> Application:

@@ -615,14 +615,8 @@ class CanOpenBase(Base):
 
     def wait_for_cycle(self, after: int, timeout: float) -> bool:
         """Block until more than `after` SYNC cycles were decoded (benchmarks and tests)."""
-        deadline = time.monotonic() + timeout
         with self._state_cond:
-            while self.stats["cycles"] <= after:
-                remaining = deadline - time.monotonic()
-                if remaining <= 0:
-                    return False
-                self._state_cond.wait(remaining)
-            return True
+            return self._state_cond.wait_for(lambda: self.stats["cycles"] > after, timeout)
 
     def on_bus_error(self, state: str) -> None:
         self.bus_state = state

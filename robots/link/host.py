@@ -173,23 +173,23 @@ class EmulatorHost:
     def _read_loop(self, transport) -> None:
         while not self._stop.is_set():
             data = transport.read(self.read_timeout)
-            if data is None:
-                with self._lock:
-                    if self._transport is transport:
-                        self._transport = None
-                        self.on_hangup()
-                transport.close()
+            if data is None:                  # the client hung up
+                self._drop(transport)
                 return
             if data and self._transport is transport:     # not after a take-over
                 self.receive(data)
                 ended, self._end_requested = self._end_requested, False
                 if ended and getattr(transport, "has_sessions", False):
-                    with self._lock:
-                        if self._transport is transport:
-                            self._transport = None
-                            self.on_hangup()
-                    transport.close()
+                    self._drop(transport)
                     return
+
+    def _drop(self, transport) -> None:
+        """End `transport`'s session (hang-up unless a take-over already replaced it)."""
+        with self._lock:
+            if self._transport is transport:
+                self._transport = None
+                self.on_hangup()
+        transport.close()
 
     def _send(self, data: bytes) -> None:
         transport = self._transport

@@ -445,14 +445,8 @@ class P2OSBase(Base):
 
     def wait_for_sip(self, after: int, timeout: float) -> bool:
         """Block until more than `after` SIPs were decoded (benchmarks and tests)."""
-        deadline = time.monotonic() + timeout
         with self._state_cond:
-            while self.stats["sips"] <= after:
-                remaining = deadline - time.monotonic()
-                if remaining <= 0:
-                    return False
-                self._state_cond.wait(remaining)
-            return True
+            return self._state_cond.wait_for(lambda: self.stats["sips"] > after, timeout)
 
     # -- liveness and reconnecting ------------------------------------------------------------------
     def _check_liveness(self, now: float) -> None:
