@@ -37,7 +37,8 @@ import numpy as np
 from skills.navigation.gridmap import GridMap
 
 TWO_PI = 2 * math.pi
-MAX_SHORT_SHARE = 0.5       # more beams than this cut short: the pose is wrong, not the view
+MAX_SHORT_SHARE = 0.5       # more beams than this cut short, and more than
+MIN_LONG_SHARE = 0.05       # this share long: the pose is wrong, not the view
 
 
 def wrap(angle):
@@ -287,9 +288,11 @@ class MonteCarloLocalization:
         if len(ranges) == 0:
             self._estimate()
             return
-        loglik = self._beam_log_likelihood(self.particles, beam_poses, ranges)
         self._estimate()                                     # the predicted estimate
         mapped = ~self._short(self.pose, beam_poses, ranges)
+        if not mapped.any():
+            return                  # everything in view is unmapped: the scan tells nothing
+        loglik = self._beam_log_likelihood(self.particles, beam_poses, ranges)
         per_beam = loglik[:, mapped].mean(axis=1)            # (N,) mean log likelihood per beam
         offmap = ~self._on_free(self.particles)
         per_beam[offmap] += self.outside                     # a robot cannot stand in a wall
@@ -350,31 +353,35 @@ class MonteCarloLocalization:
         beam_poses, ranges = self._usable(np.asarray(beam_poses, float), np.asarray(ranges, float))
         if len(ranges) == 0:
             return 0.0, 0.0
+        short, long = self._versus_map(self.pose, beam_poses, ranges)
+        return float(short.mean()), float(long.mean())
+
+    def _versus_map(self, pose, beam_poses, ranges) -> tuple[np.ndarray, np.ndarray]:
+        """Per beam: ends well before / well beyond the map's wall seen from `pose` (a sonar's
+        cone: before the nearest / beyond the farthest of its three rays)."""
         cone = self.model.cone
         fractions = (-1 / 3, 0.0, 1 / 3) if cone > 0.0 else (0.0,)
-        rays = [beam_poses + (0.0, 0.0, f * cone) for f in fractions]
-        seen = [expected_ranges(self.grid, self.pose, r, self.model.max_range) for r in rays]
+        seen = [expected_ranges(self.grid, pose, beam_poses + (0.0, 0.0, f * cone),
+                                self.model.max_range) for f in fractions]
         margin = 2 * self.model.fit_distance
-        short = ranges < np.min(seen, axis=0) - margin
-        long = ranges > np.max(seen, axis=0) + margin
-        return float(short.mean()), float(long.mean())
+        return ranges < np.min(seen, axis=0) - margin, ranges > np.max(seen, axis=0) + margin
 
     def _short(self, pose, beam_poses, ranges) -> np.ndarray:
         """Beams that end well before the map's wall seen from `pose`: something unmapped (a
         person, a cart) is in the way. They say nothing about the fit, unless most of the scan
-        is short: then the map is wrong where the estimate is, and every beam counts."""
-        cone = self.model.cone
-        fractions = (-1 / 3, 0.0, 1 / 3) if cone > 0.0 else (0.0,)
-        expected = np.min([expected_ranges(self.grid, pose, beam_poses + (0.0, 0.0, f * cone),
-                                           self.model.max_range) for f in fractions], axis=0)
-        short = ranges < expected - 2 * self.model.fit_distance
-        return short if short.mean() <= MAX_SHORT_SHARE else np.zeros_like(short)
+        is short and some of it long, which no obstacle makes: then the pose is wrong, and
+        every beam counts. (A cart pushed against the laser cuts most beams short, none long.)"""
+        short, long = self._versus_map(pose, beam_poses, ranges)
+        pose_wrong = short.mean() > MAX_SHORT_SHARE and long.mean() > MIN_LONG_SHARE
+        return np.zeros_like(short) if pose_wrong else short
 
     def _fit_at(self, pose, beam_poses, ranges) -> float:
         """Share of the beams whose end point from `pose` lies within fit_distance of a wall,
         among the beams not cut short by something unmapped."""
         mapped = ~self._short(pose, beam_poses, ranges)
         beam_poses, ranges = beam_poses[mapped], ranges[mapped]
+        if len(ranges) == 0:
+            return self.fit                 # nothing mapped in view: no news about the fit
         near = np.zeros(len(ranges), dtype=bool)
         fractions = (-1 / 3, 0.0, 1 / 3) if self.model.cone > 0.0 else (0.0,)
         for fraction in fractions:
@@ -414,7 +421,7 @@ class MonteCarloLocalization:
     def _resample(self) -> None:
         p, n = self.params, self.params.particles
         inject = 0.0
-        if self.w_slow:
+        if self.w_slow and self._poor_since is not None:
             inject = min(p.inject_max, max(0.0, 1.0 - self.w_fast / self.w_slow))
         if self.lost:
             inject = max(inject, p.inject_max / 2)
