@@ -17,8 +17,9 @@
 
 Finding the customer again is *gated*: only a confirmed track (the camera confirms tracks, so a
 door post the laser takes for legs never qualifies) whose position lies within a gate around the
-predicted position (growing with the time unseen at walking pace) may become the customer, and
-never a track that was seen as somebody else while the customer was in view. When two tracks
+predicted position (growing with the time unseen at walking pace) may become the customer,
+never a track that was seen as somebody else while the customer was in view, and never one born
+after the loss outside the gate of that moment (someone who came from elsewhere). When two tracks
 fit the gate and neither is clearly nearer, the robot waits rather than guesses. The simulated
 camera gives no appearance, so the gate is position and track identity only.
 
@@ -62,6 +63,7 @@ PACE_WINDOW = 0.4         # s over which the customer's walked distance gives th
 FRESH = 0.15              # s: a candidate for re-acquisition must have been seen this recently
 CONTEST_NEAR = 0.8        # m: another track this close to the customer's may swap ids with it
 UNTANGLE_REACH = 1.2      # m from where the customer should be after a contest, at most
+BIRTH_MARGIN = 0.3        # m a new track may be born outside the gate and still be the customer
 
 
 @dataclass(frozen=True)
@@ -78,8 +80,8 @@ class FollowParams:
     give_up_after: float = 30.0    # s unseen before giving up
     predict_for: float = 2.0       # s: the prediction runs on the velocity this long, then stands
     gate: float = 0.8              # m: the re-acquisition gate right after the loss ...
-    gate_growth: float = 1.0       # m/s: ... grows at walking pace ...
-    max_gate: float = 2.0          # m: ... up to this (and no further after search_after)
+    gate_growth: float = 0.6       # m/s: ... grows at a slow walking pace ...
+    max_gate: float = 6.0          # m: ... up to this
     jump: float = 1.5              # m: the target track this far off the prediction is a swap
     clearly_nearer: float = 0.5    # a candidate wins only at this fraction of the next distance
     call: str = CALL
@@ -153,6 +155,7 @@ class Following(Skill):
         self._waiting_since: float | None = None
         self._contest: _Belief | None = None          # the customer before someone came close
         self._contest_ids: set[int] = set()
+        self._first_seen: dict[int, tuple[float, float, float]] = {}   # id: (t, x, y)
 
     # -- the API for behaviors -------------------------------------------------------------
 
@@ -203,6 +206,7 @@ class Following(Skill):
             self._pose_lost(now)
             self._publish(now)
             return
+        self._note_births(now)
         track = self._find_target(now)
         if track is not None:
             self._on_seen(track, robot, now)
@@ -287,11 +291,15 @@ class Following(Skill):
                 self._face(track.x, track.y, robot, now)
                 return
             gx, gy = goal
-        error = d - p.distance
-        gain = p.speed_gain if error >= 0 else 2 * p.speed_gain     # closing in: brake harder
-        speed = self._pace(track, now) + gain * error
-        # never faster than what still stops at min_distance should the customer stop dead
+        pace = self._pace(track, now)
         brake = BRAKE * self.motion.limits.max_accel
+        # walking, keep half the stopping distance beyond the setpoint: should the customer
+        # stop dead, the robot comes to rest about as far inside it as it followed outside
+        stopping = pace * pace / (2 * brake) + LATENCY_MARGIN * pace / 0.5
+        error = d - (p.distance + stopping / 2)
+        gain = p.speed_gain if error >= 0 else 2 * p.speed_gain     # closing in: brake harder
+        speed = pace + gain * error
+        # never faster than what still stops at min_distance should the customer stop dead
         speed = min(speed, math.sqrt(2 * brake * max(d - p.min_distance - LATENCY_MARGIN, 0.0)))
         self._drive_to((gx, gy), speed, now)
 
@@ -390,10 +398,10 @@ class Following(Skill):
         p = self.params
         tracks = self.perception.believed
         predicted = self._belief.at(now, p.predict_for)
-        # the gate grows at walking pace while the prediction means something, then stops:
-        # someone near the last seen place long after the loss is as likely somebody else
-        unseen = min(max(now - self._belief.t, 0.0), p.search_after)
-        gate = min(p.gate + p.gate_growth * unseen, p.max_gate)
+        # the gate grows as far as the customer can have walked off the prediction (round a
+        # shelf end, into the next aisle); somebody else inside it is kept out by `_others`
+        # and by the rule that of two candidates one must be clearly nearer
+        gate = self._gate(now - self._belief.t)
         tracks = [t for t in tracks if self._plausible(t)]
         same = next((t for t in tracks if t.id == self.state.target), None)
         if same is not None and same.status == CONFIRMED:      # seen within lost_after (0.35 s)
@@ -404,7 +412,8 @@ class Following(Skill):
                     return same
         candidates = sorted(
             ((math.hypot(t.x - predicted[0], t.y - predicted[1]), t) for t in tracks
-             if t.status == CONFIRMED and t.last_seen >= now - FRESH and t.id not in self._others),
+             if t.status == CONFIRMED and t.last_seen >= now - FRESH and t.id not in self._others
+             and self._born_where_she_could_be(t)),
             key=lambda c: c[0])
         inside = [c for c in candidates if c[0] <= gate]
         if not inside:
@@ -412,6 +421,31 @@ class Following(Skill):
         if len(inside) > 1 and inside[0][0] > p.clearly_nearer * inside[1][0]:
             return None                  # two fit and neither is clearly the customer: wait
         return inside[0][1]
+
+    def _gate(self, unseen: float) -> float:
+        p = self.params
+        return min(p.gate + p.gate_growth * max(unseen, 0.0), p.max_gate)
+
+    def _note_births(self, now: float) -> None:
+        """Where each track was first seen: a track born far from where the customer could
+        have been is somebody else (a shopper who came from behind the robot), whatever it
+        does later."""
+        ids = set()
+        for t in self.perception.believed:
+            ids.add(t.id)
+            self._first_seen.setdefault(t.id, (now, t.x, t.y))
+        for gone in set(self._first_seen) - ids:
+            del self._first_seen[gone]
+
+    def _born_where_she_could_be(self, track) -> bool:
+        """A track first seen after the customer was last seen must have been born inside the
+        gate of that moment (she reappears where she could have walked to)."""
+        born = self._first_seen.get(track.id)
+        if born is None or born[0] <= self._belief.t:
+            return True
+        at = self._belief.at(born[0], self.params.predict_for)
+        reach = self._gate(born[0] - self._belief.t) + BIRTH_MARGIN
+        return math.hypot(born[1] - at[0], born[2] - at[1]) <= reach
 
     def _note_others(self, tracks, target: int) -> None:
         """People seen at the same time as the customer are somebody else, for good; not those
@@ -580,6 +614,7 @@ class Following(Skill):
         self._waiting_since = None
         self._contest = None
         self._contest_ids = set()
+        self._first_seen = {}
 
     def _publish(self, now: float) -> None:
         self.write("following/state", self.state, now)

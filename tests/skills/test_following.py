@@ -15,7 +15,7 @@ from skills.blackboard import Blackboard
 from skills.events import EventLog
 from skills.following import (FollowParams, Following, GAVE_UP_REASON, HIDDEN, NO_CUSTOMER,
                               SEARCHING)
-from skills.people.track import CONFIRMED, LOST, Track
+from skills.people.track import CONFIRMED, LOST, TENTATIVE, Track
 from skills.skillset import open_skills
 
 SCENARIOS = Path(__file__).parent / "scenarios"
@@ -208,3 +208,26 @@ def test_bad_parameters_name_the_field_and_range():
         following.follow(0.0, distance=9.0)
     with pytest.raises(ValueError, match="min_distance = 1.5 m is more than distance"):
         following.follow(0.0, distance=1.2, min_distance=1.5)
+
+
+def test_a_track_born_behind_the_robot_is_not_the_customer_reappearing():
+    # the customer walks on ahead and vanishes behind a shopper who overtook the robot; the
+    # shopper's track, born 1.4 m behind where she could be, must not become her however near
+    # her prediction it walks later; a track born where she could be may
+    following, perception = _follower()
+    perception.believed = (_track(1, 2.0, 0.0, 0.0, vx=0.5),)
+    following.follow(0.0, target=1)
+    following.sense(0.0)
+    perception.believed = (_track(4, 0.6, 0.0, 0.1, vx=1.0, status=TENTATIVE),)
+    following.sense(0.1)
+    for k in range(2, 26):             # the shopper walks at 1 m/s through her prediction
+        t = k * 0.1
+        perception.believed = (_track(4, 0.6 + (t - 0.1), 0.0, t, vx=1.0),)
+        following.sense(t)
+        assert following.state.lost and following.state.target == 1, t
+    perception.believed = (_track(4, 3.1, 0.0, 2.6, vx=1.0),
+                           _track(9, 3.3, 0.1, 2.6, status=TENTATIVE))
+    following.sense(2.6)
+    perception.believed = (_track(4, 3.2, 0.0, 2.7, vx=1.0), _track(9, 3.3, 0.1, 2.7))
+    following.sense(2.7)
+    assert not following.state.lost and following.state.target == 9
