@@ -20,12 +20,17 @@ class LaserScan:
 
 @dataclass(frozen=True)
 class Detection:
-    """One person candidate in the robot frame, with its position covariance (m^2)."""
+    """One person candidate in the robot frame, with its position covariance (m^2).
+
+    `appearance`: what the person looks like, where the sensor can tell (a camera: a
+    normalised colour histogram of the clothing, the same length for every detection of one
+    detector); None where it cannot (laser legs, sonar)."""
     t: float
     x: float
     y: float
     cov: tuple[tuple[float, float], tuple[float, float]]
     source: str = "camera"
+    appearance: tuple[float, ...] | None = None
 
 
 class Laser(ABC):

@@ -32,9 +32,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
+import numpy as np
+
 from skills.localization import Localization
 from skills.motion import Goal, Motion
 from skills.perception import PeoplePerception
+from skills.people import appearance
 from skills.people.track import CONFIRMED
 from skills.skill import Skill
 from skills.status import IDLE, SkillStatus, Status, failed
@@ -64,6 +67,9 @@ FRESH = 0.15              # s: a candidate for re-acquisition must have been see
 CONTEST_NEAR = 0.8        # m: another track this close to the customer's may swap ids with it
 UNTANGLE_REACH = 1.2      # m from where the customer should be after a contest, at most
 BIRTH_MARGIN = 0.3        # m a new track may be born outside the gate and still be the customer
+LOOK_WEIGHT = 0.1         # share of each new camera view of the customer in her look
+LOOK_KNOWN = 5            # views of her before her look is trusted
+MISMATCHES = 2            # fresh views in a row unlike her: her track is on somebody else
 
 
 @dataclass(frozen=True)
@@ -156,6 +162,11 @@ class Following(Skill):
         self._contest: _Belief | None = None          # the customer before someone came close
         self._contest_ids: set[int] = set()
         self._first_seen: dict[int, tuple[float, float, float]] = {}   # id: (t, x, y)
+        self._look: np.ndarray | None = None           # what the customer looks like ...
+        self._looks = 0                                # ... from this many camera views
+        self._look_t: float | None = None              # time of the newest view used
+        self._mismatches = 0
+        self._matched: _Belief | None = None           # her state at the last view like her
 
     # -- the API for behaviors -------------------------------------------------------------
 
@@ -173,6 +184,9 @@ class Following(Skill):
             self._fail(NO_CUSTOMER, why, now)
             return self.status
         self._see(track, now)
+        if track.appearance is not None:
+            self._learn(track.appearance)
+            self._look_t = track.appearance_t
         self.state = FollowState(FOLLOWING, track.id, setpoint=self.params.distance,
                                  last_seen=(track.x, track.y), predicted=(track.x, track.y))
         self.motion.followed = track.id
@@ -407,13 +421,19 @@ class Following(Skill):
         if same is not None and same.status == CONFIRMED:      # seen within lost_after (0.35 s)
             if math.hypot(same.x - predicted[0], same.y - predicted[1]) <= max(gate, p.jump):
                 same = self._untangle(same, tracks, now)
+                if same is not None and self._looks_like_someone_else(same, now):
+                    self._others.add(same.id)
+                    self._belief = self._matched or self._belief
+                    predicted = self._belief.at(now, p.predict_for)
+                    gate = self._gate(now - self._belief.t)
+                    same = None
                 if same is not None:
                     self._note_others(tracks, same.id)
                     return same
         candidates = sorted(
             ((math.hypot(t.x - predicted[0], t.y - predicted[1]), t) for t in tracks
-             if t.status == CONFIRMED and t.last_seen >= now - FRESH and t.id not in self._others
-             and self._born_where_she_could_be(t)),
+             if t.status == CONFIRMED and t.last_seen >= now - FRESH and self._may_be_her(t)
+             and (t.id not in self._others or self._seen_as_her_since_the_loss(t))),
             key=lambda c: c[0])
         inside = [c for c in candidates if c[0] <= gate]
         if not inside:
@@ -421,6 +441,48 @@ class Following(Skill):
         if len(inside) > 1 and inside[0][0] > p.clearly_nearer * inside[1][0]:
             return None                  # two fit and neither is clearly the customer: wait
         return inside[0][1]
+
+    # -- what she looks like (the camera's colour histograms, skills.people.appearance) --------
+
+    @property
+    def _look_known(self) -> bool:
+        return self._look is not None and self._looks >= LOOK_KNOWN
+
+    def _may_be_her(self, track) -> bool:
+        """Once her look is known, only a track the camera has seen looking like her; before
+        (or on a robot whose detector reports no appearance), one born where she could be."""
+        if not self._look_known:
+            return self._born_where_she_could_be(track)
+        return (track.appearance is not None
+                and appearance.distance(self._look, track.appearance) <= appearance.SAME_PERSON)
+
+    def _seen_as_her_since_the_loss(self, track) -> bool:
+        """The camera saw this track looking like her after she was lost: the tracker may
+        have handed her an id that was somebody else's before (an id is not a person)."""
+        return (self._look_known and track.appearance_t is not None
+                and track.appearance_t > self._belief.t and self._may_be_her(track))
+
+    def _looks_like_someone_else(self, track, now: float) -> bool:
+        """Learn her look from fresh camera views of her track while nobody is close to her;
+        once it is known, MISMATCHES fresh views in a row unlike her mean the track has passed
+        to somebody else (someone who crossed her close, hidden behind her until then)."""
+        fresh = (track.appearance is not None and track.appearance_t is not None
+                 and track.appearance_t >= now - FRESH and track.appearance_t != self._look_t)
+        if not fresh or self._contest is not None:
+            return False        # someone close to her: the camera's view may be theirs
+        self._look_t = track.appearance_t
+        if self._look_known and appearance.distance(self._look, track.appearance) \
+                > appearance.SAME_PERSON:
+            self._mismatches += 1
+            return self._mismatches >= MISMATCHES
+        self._mismatches = 0
+        self._matched = self._belief
+        self._learn(track.appearance)
+        return False
+
+    def _learn(self, seen) -> None:
+        self._look = appearance.blend(self._look, seen, max(LOOK_WEIGHT, 1.0 / (self._looks + 1)))
+        self._looks += 1
 
     def _gate(self, unseen: float) -> float:
         p = self.params
@@ -449,9 +511,11 @@ class Following(Skill):
 
     def _note_others(self, tracks, target: int) -> None:
         """People seen at the same time as the customer are somebody else, for good; not those
-        close to them, whose identity the tracker may just have swapped with theirs."""
+        close to them, whose identity the tracker may just have swapped with theirs, nor one
+        who looks like her (her track may be the one that passed to somebody else)."""
         self._others.update(t.id for t in tracks if t.id != target and t.status == CONFIRMED
-                            and t.id not in self._contest_ids)
+                            and t.id not in self._contest_ids
+                            and not (self._look_known and self._may_be_her(t)))
 
     def _untangle(self, target, tracks, now: float):
         """Two people passing within CONTEST_NEAR of each other can swap track ids. While
@@ -474,6 +538,8 @@ class Following(Skill):
         self._contest, self._contest_ids = None, set()
         expected = before.at(now, self.params.predict_for)
         options = [t for t in tracks if t.id in ids and t.status == CONFIRMED]
+        if self._look_known:             # she looks like herself: that settles it, if seen
+            options = [t for t in options if self._may_be_her(t)] or options
         best = min(options, key=lambda t: math.hypot(t.x - expected[0], t.y - expected[1]))
         if math.hypot(best.x - expected[0], best.y - expected[1]) > UNTANGLE_REACH:
             # none of them is where the customer should be: they are hidden; the track that
@@ -615,6 +681,9 @@ class Following(Skill):
         self._contest = None
         self._contest_ids = set()
         self._first_seen = {}
+        self._look, self._looks, self._look_t = None, 0, None
+        self._mismatches = 0
+        self._matched = None
 
     def _publish(self, now: float) -> None:
         self.write("following/state", self.state, now)

@@ -48,7 +48,8 @@ class PeoplePerception(Skill):
             return
         detections = self._detections()
         pose = (state.x, state.y, state.th)
-        world = [(*robot_to_world(d.x, d.y, d.cov, pose), d.source) for d in detections]
+        world = [(*robot_to_world(d.x, d.y, d.cov, pose), d.source, d.appearance)
+                 for d in detections]
         tracks = self.tracker.update(now, world)
         self.tracks = tuple(t for t in tracks if t.status == "confirmed")
         self.believed = tuple(t for t in tracks if t.believed)

@@ -36,7 +36,8 @@ class SimPersonDetector(PersonDetector):
 
     def detect(self) -> list[Detection]:
         t = self.world.t
-        return [Detection(t, x, y, self.cov, "camera") for x, y in self.world.detect_people()]
+        return [Detection(t, x, y, self.cov, "camera", look)
+                for x, y, look in self.world.person_detections()]
 
 
 class SimPanTilt(PanTiltHead):

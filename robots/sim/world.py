@@ -19,6 +19,7 @@ import numpy as np
 
 from robots.exceptions import FloorError, ScenarioError
 from robots.profile import RobotProfile
+from robots.sim.appearance import anyone, appearance_of, observed
 from robots.sim.body import Obstacles, UnicycleBody
 from robots.sim.floor import Floor
 from robots.sim.measures import NEAR_WALLS, Measures
@@ -81,6 +82,7 @@ class World:
         self.profile = profile
         self.scenario = scenario
         self.rng = np.random.default_rng(seed)
+        self.appearance_rng = np.random.default_rng([seed, 0xA99])   # its own stream
         self.t = 0.0
         x, y, th = self._start_pose()
         self.body = UnicycleBody(x, y, th, profile.limits, profile.radius)
@@ -94,6 +96,7 @@ class World:
             _check_places(scenario, floor)
             self.people = [SimPerson(plan, self.resolve, np.random.default_rng([seed, index]))
                            for index, plan in enumerate(scenario.people)]
+        self.appearances = {p.plan.id: appearance_of(p.plan.id) for p in self.people}
         self.screen = ScreenState()
         self.utterances: list[tuple[float, str]] = []
         self.speaking_until = 0.0
@@ -320,16 +323,21 @@ class World:
                          circles, laser.max_range)
 
     def detect_people(self) -> list[tuple[float, float]]:
-        """Noisy person positions in the robot frame: in range and field of view, not behind
-        a wall or another person's body (the line of sight to the centre is what counts; carts
-        are lower than the camera and hide nobody), each
-        missed with `miss_rate`; plus Poisson false positives in the area."""
+        """Noisy person positions in the robot frame (see `person_detections`)."""
+        return [(x, y) for x, y, _ in self.person_detections()]
+
+    def person_detections(self) -> list[tuple[float, float, tuple[float, ...]]]:
+        """What the camera sees: noisy person positions in the robot frame, each with its
+        appearance (`robots.sim.appearance`): in range and field of view, not behind a wall or
+        another person's body (the line of sight to the centre is what counts; carts are lower
+        than the camera and hide nobody), each missed with `miss_rate`; plus Poisson false
+        positives in the area."""
         spec = self.profile.people_detector
         if spec is None:
             return []
         body = self.body
         c, s = math.cos(body.th), math.sin(body.th)
-        candidates = []
+        candidates, looks = [], []
         for person in self.people:
             if not person.in_world:
                 continue
@@ -338,6 +346,7 @@ class World:
             distance = math.hypot(local_x, local_y)
             if distance <= spec.range and abs(math.atan2(local_y, local_x)) <= spec.fov / 2:
                 candidates.append((local_x, local_y, distance, math.atan2(dy, dx)))
+                looks.append(self.appearances[person.plan.id])
         found = []
         if candidates:
             table = np.array(candidates)
@@ -348,11 +357,13 @@ class World:
             seen = ((walls >= table[:, 2]) & unhidden
                     & (self.rng.random(len(table)) >= spec.miss_rate))
             noise = self.rng.normal(0.0, spec.noise, (len(table), 2))
-            found = [(float(x), float(y)) for x, y in table[seen, :2] + noise[seen]]
+            found = [(float(x), float(y), observed(looks[k], self.appearance_rng))
+                     for k, (x, y) in zip(np.flatnonzero(seen), table[seen, :2] + noise[seen])]
         for _ in range(self.rng.poisson(spec.false_rate)):
             radius = spec.range * math.sqrt(self.rng.random())
             bearing = (self.rng.random() - 0.5) * spec.fov
-            found.append((radius * math.cos(bearing), radius * math.sin(bearing)))
+            found.append((radius * math.cos(bearing), radius * math.sin(bearing),
+                          anyone(self.appearance_rng)))
         return found
 
     def ground_truth(self) -> list[tuple[str, float, float]]:

@@ -27,6 +27,10 @@ class Track:
     born: float               # time of the first detection
     confirmed_at: float | None
     last_seen: float          # time of the newest detection assigned to it
+    # what the person looked like in the newest camera detection assigned to it (a colour
+    # histogram, robots.devices.Detection.appearance) and when; None without a camera
+    appearance: tuple[float, ...] | None = None
+    appearance_t: float | None = None
 
     @property
     def speed(self) -> float:

@@ -9,6 +9,7 @@ tentative -> confirmed -> lost -> deleted. Detections must already be in the wor
 from __future__ import annotations
 
 import itertools
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -20,7 +21,9 @@ from skills.people.fusion import fuse_close_detections
 from skills.people.track import CONFIRMED, LOST, TENTATIVE, Track
 
 # x, y (m, world frame), 2x2 covariance (m^2), and optionally the source ("camera", "laser")
-WorldDetection = tuple[float, float, np.ndarray] | tuple[float, float, np.ndarray, str]
+# and the appearance (robots.devices.Detection.appearance)
+WorldDetection = (tuple[float, float, np.ndarray] | tuple[float, float, np.ndarray, str]
+                  | tuple[float, float, np.ndarray, str, tuple[float, ...] | None])
 
 
 @dataclass(frozen=True)
@@ -47,7 +50,7 @@ class _TrackState:
     """A track's filter and its life-cycle counters (internal)."""
 
     __slots__ = ("id", "kf", "hits", "confirming_hits", "born", "confirmed_at", "last_seen",
-                 "status")
+                 "status", "appearance", "appearance_t")
 
     def __init__(self, track_id: int, t: float, xy: np.ndarray, cov: np.ndarray,
                  confirming: bool, params: TrackerParams) -> None:
@@ -68,12 +71,15 @@ class _TrackState:
         self.confirmed_at: float | None = None
         self.last_seen = t
         self.status = TENTATIVE
+        self.appearance: tuple[float, ...] | None = None
+        self.appearance_t: float | None = None
 
     def snapshot(self) -> Track:
         x, y, vx, vy = self.kf.x.ravel().tolist()
         return Track(id=self.id, x=x, y=y, vx=vx, vy=vy, cov=self.kf.P[:2, :2].copy(),
                      status=self.status,
-                     born=self.born, confirmed_at=self.confirmed_at, last_seen=self.last_seen)
+                     born=self.born, confirmed_at=self.confirmed_at, last_seen=self.last_seen,
+                     appearance=self.appearance, appearance_t=self.appearance_t)
 
 
 class PeopleTracker:
@@ -103,14 +109,19 @@ class PeopleTracker:
         xy, cov, confirming = _as_arrays(detections, self.params.confirming_sources)
         cov = _with_variance_floor(cov, self.params.min_variance)
         self._predict(t)
+        seen_xy = xy
         xy, cov, confirming = fuse_close_detections(xy, cov, self.params.merge_distance,
                                                     confirming)
+        looks = _appearances(detections, seen_xy, xy, self.params.merge_distance)
         pairs, _, new_dets = self._associate(xy, cov)
         for i, j in pairs:
-            self._correct(self._tracks[i], t, xy[j], cov[j], bool(confirming[j]))
+            self._correct(self._tracks[i], t, xy[j], cov[j], bool(confirming[j]), looks[j])
         for j in new_dets:
-            self._tracks.append(_TrackState(next(self._ids), t, xy[j], cov[j],
-                                            bool(confirming[j]), self.params))
+            state = _TrackState(next(self._ids), t, xy[j], cov[j], bool(confirming[j]),
+                                self.params)
+            if looks[j] is not None:
+                state.appearance, state.appearance_t = looks[j], t
+            self._tracks.append(state)
         self._age(t)
         self._t = t
         return self.tracks()
@@ -146,7 +157,9 @@ class PeopleTracker:
         return assign(gated_cost(d2, log_det, self.params.gate))
 
     def _correct(self, state: _TrackState, t: float, xy: np.ndarray, cov: np.ndarray,
-                 confirming: bool) -> None:
+                 confirming: bool, appearance: tuple[float, ...] | None = None) -> None:
+        if appearance is not None:
+            state.appearance, state.appearance_t = appearance, t
         if self.params.model == "imm":
             imm.update(state.kf, xy.reshape(2, 1), cov)
         else:
@@ -199,6 +212,22 @@ def inverse_2x2_single(m: np.ndarray) -> np.ndarray:
     a, b, c, d = m.ravel().tolist()
     det = a * d - b * c
     return np.array([[d / det, -b / det], [-c / det, a / det]])
+
+
+def _appearances(detections: list[WorldDetection], seen_xy: np.ndarray, fused_xy: np.ndarray,
+                 merge_distance: float) -> list[tuple[float, ...] | None]:
+    """Per fused detection, the appearance of the nearest detection that carries one (the
+    camera's, when the laser saw the same person), or None."""
+    looks = [(k, d[4]) for k, d in enumerate(detections) if len(d) > 4 and d[4] is not None]
+    if not looks:
+        return [None] * len(fused_xy)
+    result: list[tuple[float, ...] | None] = []
+    for fx, fy in fused_xy:
+        k, look = min(looks, key=lambda kl: (seen_xy[kl[0], 0] - fx) ** 2
+                      + (seen_xy[kl[0], 1] - fy) ** 2)
+        near = math.hypot(seen_xy[k, 0] - fx, seen_xy[k, 1] - fy) <= merge_distance
+        result.append(tuple(look) if near else None)
+    return result
 
 
 def _as_arrays(detections: list[WorldDetection], confirming_sources: tuple[str, ...] | None
