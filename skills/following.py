@@ -69,7 +69,8 @@ UNTANGLE_REACH = 1.2      # m from where the customer should be after a contest,
 BIRTH_MARGIN = 0.3        # m a new track may be born outside the gate and still be the customer
 LOOK_WEIGHT = 0.1         # share of each new camera view of the customer in her look
 LOOK_KNOWN = 5            # views of her before her look is trusted
-MISMATCHES = 2            # fresh views in a row unlike her: her track is on somebody else
+MISMATCHES = 2            # fresh views in a row unlike her, and none like her for
+UNLIKE_FOR = 0.6          # this long (s): her track is on somebody else
 
 
 @dataclass(frozen=True)
@@ -167,6 +168,7 @@ class Following(Skill):
         self._look_t: float | None = None              # time of the newest view used
         self._mismatches = 0
         self._matched: _Belief | None = None           # her state at the last view like her
+        self._matched_t = -math.inf                    # ... and its time
 
     # -- the API for behaviors -------------------------------------------------------------
 
@@ -187,6 +189,7 @@ class Following(Skill):
         if track.appearance is not None:
             self._learn(track.appearance)
             self._look_t = track.appearance_t
+        self._matched, self._matched_t = self._belief, now
         self.state = FollowState(FOLLOWING, track.id, setpoint=self.params.distance,
                                  last_seen=(track.x, track.y), predicted=(track.x, track.y))
         self.motion.followed = track.id
@@ -370,10 +373,13 @@ class Following(Skill):
         goal = self._search_goal or predicted
         d = math.hypot(goal[0] - robot[0], goal[1] - robot[1])
         nav = self.navigation
-        arrived = nav is None or d < 0.5 or (self._goal is not None
-                                             and nav.status.status in (Status.SUCCEEDED,
-                                                                       Status.FAILED))
-        if nav is not None and nav.status.failed and self._trail:
+        # navigation's outcome counts only for this goal, not for the approach while hidden
+        # (which stops `distance` short of the prediction, out of sight round a shelf end)
+        ours = self._goal is not None and math.hypot(self._goal[0] - goal[0],
+                                                     self._goal[1] - goal[1]) <= p.goal_step
+        arrived = nav is None or d < 0.5 or (ours and nav.status.status in (Status.SUCCEEDED,
+                                                                             Status.FAILED))
+        if nav is not None and ours and nav.status.failed and self._trail:
             # the predicted place cannot be reached: search from the last place on the trail
             fallback = next((pt for pt in reversed(self._trail) if self._free(*pt)), None)
             if fallback is not None and fallback != self._search_goal:
@@ -474,9 +480,11 @@ class Following(Skill):
         if self._look_known and appearance.distance(self._look, track.appearance) \
                 > appearance.SAME_PERSON:
             self._mismatches += 1
-            return self._mismatches >= MISMATCHES
+            # two people at one spot (at one shelf) make one track whose views alternate
+            # between them: she is still there as long as some views look like her
+            return self._mismatches >= MISMATCHES and now - self._matched_t >= UNLIKE_FOR
         self._mismatches = 0
-        self._matched = self._belief
+        self._matched, self._matched_t = self._belief, now
         self._learn(track.appearance)
         return False
 
@@ -683,7 +691,7 @@ class Following(Skill):
         self._first_seen = {}
         self._look, self._looks, self._look_t = None, 0, None
         self._mismatches = 0
-        self._matched = None
+        self._matched, self._matched_t = None, -math.inf
 
     def _publish(self, now: float) -> None:
         self.write("following/state", self.state, now)
