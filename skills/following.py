@@ -66,6 +66,7 @@ PACE_WINDOW = 0.4         # s over which the customer's walked distance gives th
 FRESH = 0.15              # s: a candidate for re-acquisition must have been seen this recently
 CONTEST_NEAR = 0.8        # m: another track this close to the customer's may swap ids with it
 UNTANGLE_REACH = 1.2      # m from where the customer should be after a contest, at most
+SEARCH_AHEAD = 3.0        # m beyond the last seen place, along her trail, searched second
 BIRTH_MARGIN = 0.3        # m a new track may be born outside the gate and still be the customer
 LOOK_WEIGHT = 0.1         # share of each new camera view of the customer in her look
 LOOK_KNOWN = 5            # views of her before her look is trusted
@@ -158,6 +159,7 @@ class Following(Skill):
         self._search_heading: float | None = None
         self._trail: list[tuple[float, float]] = []   # where the customer walked, every 0.3 m
         self._search_goal: tuple[float, float] | None = None
+        self._searched_ahead = False
         self._recent: list[tuple[float, float, float]] = []    # (t, x, y) seen, newest last
         self._waiting_since: float | None = None
         self._contest: _Belief | None = None          # the customer before someone came close
@@ -260,6 +262,8 @@ class Following(Skill):
         self._lost_since = None
         self._search_heading = None
         self._search_goal = None
+        self._search_turns = 0
+        self._searched_ahead = False
         d = math.hypot(track.x - robot[0], track.y - robot[1])
         speed = self._pace(track, now)
         if self.state.phase == WAITING:     # hysteresis: the tracks' velocity noise is ~0.1 m/s
@@ -391,10 +395,31 @@ class Following(Skill):
             self._drive_to(goal, 0.4, now)
             return
         if self._search_heading is None or abs(_wrap(self._search_heading - robot[2])) < 0.15:
+            if self._search_turns >= 3 and self._search_further(goal):
+                return                  # looked all round here: on to where she was heading
             self._search_heading = _wrap(robot[2] + 2 * math.pi / 3)
             self._search_turns += 1
         self._hold(now)
         self.motion.start(Goal("turn_to", bearing=self._search_heading), now)
+
+    def _search_further(self, here) -> bool:
+        """After a full turn at the predicted place, search SEARCH_AHEAD further along the
+        direction her trail last took (she went on round a shelf end, out of sight from the
+        corner): once. True if there is such a place."""
+        if self._searched_ahead or len(self._trail) < 2:
+            return False
+        self._searched_ahead = True
+        (x0, y0), (x1, y1) = self._trail[max(0, len(self._trail) - 4)], self._trail[-1]
+        step = math.hypot(x1 - x0, y1 - y0)
+        if step < 0.2:
+            return False
+        ahead = (x1 + (x1 - x0) / step * SEARCH_AHEAD, y1 + (y1 - y0) / step * SEARCH_AHEAD)
+        goal = self._free_towards((x1, y1), ahead)
+        if goal is None or math.hypot(goal[0] - here[0], goal[1] - here[1]) < 1.0:
+            return False
+        self._search_goal, self._goal = goal, None
+        self._search_turns, self._search_heading = 0, None
+        return True
 
     # -- choosing the customer -------------------------------------------------------------
 
@@ -684,6 +709,7 @@ class Following(Skill):
         self._search_heading = None
         self._trail = []
         self._search_goal = None
+        self._searched_ahead = False
         self._recent = []
         self._waiting_since = None
         self._contest = None
