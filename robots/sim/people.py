@@ -4,6 +4,12 @@ the robot), reacting to what the robot shows and says and to where it drives.
 
 A person is a point that walks at its own speed; the sensors see it as a body circle (sonar,
 bumpers) or as two swinging leg circles (laser), see `robots.sim.world`.
+
+People do not avoid the robot, except a person with `give_way`: while walking under their own
+steam (`walk`, `leave`, the walks of `shop`) they stand while the robot is in their way, as
+shoppers do, see `SimPerson._gives_way`. Steps whose point is the robot never give way:
+`approach` and `answer` walk up to it, `follow` and `lead` keep their distance to it by their
+own rules, `make_way` is already the stepping aside; standing steps have nothing to give.
 """
 from __future__ import annotations
 
@@ -34,6 +40,9 @@ GOAL_RADIUS = 1.0        # m from a follow step's goal that counts as arrived
 MIN_TRAIL = 1.0          # m the robot must drive before a follow step without goal can end
 HOP = 1.0                # m; a follower cuts to a later breadcrumb this near, in the clear
 HOP_LOOKAHEAD = 400      # breadcrumbs (40 m of trail) searched for such a cut
+GIVE_WAY_AHEAD = 1.2     # m from the person's front (their cart's) to the robot's footprint
+GIVE_WAY_MARGIN = 0.15   # m beside the person's (or cart's) width that still counts as the lane
+GIVE_WAY_PATIENCE = 6.0  # s a person with give_way stands, then walks on regardless
 
 
 class SimPerson:
@@ -60,6 +69,8 @@ class SimPerson:
         self.pressed: list[tuple[float, str, str]] = []   # (t, prompt_id, button), for tests
         self.calls_heard = 0          # utterances while away, since last near the robot
         self._utterances_seen = 0
+        self.waiting_since: float | None = None   # giving way to the robot since (sim s)
+        self._looked = False          # the step checked for the robot in the way (give_way)
 
     @property
     def current_step(self):
@@ -84,7 +95,10 @@ class SimPerson:
             self._face_robot(world)
             return
         handler = _HANDLERS[type(step)]
+        self._looked = False
         done = handler(self, step, dt, world)
+        if not self._looked:          # not walking on their own: a later wait starts afresh
+            self.waiting_since = None
         if self.speed > 0.0:
             self.cart_heading = self.heading
         if done:
@@ -128,8 +142,11 @@ class SimPerson:
         return len(world.utterances) > self.step_state["utterances"] or self.calls_heard > 0
 
     def _walk_path(self, path: list[tuple[float, float]], index: int, travel: float,
-                   dt: float) -> int:
-        """Walk up to `travel` metres along `path[index:]`; the index of the next point."""
+                   dt: float, world: "World | None" = None) -> int:
+        """Walk up to `travel` metres along `path[index:]`; the index of the next point. With
+        `world`, a person with give_way stands instead while the robot is in their way."""
+        if world is not None and index < len(path) and self._gives_way(*path[index], world):
+            return index
         moved = 0.0
         while index < len(path) and travel - moved > 1e-12:
             tx, ty = path[index]
@@ -158,13 +175,17 @@ class SimPerson:
         if isinstance(where, str):
             self.heading = world.floor.place(where)[2]
 
-    def _walk_towards(self, tx: float, ty: float, dt: float, stop_at: float = 0.0) -> bool:
-        """Walk at the person's speed until `stop_at` from (tx, ty); True once there."""
+    def _walk_towards(self, tx: float, ty: float, dt: float, stop_at: float = 0.0,
+                      world: "World | None" = None) -> bool:
+        """Walk at the person's speed until `stop_at` from (tx, ty); True once there. With
+        `world`, a person with give_way stands instead while the robot is in their way."""
         dx, dy = tx - self.x, ty - self.y
         distance = math.hypot(dx, dy)
         remaining = distance - stop_at
         if remaining <= ARRIVED:
             return True
+        if world is not None and self._gives_way(tx, ty, world):
+            return False
         self.heading = math.atan2(dy, dx)
         travel = min(self.plan.speed * dt, remaining)
         self.x += dx / distance * travel
@@ -172,6 +193,50 @@ class SimPerson:
         self.speed = travel / dt
         self.phase = (self.phase + 2 * math.pi * travel / STRIDE) % (2 * math.pi)
         return remaining - travel <= ARRIVED
+
+    def _gives_way(self, tx: float, ty: float, world: "World") -> bool:
+        """True while a person with give_way, about to walk to (tx, ty), stands for the robot:
+        it is in their way (`_robot_in_way`) and they have stood less than `GIVE_WAY_PATIENCE`
+        (a person cannot wait forever when the robot waits for them too). They go on as soon
+        as it is out of their way; after the patience they walk on as people without give_way
+        do, until it is out of their way once. Standing looks like a pause: speed 0, legs
+        still, facing where they were going (the cart turns only while walking)."""
+        if not self.plan.give_way:
+            return False
+        self._looked = True
+        if not self._robot_in_way(tx, ty, world):
+            self.waiting_since = None
+            return False
+        if self.waiting_since is None:
+            self.waiting_since = world.t
+        if world.t - self.waiting_since >= GIVE_WAY_PATIENCE - 1e-9:
+            return False
+        if (tx, ty) != (self.x, self.y):
+            self.heading = math.atan2(ty - self.y, tx - self.x)
+        return True
+
+    def _robot_in_way(self, tx: float, ty: float, world: "World") -> bool:
+        """The robot's footprint is ahead along the way to (tx, ty), within `GIVE_WAY_AHEAD`
+        of the person's front (the cart's front when they push one) and no farther than the
+        way goes, and inside the lane: its centre nearer the line walked than the robot's
+        radius plus the person's half width (the cart's, if wider) plus `GIVE_WAY_MARGIN`."""
+        dx, dy = tx - self.x, ty - self.y
+        length = math.hypot(dx, dy)
+        if length <= 1e-9:
+            return False
+        ux, uy = dx / length, dy / length
+        body = world.body
+        rx, ry = body.x - self.x, body.y - self.y
+        along = rx * ux + ry * uy
+        across = abs(ry * ux - rx * uy)
+        if self.plan.cart:
+            front = max(CART_OFFSETS) + CART_RADIUS
+            half_width = max(BODY_RADIUS, CART_RADIUS)
+        else:
+            front, half_width = BODY_RADIUS, BODY_RADIUS
+        ahead = min(GIVE_WAY_AHEAD, length + GIVE_WAY_MARGIN)
+        return (along > 0.0 and along - body.radius - front <= ahead
+                and across < body.radius + half_width + GIVE_WAY_MARGIN)
 
     def _face_robot(self, world: "World") -> None:
         body = world.body
@@ -190,10 +255,10 @@ class SimPerson:
 def _walk(person: SimPerson, step: Walk, dt: float, world: "World") -> bool:
     state = person.step_state
     if step.route:
-        return _walk_routed(person, list(step.waypoints), dt, world)
+        return _walk_routed(person, list(step.waypoints), dt, world, give_way=True)
     waypoint = state.setdefault("waypoint", 0)
     tx, ty = person.resolve(step.waypoints[waypoint])
-    if person._walk_towards(tx, ty, dt):
+    if person._walk_towards(tx, ty, dt, world=world):
         state["waypoint"] = waypoint + 1
     return state["waypoint"] >= len(step.waypoints)
 
@@ -254,9 +319,9 @@ def _wait_for_call(person: SimPerson, step: WaitForCall, dt: float, world: "Worl
 def _leave(person: SimPerson, step: Leave, dt: float, world: "World") -> bool:
     target = step.to if step.to is not None else person.plan.exit
     if step.route:
-        there = _walk_routed(person, [target], dt, world)
+        there = _walk_routed(person, [target], dt, world, give_way=True)
     else:
-        there = person._walk_towards(*person.resolve(target), dt)
+        there = person._walk_towards(*person.resolve(target), dt, world=world)
     if there:
         person.in_world = False
         person.gone = True
@@ -264,15 +329,18 @@ def _leave(person: SimPerson, step: Leave, dt: float, world: "World") -> bool:
     return False
 
 
-def _walk_routed(person: SimPerson, targets: list[Point], dt: float, world: "World") -> bool:
-    """Walk to each target in turn around walls (`world.route`); True once at the last."""
+def _walk_routed(person: SimPerson, targets: list[Point], dt: float, world: "World",
+                 give_way: bool = False) -> bool:
+    """Walk to each target in turn around walls (`world.route`); True once at the last. With
+    `give_way` the person gives way to the robot if their plan says so."""
     state = person.step_state
     target = state.setdefault("target", 0)
     if target >= len(targets):
         return True
     if "path" not in state:
         state["path"], state["next"] = person._route_to(targets[target], world), 0
-    state["next"] = person._walk_path(state["path"], state["next"], person.plan.speed * dt, dt)
+    state["next"] = person._walk_path(state["path"], state["next"], person.plan.speed * dt, dt,
+                                      world if give_way else None)
     if state["next"] >= len(state["path"]):
         state["target"] = target + 1
         del state["path"]
@@ -407,7 +475,7 @@ def _shop(person: SimPerson, step: Shop, dt: float, world: "World") -> bool:
         return True
     place = places[state["at"]]
     if state["dwell_until"] is None:
-        if not _walk_routed(person, [place], dt, world):
+        if not _walk_routed(person, [place], dt, world, give_way=True):
             return False
         state.pop("target", None)
         person._face_place(place, world)

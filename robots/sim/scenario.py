@@ -135,6 +135,7 @@ class PersonPlan:
     steps: tuple[Step, ...]
     line: int | None = None       # of the [[person]] header, for messages
     cart: bool = False            # pushes a shopping cart ahead
+    give_way: bool = False        # stands while the robot is in their way (robots.sim.people)
 
 
 @dataclass(frozen=True)
@@ -221,7 +222,8 @@ class _Reader:
         label = f"person[{index}]"
         if not isinstance(entry, dict):
             raise self.fail(label, "must be a table")
-        self.check_keys(entry, label, {"id", "appear", "at", "speed", "exit", "steps", "cart"})
+        self.check_keys(entry, label, {"id", "appear", "at", "speed", "exit", "steps", "cart",
+                                       "give_way"})
         pid = entry.get("id")
         if not isinstance(pid, str) or not pid:
             raise self.fail(f"{label}.id", "is missing (a non-empty string)")
@@ -237,7 +239,8 @@ class _Reader:
             at=at,
             speed=self.number(entry, "speed", f"{label}.speed", 0.05, 3.0, 1.0),
             exit=self.point(entry["exit"], f"{label}.exit") if "exit" in entry else at,
-            steps=steps, line=line, cart=self.flag(entry, "cart", label))
+            steps=steps, line=line, cart=self.flag(entry, "cart", label),
+            give_way=self.flag(entry, "give_way", label))
 
     def step(self, entry, label: str) -> Step:
         if not isinstance(entry, dict):
