@@ -7,6 +7,9 @@ not avoid the robot), at 0.4 .. 0.55 m/s with 3 .. 8 s at each shelf; two or thr
 other shoppers (some with carts) come in after 15 .. 60 s and visit random shelves; one more shopper waits for the
 customer's stop in the front aisle and stands in the line of sight for an occlusion drawn from
 1 .. 3 s. The robot (PERSES by default) follows from the start with the default parameters.
+The other shoppers give way to the robot as shoppers do (`give_way`, docs/scenarios.md: they
+wait while it stands in their lane, at most 6 s); `--rude` runs them as before, walking into
+it wherever it stands in their way.
 Against the simulator's ground truth it reports:
 
 - the share of following time the distance (centre to centre) is within ±0.4 m of the 1.2 m
@@ -24,7 +27,7 @@ Against the simulator's ground truth it reports:
   cart) if its speed towards them was the larger, else the person walked into the robot while
   it turned or crept (simulated shoppers do not give way, docs/scenarios.md).
 
-    python benchmarks/bench_follow.py [--seeds N] [--robot perses|horos]
+    python benchmarks/bench_follow.py [--seeds N] [--robot perses|horos] [--rude]
 
 Prints the load average beside the figures: the machine is shared.
 """
@@ -62,7 +65,7 @@ def point(p) -> str:
     return f'"{p}"' if isinstance(p, str) else f"[{p[0]}, {p[1]}]"
 
 
-def scenario(seed: int) -> tuple[str, float]:
+def scenario(seed: int, give_way: bool = True) -> tuple[str, float]:
     """The scenario text for `seed` and its scripted occlusion (s)."""
     rng = np.random.default_rng(seed)
     route = ROUTES[seed % len(ROUTES)]
@@ -103,6 +106,7 @@ appear = {rng.uniform(15.0, 60.0):.1f}
 at = "entrance"
 speed = {rng.uniform(0.6, 1.0):.2f}
 cart = {cart}
+give_way = {"true" if give_way else "false"}
 steps = [ {{ shop = "shelf_", count = 4, dwell = [3.0, 10.0] }}, {{ leave = "street", route = true }} ]
 """
     return text, occlusion
@@ -161,8 +165,8 @@ def _robot_closed_in(contact, world, before: dict, dt: float = 0.1) -> bool:
     return robot_closing > 0.02 and robot_closing >= person_closing
 
 
-def run(seed: int, robot: str, folder: Path) -> Result:
-    text, occlusion = scenario(seed)
+def run(seed: int, robot: str, folder: Path, give_way: bool = True) -> Result:
+    text, occlusion = scenario(seed, give_way)
     path = folder / f"bench_follow_{seed}.toml"
     path.write_text(text, encoding="utf-8")
     skills = open_skills(robot, scenario=path, fast=True, seed=seed)
@@ -249,12 +253,14 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=10)
     parser.add_argument("--robot", default="perses")
+    parser.add_argument("--rude", action="store_true",
+                        help="the other shoppers do not give way to the robot")
     options = parser.parse_args()
     start = time.perf_counter()
     results = []
     with tempfile.TemporaryDirectory() as folder:
         for seed in range(options.seeds):
-            r = run(seed, options.robot, Path(folder))
+            r = run(seed, options.robot, Path(folder), give_way=not options.rude)
             results.append(r)
             print(f"seed {seed:2d}: in band {r.in_band / max(r.ticks, 1):6.1%} "
                   f"(±0.3 m {r.in_tight_band / max(r.ticks, 1):6.1%}), losses "
@@ -268,7 +274,9 @@ def main() -> None:
     losses = [d for r in results for _, d in r.losses]
     found = sum(1 for d in losses if d is not None and d <= 5.0)
     occlusions = [r.occlusion_found for r in results if r.occlusion_found is not None]
-    print(f"\n{options.robot}, {options.seeds} seeds, {minutes:.1f} min of following "
+    print(f"\n{options.robot}, {options.seeds} seeds"
+          f"{', shoppers who do not give way' if options.rude else ''}, "
+          f"{minutes:.1f} min of following "
           f"({time.perf_counter() - start:.0f} s wall), load average "
           f"{' '.join(f'{v:.2f}' for v in os.getloadavg())}")
     print(f"  distance within ±0.4 m of {SETPOINT} m: "

@@ -258,6 +258,7 @@ class Following(Skill):
     def _on_seen(self, track, robot, now: float) -> None:
         p = self.params
         reacquired = self.state.lost
+        self._others.discard(track.id)     # taken back by her look: whatever it was, it is her
         self._see(track, now)
         self._lost_since = None
         self._search_heading = None
@@ -448,7 +449,8 @@ class Following(Skill):
         # and by the rule that of two candidates one must be clearly nearer
         gate = self._gate(now - self._belief.t)
         tracks = [t for t in tracks if self._plausible(t)]
-        same = next((t for t in tracks if t.id == self.state.target), None)
+        same = next((t for t in tracks if t.id == self.state.target
+                     and t.id not in self._others), None)
         if same is not None and same.status == CONFIRMED:      # seen within lost_after (0.35 s)
             if math.hypot(same.x - predicted[0], same.y - predicted[1]) <= max(gate, p.jump):
                 same = self._untangle(same, tracks, now)

@@ -239,3 +239,38 @@ def test_the_robot_bumping_a_cart_is_a_contact_with_its_shopper():
     contact, = world.measures.contacts
     assert (contact.kind, contact.who, contact.robot_moving) == ("person", "s", True)
     assert math.hypot(world.body.x - 14.0, world.body.y - 3.9) > 0.2 + PERSES.radius + 0.05
+
+
+def test_the_camera_reports_each_persons_own_look_with_noise():
+    from robots.sim.appearance import BINS, appearance_of
+    from skills.people.appearance import SAME_PERSON, distance
+    robot = [14.0, 4.75, 0.0]
+    people = [{"id": "c", "at": [17.0, 4.75]}, {"id": "x", "at": [16.0, 3.9]}]
+    # two people who dress differently (as most pairs do; some pairs look alike, as "c" and
+    # "s" do at 0.23)
+    assert distance(appearance_of("c"), appearance_of("x")) > 0.4
+    world = store_world(people, robot=robot, profile=exact(PERSES))
+    world.step(0.05)
+    looks = {}
+    for _ in range(50):
+        for x, y, look in world.person_detections():
+            who = "c" if x > 2.5 else "x"
+            looks.setdefault(who, []).append(look)
+    assert {len(v) for v in looks.values()} == {50}
+    assert all(len(look) == BINS and sum(look) == pytest.approx(1.0) for look in looks["c"])
+    assert len(set(looks["c"])) == 50                          # every view has its own noise
+    own = [distance(look, appearance_of("c")) for look in looks["c"]]
+    other = [distance(look, appearance_of("c")) for look in looks["x"]]
+    assert max(own) <= SAME_PERSON < min(other)
+    assert np.allclose(appearance_of("c"), store_world(people, robot=robot).appearances["c"])
+
+
+def test_appearance_draws_no_number_from_the_worlds_other_random_streams():
+    people = [{"id": "c", "at": [17.0, 4.75]}]
+    a = store_world(people, robot=[14.0, 4.75, 0.0], seed=3)
+    b = store_world(people, robot=[14.0, 4.75, 0.0], seed=3)
+    for _ in range(20):
+        a.step(0.1), b.step(0.1)
+        a.person_detections()          # views with appearance ...
+        b.detect_people()              # ... or positions only: the same positions follow
+    assert [(x, y) for x, y, _ in a.person_detections()] == b.detect_people()

@@ -5,7 +5,7 @@ other people after a loss)."""
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -13,8 +13,8 @@ import pytest
 
 from skills.blackboard import Blackboard
 from skills.events import EventLog
-from skills.following import (FollowParams, Following, GAVE_UP_REASON, HIDDEN, NO_CUSTOMER,
-                              SEARCHING)
+from skills.following import (FOLLOWING, FollowParams, Following, GAVE_UP_REASON, HIDDEN,
+                              NO_CUSTOMER, SEARCHING)
 from skills.people.track import CONFIRMED, LOST, TENTATIVE, Track
 from skills.skillset import open_skills
 
@@ -231,3 +231,55 @@ def test_a_track_born_behind_the_robot_is_not_the_customer_reappearing():
     perception.believed = (_track(4, 3.2, 0.0, 2.7, vx=1.0), _track(9, 3.3, 0.1, 2.7))
     following.sense(2.7)
     assert not following.state.lost and following.state.target == 9
+
+
+RED = (0.55, 0.15, 0.1, 0.1, 0.05, 0.05)
+BLUE = (0.05, 0.05, 0.1, 0.1, 0.15, 0.55)
+
+
+def _seen(tid, x, y, t, look, vx=0.0):
+    return replace(_track(tid, x, y, t, vx=vx), appearance=look, appearance_t=t)
+
+
+def _learn_her(following, perception, until=1.0):
+    """Follow track 1 (in red) walking along x for `until` s; returns the next time."""
+    perception.believed = (_seen(1, 2.0, 0.0, 0.0, RED, vx=0.5),)
+    following.follow(0.0, target=1)
+    k = 0
+    while k * 0.1 <= until + 1e-9:
+        t = k * 0.1
+        perception.believed = (_seen(1, 2.0 + 0.5 * t, 0.0, t, RED, vx=0.5),)
+        following.sense(t)
+        k += 1
+    return k * 0.1
+
+
+def test_her_track_passing_to_someone_in_blue_is_dropped_and_she_is_taken_back_by_her_look():
+    following, perception = _follower()
+    t = _learn_her(following, perception)
+    assert following.state.phase == FOLLOWING and following._look_known
+    # a man in blue, hidden behind her until now, crosses her close: her track slides onto him
+    while not following.state.lost:
+        perception.believed = (_seen(1, 2.5 - 0.5 * (t - 1.0), 0.0, t, BLUE, vx=-0.5),)
+        following.sense(t)
+        t += 0.1
+        assert t < 3.0, "the track in blue was still taken for her"
+    assert 1 in following._others
+    # a track in blue near her prediction is not her; one in red is
+    perception.believed = (_seen(7, 3.2, 0.0, t, BLUE),)
+    following.sense(t)
+    assert following.state.lost
+    perception.believed = (_seen(7, 3.2, 0.0, t + 0.1, BLUE), _seen(8, 3.4, 0.2, t + 0.1, RED))
+    following.sense(t + 0.1)
+    assert not following.state.lost and following.state.target == 8
+
+
+def test_two_people_at_one_spot_whose_views_alternate_do_not_lose_her():
+    following, perception = _follower()
+    t = _learn_her(following, perception)
+    for k in range(30):                 # she and a man in blue at one shelf: one track
+        look = BLUE if k % 2 else RED
+        perception.believed = (_seen(1, 2.5, 0.0, t, look),)
+        following.sense(t)
+        assert not following.state.lost and following.state.target == 1
+        t += 0.1

@@ -242,3 +242,17 @@ def test_noise_free_detections_are_tracked_and_broken_ones_refused():
     after = tracker.tracks()                                 # the bad frames changed nothing
     assert [(a.x, a.vx, a.cov.tolist()) for a in after] == [
         (b.x, b.vx, b.cov.tolist()) for b in before]
+
+
+def test_a_track_carries_the_newest_camera_view_of_the_person():
+    tracker = PeopleTracker()
+    red, blue = (0.7, 0.1, 0.1, 0.1), (0.1, 0.1, 0.1, 0.7)
+    tracker.update(0.0, [(1.0, 0.0, R, "camera", red)])
+    (track,) = tracker.update(0.1, [(1.0, 0.0, R, "laser", None), (1.05, 0.0, R, "camera", red)])
+    assert track.appearance == red and track.appearance_t == 0.1     # fused with the legs
+    (track,) = tracker.update(0.2, [(1.0, 0.0, R, "laser")])
+    assert track.appearance == red and track.appearance_t == 0.1     # legs tell no look
+    (track,) = tracker.update(0.3, [(1.0, 0.0, R, "camera", blue)])
+    assert track.appearance == blue and track.appearance_t == 0.3
+    (other,) = PeopleTracker().update(0.0, [(1.0, 0.0, R)])
+    assert other.appearance is None and other.appearance_t is None
