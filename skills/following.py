@@ -415,7 +415,8 @@ class Following(Skill):
         if step < 0.2:
             return False
         ahead = (x1 + (x1 - x0) / step * SEARCH_AHEAD, y1 + (y1 - y0) / step * SEARCH_AHEAD)
-        goal = self._free_towards((x1, y1), ahead)
+        # where the robot fits: near that point (she walked close along a shelf), else short of it
+        goal = self._nearest_free(*ahead) or self._free_towards((x1, y1), ahead)
         if goal is None or math.hypot(goal[0] - here[0], goal[1] - here[1]) < 1.0:
             return False
         self._search_goal, self._goal = goal, None
