@@ -66,6 +66,9 @@ PACE_WINDOW = 0.4         # s over which the customer's walked distance gives th
 FRESH = 0.15              # s: a candidate for re-acquisition must have been seen this recently
 CONTEST_NEAR = 0.8        # m: another track this close to the customer's may swap ids with it
 UNTANGLE_REACH = 1.2      # m from where the customer should be after a contest, at most
+USUAL_PACE = 0.5          # m/s a customer walks at, until her own pace is known ...
+PACE_LEARNING = 0.05      # ... from a running average of her pace while walking
+CREEP = 0.2               # m/s at most, closing in on a customer who stands
 SEARCH_AHEAD = 3.0        # m beyond the last seen place, along her trail, searched second
 BIRTH_MARGIN = 0.3        # m a new track may be born outside the gate and still be the customer
 LOOK_WEIGHT = 0.1         # share of each new camera view of the customer in her look
@@ -165,6 +168,7 @@ class Following(Skill):
         self._contest: _Belief | None = None          # the customer before someone came close
         self._contest_ids: set[int] = set()
         self._first_seen: dict[int, tuple[float, float, float]] = {}   # id: (t, x, y)
+        self._usual_pace = USUAL_PACE
         self._look: np.ndarray | None = None           # what the customer looks like ...
         self._looks = 0                                # ... from this many camera views
         self._look_t: float | None = None              # time of the newest view used
@@ -274,9 +278,11 @@ class Following(Skill):
             stay = d <= p.distance + 0.15 and (speed < p.standing or _approaching(track, robot))
         if d < p.min_distance or stay:
             phase = WAITING
-            self._face(track.x, track.y, robot, now)
+            self._wait_near(track, robot, d, speed, now)
         else:
             phase = FOLLOWING
+            if speed >= p.standing:
+                self._usual_pace += PACE_LEARNING * (speed - self._usual_pace)
             self._drive_behind(track, robot, d, now)
         self.motion.followed = track.id
         if self.navigation is not None:
@@ -317,13 +323,32 @@ class Following(Skill):
         brake = BRAKE * self.motion.limits.max_accel
         # walking, keep half the stopping distance beyond the setpoint: should the customer
         # stop dead, the robot comes to rest about as far inside it as it followed outside
-        stopping = pace * pace / (2 * brake) + LATENCY_MARGIN * pace / 0.5
-        error = d - (p.distance + stopping / 2)
+        error = d - (p.distance + self._stopping_distance(pace) / 2)
         gain = p.speed_gain if error >= 0 else 2 * p.speed_gain     # closing in: brake harder
         speed = pace + gain * error
         # never faster than what still stops at min_distance should the customer stop dead
         speed = min(speed, math.sqrt(2 * brake * max(d - p.min_distance - LATENCY_MARGIN, 0.0)))
         self._drive_to((gx, gy), speed, now)
+
+    def _wait_near(self, track, robot, d: float, pace: float, now: float) -> None:
+        """She stands: face her, and close in slowly to half the stopping distance at her
+        usual pace inside the setpoint (1.02 m for 1.2 m at 0.5 m/s). When she walks off, the
+        robot needs about a second to reach her pace and falls that much behind: waiting at
+        the setpoint it would trail her 0.4 m beyond it for several seconds; from here the lag
+        ends about as far outside as it began inside. Never while she comes closer."""
+        p = self.params
+        near = max(p.distance - self._stopping_distance(self._usual_pace) / 2,
+                   p.min_distance + 0.1)
+        if d > near + 0.1 and pace < p.standing and not _approaching(track, robot):
+            self._drive_to((track.x, track.y), min(CREEP, p.speed_gain * (d - near)), now)
+        else:
+            self._face(track.x, track.y, robot, now)
+
+    def _stopping_distance(self, pace: float) -> float:
+        """m the robot needs to stop from `pace` (braking at BRAKE of max_accel, plus what it
+        covers before the stop takes effect)."""
+        brake = BRAKE * self.motion.limits.max_accel
+        return pace * pace / (2 * brake) + LATENCY_MARGIN * pace / 0.5
 
     # -- unseen ----------------------------------------------------------------------------
 
@@ -369,7 +394,8 @@ class Following(Skill):
         self._drive_to(goal, self._belief.speed + p.speed_gain * (d - p.distance), now)
 
     def _search(self, predicted, robot, now: float) -> None:
-        """Drive to the predicted place; there, turn round in thirds; call out now and then."""
+        """Drive to within `distance` of the predicted place; there, turn round in thirds; call
+        out now and then."""
         p = self.params
         if self.speech is not None and now - self._last_call >= p.call_every:
             self._last_call = now
@@ -382,8 +408,9 @@ class Following(Skill):
         # (which stops `distance` short of the prediction, out of sight round a shelf end)
         ours = self._goal is not None and math.hypot(self._goal[0] - goal[0],
                                                      self._goal[1] - goal[1]) <= p.goal_step
-        arrived = nav is None or d < 0.5 or (ours and nav.status.status in (Status.SUCCEEDED,
-                                                                             Status.FAILED))
+        # within `distance` of the place it can see it, and she may be standing right there
+        arrived = nav is None or d < p.distance or (ours and nav.status.status in (
+            Status.SUCCEEDED, Status.FAILED))
         if nav is not None and ours and nav.status.failed and self._trail:
             # the predicted place cannot be reached: search from the last place on the trail
             fallback = next((pt for pt in reversed(self._trail) if self._free(*pt)), None)
@@ -718,6 +745,7 @@ class Following(Skill):
         self._contest = None
         self._contest_ids = set()
         self._first_seen = {}
+        self._usual_pace = USUAL_PACE
         self._look, self._looks, self._look_t = None, 0, None
         self._mismatches = 0
         self._matched, self._matched_t = None, -math.inf
