@@ -27,7 +27,7 @@ Against the simulator's ground truth it reports:
   cart) if its speed towards them was the larger, else the person walked into the robot while
   it turned or crept (simulated shoppers do not give way, docs/scenarios.md).
 
-    python benchmarks/bench_follow.py [--seeds N] [--robot perses|horos] [--rude]
+    python benchmarks/bench_follow.py [--seeds N] [--first K] [--robot perses|horos] [--rude]
 
 Prints the load average beside the figures: the machine is shared.
 """
@@ -252,6 +252,7 @@ def run(seed: int, robot: str, folder: Path, give_way: bool = True) -> Result:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=10)
+    parser.add_argument("--first", type=int, default=0, help="the first seed (then --seeds)")
     parser.add_argument("--robot", default="perses")
     parser.add_argument("--rude", action="store_true",
                         help="the other shoppers do not give way to the robot")
@@ -259,7 +260,7 @@ def main() -> None:
     start = time.perf_counter()
     results = []
     with tempfile.TemporaryDirectory() as folder:
-        for seed in range(options.seeds):
+        for seed in range(options.first, options.first + options.seeds):
             r = run(seed, options.robot, Path(folder), give_way=not options.rude)
             results.append(r)
             print(f"seed {seed:2d}: in band {r.in_band / max(r.ticks, 1):6.1%} "
@@ -274,7 +275,7 @@ def main() -> None:
     losses = [d for r in results for _, d in r.losses]
     found = sum(1 for d in losses if d is not None and d <= 5.0)
     occlusions = [r.occlusion_found for r in results if r.occlusion_found is not None]
-    print(f"\n{options.robot}, {options.seeds} seeds"
+    print(f"\n{options.robot}, {options.seeds} seeds from {options.first}"
           f"{', shoppers who do not give way' if options.rude else ''}, "
           f"{minutes:.1f} min of following "
           f"({time.perf_counter() - start:.0f} s wall), load average "

@@ -60,6 +60,8 @@ SCHEMA: dict[str, KeySpec] = {spec.key: spec for spec in (
          "last range per sonar index; inf when no echo"),
     _key("obstacles/front", "float", "m", "obstacles",
          "free distance ahead of the body (sonar and laser), inf when clear"),
+    _key("obstacles/rear", "float", "m", "obstacles",
+         "free distance behind the body (rear sonars), inf when clear, 0 without rear sonars"),
     _key("people/tracks", "tuple[Track, ...]", "m, m/s (world frame)", "perception",
          "confirmed people tracks"),
     _key("people/user", "Track | None", "m, m/s (world frame)", "perception",

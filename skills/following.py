@@ -242,7 +242,7 @@ class Following(Skill):
         nobody for the customer; the give-up clock runs on."""
         self._hold(now)
         goal = self.motion.goal
-        if goal is not None and goal.kind == "turn_to":
+        if goal is not None and goal.kind in ("turn_to", "back_off"):
             self.motion.cancel(now)
         if self._lost_since is None:
             self._lost_since = now
@@ -335,12 +335,20 @@ class Following(Skill):
         usual pace inside the setpoint (1.02 m for 1.2 m at 0.5 m/s). When she walks off, the
         robot needs about a second to reach her pace and falls that much behind: waiting at
         the setpoint it would trail her 0.4 m beyond it for several seconds; from here the lag
-        ends about as far outside as it began inside. Never while she comes closer."""
+        ends about as far outside as it began inside. Never while she comes closer; when
+        the robot is well inside that (after a search), it backs off to it."""
         p = self.params
         near = max(p.distance - self._stopping_distance(self._usual_pace) / 2,
                    p.min_distance + 0.1)
         if d > near + 0.1 and pace < p.standing and not _approaching(track, robot):
             self._drive_to((track.x, track.y), min(CREEP, p.speed_gain * (d - near)), now)
+        elif d < near - 0.15 and pace < p.standing:
+            # too close (a search that ended next to her): back off, facing her, where the
+            # robot can see behind it (the safety arbiter stops it otherwise)
+            self._hold(now)
+            self.motion.start(Goal("back_off", bearing=math.atan2(track.y - robot[1],
+                                                                  track.x - robot[0]),
+                                   speed=min(CREEP / 2, p.speed_gain * (near - d))), now)
         else:
             self._face(track.x, track.y, robot, now)
 
@@ -715,7 +723,7 @@ class Following(Skill):
         if stop:
             self._hold(now)
             goal = self.motion.goal
-            if goal is not None and goal.kind in ("turn_to", "navigate"):
+            if goal is not None and goal.kind in ("turn_to", "navigate", "back_off"):
                 self.motion.cancel(now)
         self.motion.followed = None
         if self.navigation is not None:

@@ -28,9 +28,11 @@ AT_DISTANCE = 0.1          # m
 
 @dataclass(frozen=True)
 class Goal:
-    kind: str                 # "face_user", "keep_distance", "turn_to", "navigate"
+    kind: str                 # "face_user", "keep_distance", "turn_to", "navigate", "back_off"
     distance: float = 1.0     # keep_distance: wanted distance to the user, m
-    bearing: float = 0.0      # turn_to: world heading, rad
+    bearing: float = 0.0      # turn_to, back_off: world heading to face, rad
+    speed: float = 0.0        # back_off: m/s backwards (the arbiter stops it before anything
+                              # behind, and on a robot with no sensor behind)
 
 
 def wrap(angle: float) -> float:
@@ -66,7 +68,8 @@ class Motion(Skill):
         v, w = self._wanted(now)
         link = self.blackboard.value("robot/link", False)
         free = self.blackboard.value("obstacles/front", math.inf)
-        v, w, reason = arbitrate(v, w, link_fresh=link, free_ahead=free,
+        behind = self.blackboard.value("obstacles/rear", 0.0)      # unknown: not free
+        v, w, reason = arbitrate(v, w, link_fresh=link, free_ahead=free, free_behind=behind,
                                  nearest_person=self._nearest_person(), limits=self.limits)
         self.base.command(v, w)
         self.write("motion/command", (v, w), now)
@@ -86,6 +89,9 @@ class Motion(Skill):
             return self.navigator.velocity(now) if self.navigator is not None else (0.0, 0.0)
         if goal.kind == "turn_to":
             return 0.0, self._turn(goal.bearing - state.th, now, done_when_aligned=True)
+        if goal.kind == "back_off":
+            return -abs(goal.speed), self._turn(goal.bearing - state.th, now,
+                                                done_when_aligned=False)
         user = self.perception.user
         if user is None:
             self.set_status(failed("no user to face"), now)

@@ -1,7 +1,8 @@
 """The safety arbiter: the last word on every motion command before it reaches the base.
 
-It refuses to move on stale or missing base data, stops forward motion before an obstacle,
-and caps speed near people. It only ever reduces a command, never adds motion.
+It refuses to move on stale or missing base data, stops forward motion before an obstacle
+ahead and backward motion before one behind (or where no sensor looks), and caps speed near
+people. It only ever reduces a command, never adds motion.
 """
 from __future__ import annotations
 
@@ -9,10 +10,11 @@ import math
 
 from robots.profile import Limits
 
-STOP_DISTANCE = 0.30        # m of free space ahead below which forward motion stops
+STOP_DISTANCE = 0.30        # m of free space ahead (behind) below which forward (backward)
+                            # motion stops
 
 
-def arbitrate(v: float, w: float, *, link_fresh: bool, free_ahead: float,
+def arbitrate(v: float, w: float, *, link_fresh: bool, free_ahead: float, free_behind: float,
               nearest_person: float, limits: Limits) -> tuple[float, float, str]:
     """Return the safe (v, w) and the reason it was reduced ('' when unchanged)."""
     if not (math.isfinite(v) and math.isfinite(w)):
@@ -22,6 +24,8 @@ def arbitrate(v: float, w: float, *, link_fresh: bool, free_ahead: float,
     reason = ""
     if v > 0 and free_ahead < STOP_DISTANCE:
         v, reason = 0.0, f"obstacle {free_ahead:.2f} m ahead"
+    if v < 0 and free_behind < STOP_DISTANCE:
+        v, reason = 0.0, f"obstacle {free_behind:.2f} m behind (or no sensor there)"
     if nearest_person < limits.near_people_distance and abs(v) > limits.max_speed_near_people:
         v = math.copysign(limits.max_speed_near_people, v)
         reason = reason or f"person within {limits.near_people_distance} m"

@@ -6,8 +6,9 @@ from skills.safety import STOP_DISTANCE, arbitrate
 LIMITS = load_profile("horos").limits
 
 
-def call(v, w, link=True, free=math.inf, person=math.inf):
-    return arbitrate(v, w, link_fresh=link, free_ahead=free, nearest_person=person, limits=LIMITS)
+def call(v, w, link=True, free=math.inf, person=math.inf, behind=math.inf):
+    return arbitrate(v, w, link_fresh=link, free_ahead=free, free_behind=behind,
+                     nearest_person=person, limits=LIMITS)
 
 
 def test_a_safe_command_passes_unchanged():
@@ -28,6 +29,14 @@ def test_obstacle_ahead_stops_forward_motion_but_not_turning_or_backing():
     v, w, why = call(0.3, 0.2, free=STOP_DISTANCE / 2)
     assert v == 0.0 and w == 0.2 and "obstacle" in why
     assert call(-0.1, 0.0, free=0.0)[0] == -0.1
+
+
+def test_obstacle_behind_or_no_sensor_there_stops_backing_but_not_driving_forward():
+    v, w, why = call(-0.1, 0.2, behind=STOP_DISTANCE / 2)
+    assert v == 0.0 and w == 0.2 and "behind" in why
+    assert call(-0.1, 0.0, behind=0.0)[0] == 0.0          # a robot that cannot see behind
+    assert call(0.2, 0.0, behind=0.0)[0] == 0.2
+    assert call(-0.1, 0.0, behind=1.0)[0] == -0.1
 
 
 def test_speed_is_capped_near_people_and_by_the_profile():
