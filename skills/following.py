@@ -332,7 +332,7 @@ class Following(Skill):
 
     def _wait_near(self, track, robot, d: float, pace: float, now: float) -> None:
         """She stands: face her, and close in slowly to half the stopping distance at her
-        usual pace inside the setpoint (1.02 m for 1.2 m at 0.5 m/s). When she walks off, the
+        usual pace inside the setpoint (0.99 m for 1.2 m at 0.5 m/s). When she walks off, the
         robot needs about a second to reach her pace and falls that much behind: waiting at
         the setpoint it would trail her 0.4 m beyond it for several seconds; from here the lag
         ends about as far outside as it began inside. Never while she comes closer; when

@@ -14,7 +14,7 @@ import pytest
 from skills.blackboard import Blackboard
 from skills.events import EventLog
 from skills.following import (FOLLOWING, FollowParams, Following, GAVE_UP_REASON, HIDDEN,
-                              NO_CUSTOMER, SEARCHING)
+                              NO_CUSTOMER, SEARCHING, WAITING)
 from skills.people.track import CONFIRMED, LOST, TENTATIVE, Track
 from skills.skillset import open_skills
 
@@ -283,3 +283,17 @@ def test_two_people_at_one_spot_whose_views_alternate_do_not_lose_her():
         following.sense(t)
         assert not following.state.lost and following.state.target == 1
         t += 0.1
+
+
+def test_standing_close_it_backs_off_facing_her_and_far_it_only_faces_her():
+    following, perception = _follower()
+    perception.believed = (_track(1, 0.0, 0.8, 0.0),)        # she stands 0.8 m to the left
+    following.follow(0.0, target=1)
+    following.sense(0.0)
+    goal = following.motion.goal
+    assert following.state.phase == WAITING
+    assert goal.kind == "back_off" and goal.speed > 0.0
+    assert goal.bearing == pytest.approx(math.pi / 2)
+    perception.believed = (_track(1, 0.0, 1.0, 0.1),)        # within the waiting distance
+    following.sense(0.1)
+    assert following.motion.goal.kind == "turn_to"

@@ -85,3 +85,28 @@ def test_without_sonar_over_the_p2os_emulator_the_laser_alone_sees_ahead(tmp_pat
     # is turned, and its end points lie on the map's walls
     assert front == pytest.approx(1.71, abs=0.05)
     assert len(points) > 50 and np.mean(clearance < 0.1) > 0.95
+
+
+class WithSonar:
+    """A base state with one reading per sonar of the profile."""
+    def __init__(self, ranges) -> None:
+        self.state = type("State", (), {"sonar": tuple(ranges)})()
+
+
+def test_the_rear_sonars_give_the_free_space_behind_and_none_means_none(tmp_path):
+    profile = load_profile("horos")
+    poses = profile.sonar.poses
+    behind = np.cos(poses[:, 2]) < -0.9                 # the sonars looking straight back
+    ranges = np.full(len(poses), np.inf)
+    ranges[behind] = 0.8                                # a wall 0.8 m behind those sonars
+    blackboard = Blackboard(profile.name)
+    sensing = ObstacleSensing(blackboard, EventLog(), profile, WithSonar(ranges), None)
+    sensing.sense(0.0)
+    ends_x = poses[behind, 0] + 0.8 * np.cos(poses[behind, 2])   # the echoes' points
+    expected = min(-ends_x) - sensing.front
+    assert blackboard.value("obstacles/rear") == pytest.approx(expected)
+    assert blackboard.value("obstacles/front") == math.inf
+    blind = load_profile(profile_variant(tmp_path, sonar=False))
+    blackboard = Blackboard(blind.name)
+    ObstacleSensing(blackboard, EventLog(), blind, Standing(), None).sense(0.0)
+    assert blackboard.value("obstacles/rear") == 0.0     # cannot see behind: not free
