@@ -3,25 +3,30 @@
 `follow(target, now)` picks the customer (a track id, else the user) and from then on, each tick:
 
 - **following**: the customer is seen; the robot drives (through the navigation skill, so
-  around shelves and other shoppers) to a point `distance` behind the customer on the line from
-  the robot, led by the customer's velocity so it does not trail; at a pace that matches the
-  customer's plus a correction for the distance error. Never closer than `min_distance`.
-- **waiting**: the customer stands (or comes closer) within reach: the robot stops and turns to
-  face them.
+  around shelves and other shoppers) towards the customer, led by their velocity so it does not
+  trail, at a pace that matches theirs plus a correction for the distance error; walking, it
+  keeps half its stopping distance beyond `distance`. Never closer than `min_distance`.
+- **waiting**: the customer stands (or comes closer) within reach: the robot faces them and
+  closes in slowly to half its stopping distance inside `distance` (backing off to it, where it
+  can see behind, when a search left it closer).
 - **hidden**: the customer's track is not seen (another shopper, a cart, a shelf end between
   them). The robot keeps going towards where the customer's Kalman state predicts them.
-- **searching**: hidden for `search_after` s: the robot drives to the last place the customer
-  was seen (moved on by the prediction), turns round there, and calls out every `call_every` s.
+- **searching**: hidden for `search_after` s: the robot drives to within `distance` of the
+  predicted place, turns round there, then once more 3 m on along her trail, and calls out
+  every `call_every` s.
 - **gave up**: not found for `give_up_after` s: the skill fails with a reason saying where it
   last saw them and for how long it searched.
 
 Finding the customer again is *gated*: only a confirmed track (the camera confirms tracks, so a
 door post the laser takes for legs never qualifies) whose position lies within a gate around the
 predicted position (growing with the time unseen at walking pace) may become the customer,
-never a track that was seen as somebody else while the customer was in view, and never one born
-after the loss outside the gate of that moment (someone who came from elsewhere). When two tracks
-fit the gate and neither is clearly nearer, the robot waits rather than guesses. The simulated
-camera gives no appearance, so the gate is position and track identity only.
+never a track that was seen as somebody else while the customer was in view, and never two
+that fit equally (the robot waits rather than guesses). Once the camera has shown her a few
+times, her look (a running average of the camera's colour histograms of her,
+`skills.people.appearance`) decides: a track that looks like her may be taken back whatever
+its id, only such a track, and her own track stops being hers when its fresh views stop looking
+like her. Without appearance, a track born after the loss outside the gate of that moment
+(someone who came from elsewhere) is not her either.
 
 Typed status: running ('' following, 'waiting', 'hidden for N s', 'searching for N s'),
 failed (`NO_CUSTOMER`, `GAVE_UP` as the reason's first words), idle after `cancel`.
