@@ -139,12 +139,7 @@ class ApplicationDatabase:
 
     def answers(self, run_only: bool = True) -> list[tuple[int, str, str]]:
         """(session, question, answer) rows, oldest first."""
-        query = "SELECT session, question, answer FROM answers"
-        args: tuple = ()
-        if run_only:
-            query += " WHERE run_id = ?"
-            args = (self.run_id,)
-        return list(self._db.execute(query + " ORDER BY id", args))
+        return self._rows("SELECT session, question, answer FROM answers", run_only)
 
     def lookup(self, table: str, column: str, key: str) -> str | None:
         return lookup(self._db, table, column, key)
@@ -164,12 +159,14 @@ class ApplicationDatabase:
 
     def searches(self, run_only: bool = True) -> list[tuple[str, str, str, str | None]]:
         """(question, query, outcome, found) rows, oldest first."""
-        query = "SELECT question, query, outcome, found FROM searches"
-        args: tuple = ()
+        return self._rows("SELECT question, query, outcome, found FROM searches", run_only)
+
+    def _rows(self, select: str, run_only: bool) -> list[tuple]:
+        """The rows of `select`, of this run only or of all, oldest first."""
         if run_only:
-            query += " WHERE run_id = ?"
-            args = (self.run_id,)
-        return list(self._db.execute(query + " ORDER BY id", args))
+            return list(self._db.execute(select + " WHERE run_id = ? ORDER BY id",
+                                         (self.run_id,)))
+        return list(self._db.execute(select + " ORDER BY id"))
 
     def close(self) -> None:
         self._db.close()
