@@ -53,8 +53,16 @@ class Localization(Skill):
     name = "localization"
     STALE_AFTER = 0.5    # s: five missed 10 Hz cycles
     FIRST_REPORT_WITHIN = 2.0   # s after the first tick: a base may start reporting a bit late
-    UPDATE_AFTER_MOVING = 0.02  # m of odometry since the last weighed scan …
-    UPDATE_AFTER_TURNING = math.radians(2)   # … or rad: the robot moves
+    # When the filter weighs a scan (robot localizers do the same: ROS amcl's update_min_d,
+    # update_min_a): on every scan while the base moves faster than …
+    STANDING_SPEED = 0.01       # m/s …
+    STANDING_TURN_RATE = math.radians(1)     # … or rad/s; else after this much odometry
+    UPDATE_AFTER_MOVING = 0.02  # m …
+    UPDATE_AFTER_TURNING = math.radians(2)   # … or rad since the last update, or after
+    UPDATE_EVERY_STANDING = 1.0  # s while standing (a robot carried off is noticed within it)
+    SETTLING_TIME = 5.0         # s of every scan weighed after the filter was last unsettled
+    STANDING_MOVED = 0.02       # m and rad since the last update below which the robot …
+    STANDING_TURNED = math.radians(2)   # … counts as standing (see `_worth_correcting`)
     STANDING_SHORT_SHARE = 0.3  # standing: a scan with more beams cut short is not weighed …
     STANDING_LONG_SHARE = 0.05  # … unless more than this reach beyond the map's walls
 
@@ -87,6 +95,10 @@ class Localization(Skill):
         self._odometry_jumps = 0         # odometry steps skipped as new frames (for tests)
         self._last_scan_t: float | None = None
         self._corrected_at: tuple[float, float, float] | None = None   # odometry of that scan
+        self._corrected_t = 0.0               # … and the time it was weighed
+        self._unsettled_t = 0.0               # the last time the filter was not settled
+        self._anchor: tuple[float, float, float] | None = None   # odometry of filter.pose
+        self.updates = 0                      # scans weighed (for tests and benchmarks)
         self._down = False                    # in a link episode (a "down" event was emitted)
         self._lost_reason: str | None = None  # why the current lost episode began
         self._started: float | None = None    # the first tick's time
@@ -167,18 +179,51 @@ class Localization(Skill):
         self._dropped = count
 
     def _localize(self, state: BaseState, odometry, now: float) -> tuple[float, float, float]:
-        """The map pose: the filter's estimate after this odometry step and scan."""
+        """The map pose: the filter's estimate at its last update, moved on by the odometry
+        driven since (as a robot localizer publishes map -> odom between updates)."""
         if self.filter is None:
             return odometry
-        if self._last_odometry is not None and self._drivable(odometry, state.t):
-            self.filter.predict(self._last_odometry, odometry)
+        if self._anchor is None:
+            self._anchor = odometry
+        elif not self._drivable(odometry, state.t):
+            # a new odometry frame: what was driven up to it is applied, the jump is not
+            self._predict_to(self._last_odometry)
+            self._anchor = odometry
         self._last_odometry = odometry
         self._last_odometry_t = state.t
-        beams = self._beams(state)
-        if beams is not None and self._worth_correcting(odometry, beams):
-            self.filter.correct(beams[0], beams[1], now)
-            self._corrected_at = odometry
-        return self.filter.pose
+        if self._update_due(state, odometry, now):
+            beams = self._beams(state)
+            if beams is not None and self._worth_correcting(odometry, beams):
+                self._predict_to(odometry)
+                self.filter.correct(beams[0], beams[1], now)
+                self._corrected_at, self._corrected_t = odometry, now
+                self.updates += 1
+        return compose(self.filter.pose, relative(self._anchor, odometry))
+
+    def _predict_to(self, odometry) -> None:
+        """Move the particles by the odometry driven since the last update (one motion-model
+        step for the whole way, so its noise grows with the way, not with the tick count)."""
+        self.filter.predict(self._anchor, odometry)
+        self._anchor = odometry
+
+    def _update_due(self, state: BaseState, odometry, now: float) -> bool:
+        """Whether the filter should weigh a scan now: while the base moves (faster than
+        STANDING_SPEED or STANDING_TURN_RATE), after the robot drove UPDATE_AFTER_MOVING or
+        turned UPDATE_AFTER_TURNING since the last update (a slow creep), after
+        UPDATE_EVERY_STANDING s while it stands, and on every scan while the filter is not
+        settled (the start, a poor fit, a recovery, lost) and SETTLING_TIME s after (the cloud
+        still slides towards the best fit then). Between updates the pose follows the
+        odometry."""
+        if not self.filter.settled:
+            self._unsettled_t = now
+        last = self._corrected_at
+        if last is None or now - self._unsettled_t < self.SETTLING_TIME:
+            return True
+        if abs(state.v) >= self.STANDING_SPEED or abs(state.w) >= self.STANDING_TURN_RATE:
+            return True
+        moved, turned = _distance(last, odometry)
+        return (moved >= self.UPDATE_AFTER_MOVING or turned >= self.UPDATE_AFTER_TURNING
+                or now - self._corrected_t >= self.UPDATE_EVERY_STANDING)
 
     def _worth_correcting(self, odometry, beams) -> bool:
         """A robot that has not moved since the last weighed scan cannot have become lost,
@@ -189,9 +234,8 @@ class Localization(Skill):
         f, last = self.filter, self._corrected_at
         if last is None or f.w_slow is None or f.lost:
             return True
-        moved = math.hypot(odometry[0] - last[0], odometry[1] - last[1])
-        turned = abs(math.remainder(odometry[2] - last[2], math.tau))
-        if moved >= self.UPDATE_AFTER_MOVING or turned >= self.UPDATE_AFTER_TURNING:
+        moved, turned = _distance(last, odometry)
+        if moved >= self.STANDING_MOVED or turned >= self.STANDING_TURNED:
             return True
         short, long = f.disagreement(*beams)
         return short <= self.STANDING_SHORT_SHARE or long > self.STANDING_LONG_SHARE
@@ -246,6 +290,25 @@ class Localization(Skill):
             why = state.extra.get("link_error") or state.extra.get("fault") if state.extra else None
             return f"base link is down: {why}" if why else "base link is down"
         return f"base state is {now - state.t:.2f} s old"
+
+
+def relative(origin, pose) -> tuple[float, float, float]:
+    """`pose` in the frame of `origin` (both x, y, heading in one frame)."""
+    c, s = math.cos(origin[2]), math.sin(origin[2])
+    dx, dy = pose[0] - origin[0], pose[1] - origin[1]
+    return (c * dx + s * dy, -s * dx + c * dy, math.remainder(pose[2] - origin[2], math.tau))
+
+
+def compose(base, delta) -> tuple[float, float, float]:
+    """`delta` (in the frame of `base`) carried into base's frame: the inverse of `relative`."""
+    c, s = math.cos(base[2]), math.sin(base[2])
+    return (base[0] + c * delta[0] - s * delta[1], base[1] + s * delta[0] + c * delta[1],
+            math.remainder(base[2] + delta[2], math.tau))
+
+
+def _distance(a, b) -> tuple[float, float]:
+    """How far (m) and how much turned (rad, absolute) from pose a to pose b."""
+    return math.hypot(b[0] - a[0], b[1] - a[1]), abs(math.remainder(b[2] - a[2], math.tau))
 
 
 def pose_error(estimate, truth) -> tuple[float, float]:

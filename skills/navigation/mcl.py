@@ -99,6 +99,7 @@ class MCLParams:
     lost_ratio: float = 0.5          # short/long likelihood average below this is a poor fit
     lost_after: float = 0.5          # s of poor fit before "lost"
     lost_spread: float = 1.0         # m: largest position standard deviation before "lost"
+    settled_spread: float = 0.05     # m: largest position standard deviation of a settled cloud
 
 
 # -- pure pieces --------------------------------------------------------------------------------
@@ -123,24 +124,39 @@ def beam_endpoints(particles: np.ndarray, beam_poses: np.ndarray,
     """World (x, y) of each beam's end point seen from each particle: two (N, K) arrays.
 
     particles (N, 3) map-frame poses; beam_poses (K, 3) sensor x, y, heading in the robot frame;
-    ranges (K,) metres from the sensor."""
-    px, py, pth = particles[:, 0:1], particles[:, 1:2], particles[:, 2:3]
-    c, s = np.cos(pth), np.sin(pth)
+    ranges (K,) metres from the sensor. The end points are placed in the robot frame once and
+    then turned by each particle's heading (no trigonometry per particle and beam)."""
     bx, by, bth = beam_poses[:, 0], beam_poses[:, 1], beam_poses[:, 2]
-    ox = px + c * bx - s * by
-    oy = py + s * bx + c * by
-    heading = pth + bth
-    return ox + ranges * np.cos(heading), oy + ranges * np.sin(heading)
+    ex = bx + ranges * np.cos(bth)              # (K,) end points in the robot frame
+    ey = by + ranges * np.sin(bth)
+    pth = particles[:, 2:3]
+    c, s = np.cos(pth), np.sin(pth)
+    return particles[:, 0:1] + c * ex - s * ey, particles[:, 1:2] + s * ex + c * ey
 
 
 def beam_log_likelihood(grid: GridMap, field: np.ndarray, outside: float,
                         xs: np.ndarray, ys: np.ndarray) -> np.ndarray:
     """log p of each end point from the likelihood field (off the map: `outside`)."""
-    rows, cols = grid.to_cells(xs, ys)
-    ok = grid.inside(rows, cols)
-    out = np.full(xs.shape, outside)
-    out[ok] = field[rows[ok], cols[ok]]
-    return out
+    return FieldLookup(grid, field, outside)(xs, ys)
+
+
+class FieldLookup:
+    """A per-cell map read at world points, `outside` off the map. The map is framed by one
+    ring of `outside` cells and every point off the map is clamped onto that ring, so a lookup
+    is one clamp and one take, with no mask."""
+
+    def __init__(self, grid: GridMap, field: np.ndarray, outside: float) -> None:
+        self.framed = np.pad(field, 1, constant_values=outside).ravel()
+        self.x0, self.y0 = grid.origin
+        self.scale = 1.0 / grid.resolution
+        self.rows, self.cols = grid.shape[0] + 2, grid.shape[1] + 2
+
+    def __call__(self, xs: np.ndarray, ys: np.ndarray) -> np.ndarray:
+        # cell index + 1 in the framed map; truncation equals floor wherever it is >= 0, and
+        # anything below lands on the ring after the clamp
+        cols = np.clip(((xs - self.x0) * self.scale + 1.0).astype(np.intp), 0, self.cols - 1)
+        rows = np.clip(((ys - self.y0) * self.scale + 1.0).astype(np.intp), 0, self.rows - 1)
+        return self.framed.take(rows * self.cols + cols)
 
 
 def expected_ranges(grid: GridMap, pose, beam_poses: np.ndarray, max_range: float,
@@ -228,6 +244,8 @@ class MonteCarloLocalization:
         self.rng = rng if rng is not None else np.random.default_rng(0)
         self.field = likelihood_field(grid, model)
         self.outside = outside_log_likelihood(model)
+        self._loglik = FieldLookup(grid, self.field, self.outside)
+        self._wall_distance = FieldLookup(grid, grid.distance_field, math.inf)
         rows, cols = np.nonzero(grid.free & (grid.distance_field >= params.inject_clearance))
         if len(rows) == 0:
             raise ValueError(f"map '{grid.name}' has no free cell {params.inject_clearance} m "
@@ -244,6 +262,7 @@ class MonteCarloLocalization:
         self.injected = 0
         self.pose: tuple[float, float, float] = (0.0, 0.0, 0.0)
         self.covariance = np.zeros((3, 3))
+        self._spread: float | None = None
 
     # -- initialisation --
 
@@ -280,7 +299,9 @@ class MonteCarloLocalization:
     # -- the update --
 
     def predict(self, odom_from, odom_to) -> None:
+        """Move the particles by the odometry step; the estimate follows."""
         self.particles = sample_motion(self.particles, odom_from, odom_to, self.params, self.rng)
+        self._estimate()
 
     def correct(self, beam_poses: np.ndarray, ranges: np.ndarray, now: float) -> None:
         """Weigh the particles by a scan: beam poses (K, 3) in the robot frame, ranges (K,) m."""
@@ -288,8 +309,7 @@ class MonteCarloLocalization:
         if len(ranges) == 0:
             self._estimate()
             return
-        self._estimate()                                     # the predicted estimate
-        mapped = ~self._short(self.pose, beam_poses, ranges)
+        mapped = ~self._short(self.pose, beam_poses, ranges)   # at the predicted estimate
         if not mapped.any():
             return                  # everything in view is unmapped: the scan tells nothing
         loglik = self._beam_log_likelihood(self.particles, beam_poses, ranges)
@@ -309,13 +329,11 @@ class MonteCarloLocalization:
     def _beam_log_likelihood(self, particles, beam_poses, ranges) -> np.ndarray:
         """(N, K) log likelihood of each beam from each particle (best ray of a cone)."""
         if self.model.cone <= 0.0:
-            xs, ys = beam_endpoints(particles, beam_poses, ranges)
-            return beam_log_likelihood(self.grid, self.field, self.outside, xs, ys)
+            return self._loglik(*beam_endpoints(particles, beam_poses, ranges))
         best = None
         for fraction in (-1 / 3, 0.0, 1 / 3):
             rays = beam_poses + (0.0, 0.0, fraction * self.model.cone)
-            xs, ys = beam_endpoints(particles, rays, ranges)
-            ray = beam_log_likelihood(self.grid, self.field, self.outside, xs, ys)
+            ray = self._loglik(*beam_endpoints(particles, rays, ranges))
             best = ray if best is None else np.maximum(best, ray)
         return best
 
@@ -361,9 +379,12 @@ class MonteCarloLocalization:
         cone: before the nearest / beyond the farthest of its three rays)."""
         cone = self.model.cone
         fractions = (-1 / 3, 0.0, 1 / 3) if cone > 0.0 else (0.0,)
-        seen = [expected_ranges(self.grid, pose, beam_poses + (0.0, 0.0, f * cone),
-                                self.model.max_range) for f in fractions]
         margin = 2 * self.model.fit_distance
+        # a wall farther than the longest reading plus the margin decides neither question, so
+        # the march stops there (the answers are the same as marching to max_range)
+        reach = min(self.model.max_range, float(ranges.max()) + margin)
+        seen = [expected_ranges(self.grid, pose, beam_poses + (0.0, 0.0, f * cone), reach)
+                for f in fractions]
         return ranges < np.min(seen, axis=0) - margin, ranges > np.max(seen, axis=0) + margin
 
     def _short(self, pose, beam_poses, ranges) -> np.ndarray:
@@ -387,11 +408,7 @@ class MonteCarloLocalization:
         for fraction in fractions:
             rays = beam_poses + (0.0, 0.0, fraction * self.model.cone)
             xs, ys = beam_endpoints(np.asarray([pose]), rays, ranges)
-            rows, cols = self.grid.to_cells(xs[0], ys[0])
-            ok = self.grid.inside(rows, cols)
-            hit = np.zeros(len(ranges), dtype=bool)
-            hit[ok] = self.grid.distance_field[rows[ok], cols[ok]] <= self.model.fit_distance
-            near |= hit
+            near |= self._wall_distance(xs[0], ys[0]) <= self.model.fit_distance
         return float(near.mean())
 
     def _update_lost(self, now: float) -> None:
@@ -414,9 +431,21 @@ class MonteCarloLocalization:
             self.lost = self._poor_for >= p.lost_after or spread > p.lost_spread
 
     @property
+    def settled(self) -> bool:
+        """Converged, fitting and tight: no poor fit under way, nothing re-drawn by the last
+        update, the cloud narrower than `settled_spread`. A localizer that is not settled
+        weighs every scan; a settled one can wait until the robot has moved."""
+        return (self.w_slow is not None and not self.lost and self._poor_since is None
+                and self.injected == 0 and self.spread <= self.params.settled_spread)
+
+    @property
     def spread(self) -> float:
-        """The largest position standard deviation of the particles, m."""
-        return float(math.sqrt(max(np.linalg.eigvalsh(self.covariance[:2, :2]).max(), 0.0)))
+        """The largest position standard deviation of the particles, m (kept until the
+        estimate changes: it is asked every tick)."""
+        if self._spread is None:
+            self._spread = float(math.sqrt(max(np.linalg.eigvalsh(self.covariance[:2, :2]).max(),
+                                               0.0)))
+        return self._spread
 
     def _resample(self) -> None:
         p, n = self.params, self.params.particles
@@ -449,3 +478,4 @@ class MonteCarloLocalization:
 
     def _estimate(self) -> None:
         self.pose, self.covariance = weighted_estimate(self.particles, self.weights)
+        self._spread = None
