@@ -41,3 +41,21 @@ def test_two_robots_do_not_share_entries():
     a.clear()
     assert a.read("obstacles/front") is None
     assert math.isinf(a.value("obstacles/front", math.inf))
+
+
+def test_entries_are_py_trees_entries_for_its_own_clients_and_activity_stream():
+    import py_trees
+    bb = Blackboard("test")
+    bb.writer("localization").write("robot/pose", (1.0, 2.0, 0.5), 3.0)
+    other = py_trees.blackboard.Client(name="tool", namespace=bb.namespace)
+    other.register_key(key="robot/pose", access=py_trees.common.Access.READ)
+    assert other.get("robot/pose") == Stamped((1.0, 2.0, 0.5), 3.0)   # the fast write
+    py_trees.blackboard.Blackboard.enable_activity_stream()
+    try:
+        bb.writer("localization").write("robot/pose", (4.0, 5.0, 0.0), 4.0)
+        assert bb.read("robot/pose") == Stamped((4.0, 5.0, 0.0), 4.0)
+        written = [item.key for item in py_trees.blackboard.Blackboard.activity_stream.data
+                   if item.activity_type == "WRITE"]
+        assert f"{bb.namespace}/robot/pose" in written       # a debugging tool sees the write
+    finally:
+        py_trees.blackboard.Blackboard.disable_activity_stream()
