@@ -168,20 +168,29 @@ class EmulatorHost:
         if previous is not None:
             previous.close()                 # its reader sees None and leaves quietly
         self._threads = [t for t in self._threads if t.is_alive()]
-        self._spawn(lambda: self._read_loop(transport), f"{self.name}-reader")
+        if self.lockstep is not None and not transport.has_sessions:
+            # in-process on a pty: read on the driver's thread (robots.link.lockstep)
+            self.lockstep.pump = lambda timeout: self._read_once(transport, timeout)
+        else:
+            self._spawn(lambda: self._read_loop(transport), f"{self.name}-reader")
 
     def _read_loop(self, transport) -> None:
-        while not self._stop.is_set():
-            data = transport.read(self.read_timeout)
-            if data is None:                  # the client hung up
+        while not self._stop.is_set() and self._read_once(transport, self.read_timeout):
+            pass
+
+    def _read_once(self, transport, timeout: float) -> bool:
+        """Read and handle what arrived within `timeout`; False once the session is over."""
+        data = transport.read(timeout)
+        if data is None:                  # the client hung up
+            self._drop(transport)
+            return False
+        if data and self._transport is transport:     # not after a take-over
+            self.receive(data)
+            ended, self._end_requested = self._end_requested, False
+            if ended and getattr(transport, "has_sessions", False):
                 self._drop(transport)
-                return
-            if data and self._transport is transport:     # not after a take-over
-                self.receive(data)
-                ended, self._end_requested = self._end_requested, False
-                if ended and getattr(transport, "has_sessions", False):
-                    self._drop(transport)
-                    return
+                return False
+        return True
 
     def _drop(self, transport) -> None:
         """End `transport`'s session (hang-up unless a take-over already replaced it)."""
@@ -189,6 +198,8 @@ class EmulatorHost:
             if self._transport is transport:
                 self._transport = None
                 self.on_hangup()
+            if self.lockstep is not None:
+                self.lockstep.pump = None
         transport.close()
 
     def _send(self, data: bytes) -> None:

@@ -6,11 +6,18 @@ command written before the world steps must be applied in that step, and the sta
 step produced must be decoded before the tick loop reads the state. Each side counts what it
 wrote and what it read; the reader can then wait (with a real-time timeout) until it has read
 everything the other side had written.
+
+An emulator on a pty in the same process need not read on a thread of its own: it can offer
+a `pump` that reads and handles what has arrived, and `deliver` then runs it on the driver's
+thread until the driver's bytes are handled. That spares two thread hand-overs per command
+(and the wait for the interpreter lock between them, which on a busy machine costs
+milliseconds).
 """
 from __future__ import annotations
 
 import threading
 import time
+from typing import Callable
 
 
 class ByteCounter:
@@ -59,6 +66,25 @@ class LockStep:
     def __init__(self) -> None:
         self.to_device = ByteCounter()    # driver writes, emulator reads
         self.to_host = ByteCounter()      # emulator writes, driver reads
+        # the emulator's reader, when it reads on the caller's thread: (timeout s) -> None
+        self.pump: Callable[[float], None] | None = None
+
+    def deliver(self, timeout: float) -> bool:
+        """Wait until the emulator has handled every byte the driver wrote (or `timeout` s
+        passed); with a `pump`, have it read them here."""
+        pump = self.pump
+        if pump is None:
+            return self.to_device.wait_drained(timeout)
+        deadline = time.monotonic() + timeout
+        target = self.to_device.written
+        while self.to_device.read < target:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0:
+                return False
+            pump(min(remaining, 0.05))
+            if self.pump is not pump:        # the line was dropped meanwhile
+                return self.to_device.wait_drained(max(0.0, deadline - time.monotonic()))
+        return True
 
     def reset(self) -> None:
         self.to_device.reset()

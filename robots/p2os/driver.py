@@ -68,7 +68,7 @@ class _Port:
             self.lockstep.to_device.wrote(len(data))
         self.serial.write(data)
         if self.lockstep is not None:
-            self.lockstep.to_device.wait_drained(2.0)
+            self.lockstep.deliver(2.0)
 
     def read(self, timeout: float) -> bytes:
         """What is there, or wait up to `timeout` s for at least one byte."""

@@ -331,7 +331,7 @@ class RFlexBase(Base):
                 if self.frame_gap:
                     time.sleep(self.frame_gap)
             if self.lockstep is not None:      # the emulator applies it before we go on
-                self.lockstep.to_device.wait_drained(LOCKSTEP_TIMEOUT)
+                self.lockstep.deliver(LOCKSTEP_TIMEOUT)
 
     def _read_available(self) -> bytes:
         port = self._port
