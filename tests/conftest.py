@@ -28,7 +28,12 @@ def standing_person(tmp_path):
 
 
 @pytest.fixture(scope="session")
-def app_runs(tmp_path_factory):
-    """Bundled-application runs made once per session (tests/applications/app_runs.py)."""
+def app_runs(tmp_path_factory, worker_id):
+    """Bundled-application runs made once per test session, shared by the pytest-xdist
+    workers through the session's own temporary folder (tests/applications/app_runs.py)."""
     from tests.applications.app_runs import AppRuns
-    return AppRuns(tmp_path_factory.mktemp("app-runs"))
+    base = tmp_path_factory.getbasetemp()
+    shared = base.parent if worker_id != "master" else base   # xdist: one folder per worker
+    folder = shared / "app-runs"
+    folder.mkdir(exist_ok=True)
+    return AppRuns(folder)
