@@ -99,6 +99,7 @@ class Localization(Skill):
         self._unsettled_t = 0.0               # the last time the filter was not settled
         self._anchor: tuple[float, float, float] | None = None   # odometry of filter.pose
         self.updates = 0                      # scans weighed (for tests and benchmarks)
+        self._covariance = (None, ())         # the filter's covariance and it as tuples
         self._down = False                    # in a link episode (a "down" event was emitted)
         self._lost_reason: str | None = None  # why the current lost episode began
         self._started: float | None = None    # the first tick's time
@@ -279,8 +280,10 @@ class Localization(Skill):
         self.write("localization/mode", self.mode, t)
         if self.filter is None:
             return
-        cov = tuple(tuple(float(v) for v in row) for row in self.filter.covariance)
-        self.write("localization/covariance", cov, t)
+        if self._covariance[0] is not self.filter.covariance:    # a new estimate
+            self._covariance = (self.filter.covariance,
+                                tuple(tuple(float(v) for v in row) for row in self.filter.covariance))
+        self.write("localization/covariance", self._covariance[1], t)
         self.write("localization/lost", self.filter.lost, t)
         self.write("localization/fit", self.filter.fit, t)
 
