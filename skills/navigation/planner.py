@@ -151,24 +151,102 @@ def _astar(graph: _Graph, source: int, target: int, shape: tuple[int, int],
     target (consistent: no edge is cheaper than its length). scipy's Dijkstra cannot stop at the
     target, but with a distance `limit` it only settles the nodes whose reduced distance is
     below it, which is the A* search region; the limit doubles until the target is inside.
-    Returns the true cost to the target (inf when unreachable) and the predecessors."""
+    Returns the true cost to the target (inf when unreachable) and the predecessors.
+
+    Each bounded search runs on the window of the grid that holds every node it can reach
+    (`_search_window`), not on the whole map: re-weighting a store's 1.7 million edges cost ten
+    times the search itself, and the follower plans several times a second."""
+    rows, cols = shape
+    sr, sc = divmod(source, cols)
+    tr, tc = divmod(target, cols)
+    h_source = resolution * _octile(abs(sr - tr), abs(sc - tc))
+    limit = 0.5 * h_source + 1.0
+    while limit < 4.0 * h_source + 50.0:
+        window = _search_window((sr, sc), (tr, tc), (limit + h_source) / resolution, shape)
+        if _size(window) > rows * cols / 4:      # cutting it out would cost more than it saves
+            window = None
+        dist, pred = _reduced_dijkstra(graph, window, source, target, shape, resolution, limit)
+        if math.isfinite(dist):
+            return dist, pred
+        limit *= 2.0
+    return _reduced_dijkstra(graph, None, source, target, shape, resolution, np.inf)
+
+
+def _window_graph(matrix: csr_matrix, window, nodes: np.ndarray, cols: int):
+    """The edges among the window's nodes, renumbered row-major within it, in CSR order
+    (a rectangle of a row-major grid: its rows' edges are taken whole and those leaving the
+    window dropped, which scipy's general column indexing does many times slower)."""
+    rows_slice, cols_slice = window
+    width = cols_slice.stop - cols_slice.start
+    begin, end = matrix.indptr[nodes], matrix.indptr[nodes + 1]
+    counts = end - begin
+    edge = np.repeat(begin - np.cumsum(np.concatenate(([0], counts[:-1]))), counts) \
+        + np.arange(counts.sum())
+    heads = np.repeat(np.arange(len(nodes)), counts)
+    er, ec = np.divmod(matrix.indices[edge], cols)
+    inside = ((er >= rows_slice.start) & (er < rows_slice.stop)
+              & (ec >= cols_slice.start) & (ec < cols_slice.stop))
+    edge, heads = edge[inside], heads[inside]
+    local = (er[inside] - rows_slice.start) * width + (ec[inside] - cols_slice.start)
+    indptr = np.concatenate(([0], np.cumsum(np.bincount(heads, minlength=len(nodes)))))
+    sub = csr_matrix((matrix.data[edge], local, indptr), shape=(len(nodes), len(nodes)))
+    return sub, heads
+
+
+def _size(window: tuple[slice, slice]) -> int:
+    return (window[0].stop - window[0].start) * (window[1].stop - window[1].start)
+
+
+def _octile(dr, dc):
+    """Cells of the shortest 8-connected way across dr rows and dc columns (in steps of one)."""
+    return np.maximum(dr, dc) + (math.sqrt(2) - 1) * np.minimum(dr, dc)
+
+
+def _search_window(source, target, reach: float, shape) -> tuple[slice, slice]:
+    """The rows and columns a search bounded by `limit` can reach, with reach = (limit +
+    h(source)) in cells. A node v it settles or even queues has g(v) + h(v) - h(source) <=
+    limit, and g and h are at least the octile distances, which are at least the per-axis
+    distances: so |v - s| + |v - t| <= reach along each axis. Two cells of margin."""
+    rows, cols = shape
+    (sr, sc), (tr, tc) = source, target
+    low_r, high_r = (sr + tr - reach) / 2 - 2, (sr + tr + reach) / 2 + 2
+    low_c, high_c = (sc + tc - reach) / 2 - 2, (sc + tc + reach) / 2 + 2
+    return (slice(max(0, math.floor(low_r)), min(rows, math.ceil(high_r) + 1)),
+            slice(max(0, math.floor(low_c)), min(cols, math.ceil(high_c) + 1)))
+
+
+def _reduced_dijkstra(graph: _Graph, window, source: int, target: int, shape,
+                      resolution: float, limit: float) -> tuple[float, np.ndarray]:
+    """One bounded Dijkstra on reduced costs, on the window's nodes (None: the whole map).
+
+    The window's nodes keep their order (row-major in both), every edge among them keeps its
+    weight, and no node outside it can be reached within the limit: so the search visits the
+    same nodes in the same order as on the whole map and returns the same predecessors,
+    translated back to the map's node numbers."""
     rows, cols = shape
     tr, tc = divmod(target, cols)
-    dr = np.abs(np.arange(rows) - tr)[:, None]
-    dc = np.abs(np.arange(cols) - tc)[None, :]
-    h = (resolution * (np.maximum(dr, dc) + (math.sqrt(2) - 1) * np.minimum(dr, dc))).ravel()
-    m = graph.matrix
-    # >= 0 in exact arithmetic; kept positive, as a stored zero is not a usable edge weight
-    reduced = np.maximum(m.data - h[graph.starts] + h[m.indices], 1e-12)
-    matrix = csr_matrix((reduced, m.indices, m.indptr), shape=m.shape, copy=False)
-    limit = 0.5 * h[source] + 1.0
-    while True:
-        bounded = limit < 4.0 * h[source] + 50.0
-        dist, pred = dijkstra(matrix, indices=source, return_predecessors=True,
-                              limit=limit if bounded else np.inf)
-        if math.isfinite(dist[target]) or not bounded:
-            return float(dist[target] + h[source]), pred
-        limit *= 2.0
+    if window is None:
+        nodes = None
+        matrix, starts = graph.matrix, graph.starts
+        r, c = np.divmod(np.arange(rows * cols), cols)
+    else:
+        r, c = np.mgrid[window[0], window[1]]
+        r, c = r.ravel(), c.ravel()
+        nodes = r * cols + c
+        matrix, starts = _window_graph(graph.matrix, window, nodes, cols)
+    h = resolution * _octile(np.abs(r - tr), np.abs(c - tc))
+    reduced = np.maximum(matrix.data - h[starts] + h[matrix.indices], 1e-12)
+    weighted = csr_matrix((reduced, matrix.indices, matrix.indptr), shape=matrix.shape, copy=False)
+    local_source = source if nodes is None else int(np.searchsorted(nodes, source))
+    local_target = target if nodes is None else int(np.searchsorted(nodes, target))
+    dist, pred = dijkstra(weighted, indices=local_source, return_predecessors=True,
+                          limit=limit)
+    cost = float(dist[local_target] + h[local_source])
+    if nodes is None or not math.isfinite(cost):
+        return cost, pred
+    full = np.full(rows * cols, -9999, dtype=pred.dtype)
+    full[nodes] = np.where(pred >= 0, nodes[np.maximum(pred, 0)], -9999)
+    return cost, full
 
 
 def _build_graph(costmap: CostMap, cost_weight: float) -> _Graph:
