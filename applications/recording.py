@@ -156,11 +156,10 @@ class Recorder:
         except OSError as exc:
             raise ApplicationError(f"cannot write the recording {self.path}: {exc.strerror}; "
                                    f"choose a writable --record path") from exc
-        # Chunk, attachment and metadata indexes; no per-message index: readers (Foxglove, ours)
-        # find ticks by chunk, and leaving it out saves a quarter of the writer's time.
+        # Every index MCAP knows: Foxglove's and Lichtblick's reader (McapIndexedReader) refuses
+        # a chunk index that points at no message index, and seeks through the message indexes.
         self._writer = Writer(self._file, chunk_size=CHUNK_SIZE, compression=CompressionType.ZSTD,
-                              index_types=IndexType.CHUNK | IndexType.ATTACHMENT
-                              | IndexType.METADATA)
+                              index_types=IndexType.ALL)
         self.meta = dict(meta)       # may be completed until the first tick (e.g. the duration)
         self._map = map_
         self._channels: dict[str, int] = {}
