@@ -27,6 +27,8 @@ from pathlib import Path
 from typing import Any, Iterator
 
 from applications.exceptions import ApplicationError
+from applications.foxglove_messages import TOPICS as FOXGLOVE_TOPICS
+from applications.foxglove_messages import SceneWriter, load_schemas, static_messages
 
 CHUNK_SIZE = 512 * 1024           # bytes before compression; at most this is lost on kill -9
 FORMAT_VERSION = "1"
@@ -163,6 +165,7 @@ class Recorder:
         self.meta = dict(meta)       # may be completed until the first tick (e.g. the duration)
         self._map = map_
         self._channels: dict[str, int] = {}
+        self._scene = SceneWriter()
         self._epoch = time.time_ns()
         self.ticks = 0
         self.closed = False
@@ -178,6 +181,12 @@ class Recorder:
             schema_id = self._writer.register_schema(schema["title"], "jsonschema",
                                                      json.dumps(schema).encode())
             self._channels[topic] = self._writer.register_channel(topic, "json", schema_id)
+        well_known = load_schemas()
+        ids = {name: self._writer.register_schema(name, "jsonschema",
+                                                  json.dumps(well_known[name]).encode())
+               for name in sorted(set(FOXGLOVE_TOPICS.values()))}
+        for topic, name in FOXGLOVE_TOPICS.items():
+            self._channels[topic] = self._writer.register_channel(topic, "json", ids[name])
 
     def _stamp(self, t: float) -> int:
         """Log time: the wall clock at the start plus robot time, ns (Foxglove shows dates)."""
@@ -190,13 +199,16 @@ class Recorder:
             self.meta.setdefault("duration", snapshot.get("duration"))
             self._start()
         stamp = self._stamp(snapshot["t"])
+        add, channels, tick = self._writer.add_message, self._channels, snapshot["tick"]
         if self._map is not None:
-            self._writer.add_message(self._channels["/interbot/map"], stamp, _dumps(self._map),
-                                     stamp)
+            add(channels["/interbot/map"], stamp, _dumps(self._map), stamp)
+            for topic, message in static_messages(self._map, stamp):
+                add(channels[topic], stamp, _dumps(message), stamp)
             self._map = None
         for topic, message in split(snapshot).items():
-            self._writer.add_message(self._channels[topic], stamp, _dumps(message), stamp,
-                                     sequence=snapshot["tick"])
+            add(channels[topic], stamp, _dumps(message), stamp, sequence=tick)
+        for topic, message in self._scene.tick_messages(snapshot, stamp):
+            add(channels[topic], stamp, _dumps(message), stamp, sequence=tick)
         # A chunk the writer finished is in the file buffer: hand it to the OS now, so it
         # survives a kill -9 (nothing to do, and next to no cost, on other ticks).
         self._file.flush()
@@ -289,6 +301,8 @@ def read_ticks(recording: Recording | str | Path) -> Iterator[dict[str, dict]]:
                     topics[inner.id] = inner.topic
                 elif isinstance(inner, Message):
                     topic = topics.get(inner.channel_id)
+                    if topic not in SCHEMAS:
+                        continue       # Foxglove's views of the tick: not needed to replay
                     data = json.loads(inner.data)
                     if topic == "/interbot/map":
                         recording.map = data

@@ -14,6 +14,7 @@ from mcap.reader import make_reader
 from mcap.stream_reader import StreamReader
 
 from applications.cli import main
+from applications.foxglove_messages import TOPICS as FOXGLOVE_TOPICS
 
 JS = Path(__file__).resolve().parents[1] / "js"
 MESSAGE_OPCODE = 0x05          # MCAP: Message record
@@ -124,3 +125,39 @@ def test_foxglove_typescript_reader_reads_every_message_and_seeks(recorded):
     assert read["seeked"] == {"logTime": str(first.log_time),
                               "tick": json.loads(first.data)["tick"]}
     assert read["seeked"]["tick"] in (150, 151)
+
+
+def test_the_3d_views_follow_foxglove_s_own_schemas(recorded):
+    """Every message on a Foxglove topic passes Foxglove's published JSON schema
+    (@foxglove/schemas, checked with ajv in node), so the 3D panel can draw it."""
+    read = read_with_node(recorded)
+    for topic, name in FOXGLOVE_TOPICS.items():
+        if topic == "/navigation/path":
+            continue                       # the survey does not navigate: see the guide below
+        assert read["channels"][topic] == {"schema": name, "schemaEncoding": "jsonschema",
+                                           "messageEncoding": "json"}, topic
+        entry = read["topics"][topic]
+        assert entry["invalid"] == 0, f"{topic}: {entry['error']}"
+    counts = {topic: read["topics"][topic]["count"] for topic in FOXGLOVE_TOPICS
+              if topic in read["topics"]}
+    assert counts["/map"] == counts["/map/places"] == counts["/robot/footprint"] == 1
+    assert counts["/tf"] == counts["/robot/pose"] == counts["/scan"] == counts["/people"] == 301
+    assert counts["/log"] >= 2            # the start and the behavior at least
+
+
+def test_a_guided_run_records_the_planned_path_and_the_transitions_as_log_lines(tmp_path):
+    path = tmp_path / "guide.mcap"
+    assert main(["run", "guide", "--scenario", "follows", "--fast", "--duration", "30",
+                 "--quiet", "--no-progress", "--record", str(path),
+                 "--data", str(tmp_path / "data")]) == 0
+    with open(path, "rb") as f:
+        messages = [(channel.topic, json.loads(message.data))
+                    for _, channel, message in make_reader(f).iter_messages(
+                        topics=["/navigation/path", "/log"])]
+    paths = [m for topic, m in messages if topic == "/navigation/path"]
+    assert paths and len(paths[0]["poses"]) >= 2 and paths[0]["frame_id"] == "map"
+    logs = [m["message"] for topic, m in messages if topic == "/log"]
+    assert any(" -> GuideToRoom when " in line for line in logs), logs
+    read = read_with_node(path)
+    assert read["topics"]["/navigation/path"]["invalid"] == 0
+    assert read["topics"]["/navigation/path"]["count"] == len(paths)
