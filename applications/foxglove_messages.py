@@ -6,17 +6,17 @@ and one snapshot per tick — into those types, JSON-encoded (the schemas are da
 `applications/schema/foxglove.json`). Frames: `map` (the floor), `base_link` (the robot, placed
 by localization's pose, or by odometry where there is none) and `laser`.
 
-| topic               | schema                   | when                          |
-|---------------------|--------------------------|-------------------------------|
-| `/map`              | foxglove.Grid            | once (occupancy, 5 cm cells)  |
-| `/map/places`       | foxglove.SceneUpdate     | once (names and headings)     |
-| `/robot/footprint`  | foxglove.SceneUpdate     | once (body and heading)       |
-| `/tf`               | foxglove.FrameTransforms | each tick: map→base_link→laser|
-| `/robot/pose`       | foxglove.PoseInFrame     | each tick                     |
-| `/scan`             | foxglove.LaserScan       | each tick with a laser        |
-| `/people`           | foxglove.SceneUpdate     | each tick (tracks, the user, true people in simulation) |
-| `/navigation/path`  | foxglove.PosesInFrame    | when the planned path changes |
-| `/log`              | foxglove.Log             | per event: transitions with their condition, behaviors, speech, answers, faults |
+| topic              | schema                   | when                                         |
+|--------------------|--------------------------|----------------------------------------------|
+| `/map`             | foxglove.Grid            | once (occupancy, 5 cm cells)                 |
+| `/map/places`      | foxglove.SceneUpdate     | once (names and headings)                    |
+| `/robot/footprint` | foxglove.SceneUpdate     | once (body and heading)                      |
+| `/tf`              | foxglove.FrameTransforms | each tick: map→base_link→laser               |
+| `/robot/pose`      | foxglove.PoseInFrame     | each tick                                    |
+| `/scan`            | foxglove.LaserScan       | each tick with a laser                       |
+| `/people`          | foxglove.SceneUpdate     | each tick: tracks, the user, true people     |
+| `/navigation/path` | foxglove.PosesInFrame    | when the planned path changes                |
+| `/log`             | foxglove.Log             | per event: transitions with their condition  |
 
 Pure: data in, message dicts out; the recorder and the live view encode and send them.
 """

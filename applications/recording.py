@@ -134,10 +134,10 @@ def join(messages: dict[str, dict]) -> dict[str, Any]:
 try:                                   # eight times faster than json: keeps --record cheap
     import orjson
 
-    def _dumps(value: Any) -> bytes:
+    def dumps(value: Any) -> bytes:
         return orjson.dumps(value)
 except ImportError:                    # pragma: no cover - orjson is a dependency
-    def _dumps(value: Any) -> bytes:
+    def dumps(value: Any) -> bytes:
         # allow_nan=False: a NaN or inf that slipped through is an error here, not a file
         # Foxglove cannot parse
         return json.dumps(value, separators=(",", ":"), allow_nan=False,
@@ -201,14 +201,14 @@ class Recorder:
         stamp = self._stamp(snapshot["t"])
         add, channels, tick = self._writer.add_message, self._channels, snapshot["tick"]
         if self._map is not None:
-            add(channels["/interbot/map"], stamp, _dumps(self._map), stamp)
+            add(channels["/interbot/map"], stamp, dumps(self._map), stamp)
             for topic, message in static_messages(self._map, stamp):
-                add(channels[topic], stamp, _dumps(message), stamp)
+                add(channels[topic], stamp, dumps(message), stamp)
             self._map = None
         for topic, message in split(snapshot).items():
-            add(channels[topic], stamp, _dumps(message), stamp, sequence=tick)
+            add(channels[topic], stamp, dumps(message), stamp, sequence=tick)
         for topic, message in self._scene.tick_messages(snapshot, stamp):
-            add(channels[topic], stamp, _dumps(message), stamp, sequence=tick)
+            add(channels[topic], stamp, dumps(message), stamp, sequence=tick)
         # A chunk the writer finished is in the file buffer: hand it to the OS now, so it
         # survives a kill -9 (nothing to do, and next to no cost, on other ticks).
         self._file.flush()
