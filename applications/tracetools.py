@@ -46,7 +46,8 @@ class Summary:
         if self.ticks is not None:
             head += f" in {self.ticks} ticks"
         if self.truncated:
-            head += " (cut short: the run was killed)"
+            head += (" (cut short: the run was killed; `interbot trace --repair FILE` makes it "
+                     "readable by Foxglove and the mcap tools)")
         out = [head, "time per state:"]
         for state, seconds in self.time_in_state.most_common():
             share = seconds / self.duration if self.duration else 0.0

@@ -1,4 +1,5 @@
-"""`interbot trace FILE`: summarize a recording (.mcap) or a trace (JSON lines); draw it as SVG."""
+"""`interbot trace FILE`: summarize a recording (.mcap) or a trace (JSON lines); draw it; repair a
+recording cut short."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -16,10 +17,18 @@ class TraceCommand:
         parser.add_argument("--path", metavar="OUT.svg", type=Path,
                             help="draw the robot's path with the people's tracks (recordings "
                                  "only) to this SVG file")
+        parser.add_argument("--repair", action="store_true",
+                            help="first give a recording cut short (kill -9, power loss) its "
+                                 "summary, in place, so every MCAP reader opens it (Foxglove, "
+                                 "the mcap tools); the unfinished chunk's bytes go to FILE.cut")
 
     def run(self, args) -> int:
         from applications.tracetools import path_svg, summarize, timeline_svg
 
+        if args.repair:
+            from applications.mcap_repair import repair
+
+            print(repair(args.file).line())
         summary = summarize(args.file)
         for line in summary.lines():
             print(line)
