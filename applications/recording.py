@@ -13,6 +13,10 @@ file as it is. The topics, from the top:
 - `/interbot/inputs`    L0: the exact readings of the tick, what `interbot replay` plays back
 - `/interbot/map`       once: the floor's walls and places, when the robot has a map
 
+and Foxglove's own message types for its 3D panel (map, scan, frames, robot, people, path,
+log: `applications.foxglove_messages`). Every chunk has its message indexes, which Foxglove's
+reader needs.
+
 The metadata record `interbot` says what ran (application, robot, devices, duration, …).
 Chunks are written to the file as soon as they fill (`CHUNK_SIZE` bytes before
 compression), so a run killed with `kill -9` loses at most the chunk being filled: the reader
@@ -29,9 +33,10 @@ from typing import Any, Iterator
 from applications.exceptions import ApplicationError
 from applications.foxglove_messages import TOPICS as FOXGLOVE_TOPICS
 from applications.foxglove_messages import SceneWriter, load_schemas, static_messages
+from applications.packing import pack_inputs, unpack_inputs
 
 CHUNK_SIZE = 512 * 1024           # bytes before compression; at most this is lost on kill -9
-FORMAT_VERSION = "1"
+FORMAT_VERSION = "2"            # 2: laser arrays plane by plane (read_ticks reads 1 and 2)
 
 _NUMBER_OR_NULL = {"type": ["number", "null"]}
 _ANY = {}
@@ -78,7 +83,9 @@ SCHEMAS: dict[str, dict] = {
         "title": "interbot.Inputs", "type": "object",
         "properties": {"tick": {"type": "integer"}, "t": {"type": "number"},
                        "inputs": {"type": "array", "description":
-                                  "[key, value] per hardware reading, in call order"}}},
+                                  "[key, value] per hardware reading, in call order; a "
+                                  "laser's float64 arrays byte plane by byte plane, as "
+                                  "'ranges@planes' (applications/packing.py)"}}},
     "/interbot/map": {
         "title": "interbot.Map", "type": "object",
         "properties": {"name": {"type": "string"},
@@ -149,7 +156,12 @@ class Recorder:
 
     wants_inputs = True          # the exact hardware readings, for replay
 
-    def __init__(self, path: str | Path, meta: dict[str, Any], map_: dict | None = None) -> None:
+    def __init__(self, path: str | Path, meta: dict[str, Any], map_: dict | None = None, *,
+                 well_known: bool = True, message_indexes: bool = True,
+                 planes: bool = True) -> None:
+        """`well_known`: also Foxglove's 3D topics; `message_indexes`: the per-chunk message
+        indexes Foxglove's reader needs; `planes`: laser arrays byte plane by byte plane
+        (`applications.packing`). All on by default; off only to measure what each costs."""
         from mcap.writer import CompressionType, IndexType, Writer
 
         self.path = Path(path)
@@ -160,8 +172,11 @@ class Recorder:
                                    f"choose a writable --record path") from exc
         # Every index MCAP knows: Foxglove's and Lichtblick's reader (McapIndexedReader) refuses
         # a chunk index that points at no message index, and seeks through the message indexes.
+        indexes = IndexType.ALL if message_indexes else IndexType.ALL & ~IndexType.MESSAGE
         self._writer = Writer(self._file, chunk_size=CHUNK_SIZE, compression=CompressionType.ZSTD,
-                              index_types=IndexType.ALL)
+                              index_types=indexes)
+        self._well_known = well_known
+        self._planes = planes
         self.meta = dict(meta)       # may be completed until the first tick (e.g. the duration)
         self._map = map_
         self._channels: dict[str, int] = {}
@@ -181,6 +196,8 @@ class Recorder:
             schema_id = self._writer.register_schema(schema["title"], "jsonschema",
                                                      json.dumps(schema).encode())
             self._channels[topic] = self._writer.register_channel(topic, "json", schema_id)
+        if not self._well_known:
+            return
         well_known = load_schemas()
         ids = {name: self._writer.register_schema(name, "jsonschema",
                                                   json.dumps(well_known[name]).encode())
@@ -202,13 +219,19 @@ class Recorder:
         add, channels, tick = self._writer.add_message, self._channels, snapshot["tick"]
         if self._map is not None:
             add(channels["/interbot/map"], stamp, dumps(self._map), stamp)
-            for topic, message in static_messages(self._map, stamp):
-                add(channels[topic], stamp, dumps(message), stamp)
+            if self._well_known:
+                for topic, message in static_messages(self._map, stamp):
+                    add(channels[topic], stamp, dumps(message), stamp)
             self._map = None
-        for topic, message in split(snapshot).items():
+        messages = split(snapshot)
+        if self._planes:
+            inputs = messages["/interbot/inputs"]
+            inputs["inputs"] = pack_inputs(inputs["inputs"])
+        for topic, message in messages.items():
             add(channels[topic], stamp, dumps(message), stamp, sequence=tick)
-        for topic, message in self._scene.tick_messages(snapshot, stamp):
-            add(channels[topic], stamp, dumps(message), stamp, sequence=tick)
+        if self._well_known:
+            for topic, message in self._scene.tick_messages(snapshot, stamp):
+                add(channels[topic], stamp, dumps(message), stamp, sequence=tick)
         # A chunk the writer finished is in the file buffer: hand it to the OS now, so it
         # survives a kill -9 (nothing to do, and next to no cost, on other ticks).
         self._file.flush()
@@ -304,6 +327,8 @@ def read_ticks(recording: Recording | str | Path) -> Iterator[dict[str, dict]]:
                     if topic not in SCHEMAS:
                         continue       # Foxglove's views of the tick: not needed to replay
                     data = json.loads(inner.data)
+                    if topic == "/interbot/inputs":
+                        data["inputs"] = unpack_inputs(data["inputs"])
                     if topic == "/interbot/map":
                         recording.map = data
                         continue
