@@ -25,7 +25,8 @@ from applications.recording import SCHEMAS, dumps, split
 LOCAL_HOSTS = ("127.0.0.1", "localhost", "::1")
 NOT_SERVED = {"/interbot/inputs"}
 L3_TOPICS = {"/interbot/tick", "/log"}            # need no robot part of the snapshot
-STATIC_TOPICS = {"/map", "/map/places", "/robot/footprint", "/interbot/map"}
+INTERBOT_TOPICS = set(SCHEMAS) - NOT_SERVED
+SCENE_TOPICS = set(FOXGLOVE_TOPICS)
 
 
 def parse_address(text: str) -> tuple[str, int]:
@@ -109,22 +110,26 @@ class FoxgloveLive:
         self._ticked = True
         if self.closed:
             return
+        watched = {topic for topic, channel in self._channels.items() if channel.has_sinks()}
+        if not watched:
+            return                    # nobody is looking: nothing to build or encode
         ns = self._epoch + int(snapshot["t"] * 1e9)
-        channels = self._channels
         if self._resend.is_set():
             self._resend.clear()
             self._send("/interbot/map", self._layout, ns)
             for topic, message in static_messages(self._layout, ns):
                 self._send(topic, message, ns)
         if snapshot.get("robot") is not None:
-            for topic, message in split(snapshot).items():
-                if topic in channels and channels[topic].has_sinks():
-                    self._send(topic, message, ns)
-        elif channels["/interbot/tick"].has_sinks():
+            if watched & INTERBOT_TOPICS:
+                for topic, message in split(snapshot).items():
+                    if topic in watched:
+                        self._send(topic, message, ns)
+        elif "/interbot/tick" in watched:
             self._send("/interbot/tick", _tick_only(snapshot), ns)
-        for topic, message in self._scene.tick_messages(snapshot, ns):
-            if channels[topic].has_sinks():
-                self._send(topic, message, ns)
+        if watched & SCENE_TOPICS:
+            for topic, message in self._scene.tick_messages(snapshot, ns):
+                if topic in watched:
+                    self._send(topic, message, ns)
 
     def _send(self, topic: str, message: Any, ns: int) -> None:
         if message is None:

@@ -1,6 +1,7 @@
 """What `--record` costs per tick and how many MB an hour of robot time takes: the survey with
 people arriving (as in bench_survey.py) on the simulated clock, without a recorder and with the
-recorder as it was before Foxglove's views and as it is now.
+recorder as it was before Foxglove's views and as it is now, and with the Foxglove live view
+that nobody watches.
 
 Set-ups, each round in this order, rounds interleaved so load changes hit all alike:
   plain        no recorder
@@ -8,6 +9,7 @@ Set-ups, each round in this order, rounds interleaved so load changes hit all al
                (what --record wrote before those three)
   foxglove     with message indexes and Foxglove's 3D topics, laser arrays as they come
   after        all three (what --record writes now)
+  live         no recorder, `--foxglove` serving with nobody connected
 
 Prints, per set-up, the CPU time per tick of this process (median and mean) as a ratio to the
 plain run measured in the same process, and the recording's size scaled to an hour of robot
@@ -31,6 +33,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from bench_survey import scenario_text  # noqa: E402
 
+from applications.foxglove_live import FoxgloveLive  # noqa: E402
 from applications.graph.loader import load_application  # noqa: E402
 from applications.recording import Recorder, file_size_per_hour  # noqa: E402
 from applications.runtime import Run  # noqa: E402
@@ -41,17 +44,21 @@ SETUPS = {
     "before": {"well_known": False, "message_indexes": False, "planes": False},
     "foxglove": {"well_known": True, "message_indexes": True, "planes": False},
     "after": {"well_known": True, "message_indexes": True, "planes": True},
+    "live": None,
 }
 
 
 def measure(setup: str, scenario: Path, minutes: float, folder: Path) -> dict:
     app = load_application("survey")
     robot = open_robot("horos", scenario=scenario, fast=True)
-    recorder = None
+    recorder = live = None
     if SETUPS[setup] is not None:
         recorder = Recorder(folder / f"{setup}.mcap", {"app": "survey", "robot": "horos",
                                                        "devices": []}, robot.top_view(),
                             **SETUPS[setup])
+    if setup == "live":
+        live = FoxgloveLive("0", layout=robot.top_view(), name="bench")
+    observers = [o for o in (recorder, live) if o is not None]
     cpu: list[float] = []          # CPU s per tick, this process
     wait_until = robot.wait_until
     last = [time.process_time()]
@@ -64,11 +71,12 @@ def measure(setup: str, scenario: Path, minutes: float, folder: Path) -> dict:
 
     robot.wait_until = tick_boundary
     try:
-        summary = Run(app, robot, duration=minutes * 60, echo=None,
-                      observers=[recorder] if recorder else []).run()
+        summary = Run(app, robot, duration=minutes * 60, echo=None, observers=observers).run()
     finally:
         if recorder is not None:
             recorder.close({"ticks": 0})
+        if live is not None:
+            live.close()
         robot.close()
     result = {"ticks": summary.ticks, "cpu_median_ms": statistics.median(cpu) * 1e3,
               "cpu_mean_ms": statistics.fmean(cpu) * 1e3}
