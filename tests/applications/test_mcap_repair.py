@@ -57,6 +57,9 @@ def test_the_standard_reader_refuses_a_killed_recording_and_reads_it_after_repai
     ticks_before = [m["/interbot/tick"]["tick"] for m in read_ticks(before)]
     assert before.truncated and len(ticks_before) > 10
 
+    assert main(["trace", str(killed)]) == 0
+    assert "(cut short: the run was killed; `interbot trace --repair FILE` makes it readable" \
+        in capsys.readouterr().out
     assert main(["trace", "--repair", str(killed)]) == 0
     out = capsys.readouterr().out
     assert f"{killed}: repaired: " in out and "time per state:" in out
