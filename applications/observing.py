@@ -1,7 +1,8 @@
 """The `run` flags that let people see into a run, and the tick observers they attach.
 
 `--inspect [HOST:]PORT` serves the live inspector page, `--live` redraws a compact terminal
-view, `--record FILE.mcap` records every tick, `--progress` reports a --fast run on stderr
+view, `--record FILE.mcap` records every tick, `--foxglove [HOST:]PORT` serves the ticks to
+Foxglove over its WebSocket protocol, `--progress` reports a --fast run on stderr
 (on by default with --fast unless --quiet or --live). All of them are observers of the tick
 loop (`Run(observers=...)`), so the runtime knows nothing about any of them.
 """
@@ -28,6 +29,11 @@ def add_arguments(parser, record: bool = True) -> None:
         group.add_argument("--record", metavar="FILE.mcap",
                            help="record every tick's inputs and decisions to this MCAP file "
                                 "(open it with Foxglove; play it with `interbot replay`)")
+    group.add_argument("--foxglove", metavar="[HOST:]PORT",
+                       help="serve the run live to Foxglove or Lichtblick over the Foxglove "
+                            "WebSocket protocol (open ws://127.0.0.1:PORT there): the same "
+                            "channels as a recording; 127.0.0.1 unless a host is given, 0 "
+                            "picks a free port")
     group.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                        help="report robot time, ticks/s and time per state on stderr about "
                             "once a second (default: on with --fast)")
@@ -41,8 +47,11 @@ class Observing:
     recorder: Any = None
     progress: Any = None
     live: Any = None
+    foxglove: Any = None
 
     def close(self, summary=None) -> None:
+        if self.foxglove is not None:
+            self.foxglove.close()
         if self.progress is not None:
             self.progress.close()
         if self.recorder is not None:
@@ -77,6 +86,13 @@ def open_observers(args, *, app, folder: Path, robot, robot_name: str, meta: dic
                                             controls=controls).start()
             observing.observers.append(observing.inspector)
             print(f"interbot: inspector at {observing.inspector.url}", flush=True)
+        if getattr(args, "foxglove", None) is not None:
+            from applications.foxglove_live import FoxgloveLive, warn_if_exposed
+            observing.foxglove = FoxgloveLive(args.foxglove, layout=layout or robot.top_view(),
+                                              name=f"interbot: {app.name} on {robot_name}")
+            observing.observers.append(observing.foxglove)
+            print(f"interbot: Foxglove live view at {observing.foxglove.url}", flush=True)
+            warn_if_exposed(observing.foxglove)
         if args.live:
             observing.live = LiveView()
             observing.observers.append(observing.live)

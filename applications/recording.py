@@ -13,6 +13,10 @@ file as it is. The topics, from the top:
 - `/interbot/inputs`    L0: the exact readings of the tick, what `interbot replay` plays back
 - `/interbot/map`       once: the floor's walls and places, when the robot has a map
 
+and Foxglove's own message types for its 3D panel (map, scan, frames, robot, people, path,
+log: `applications.foxglove_messages`). Every chunk has its message indexes, which Foxglove's
+reader needs.
+
 The metadata record `interbot` says what ran (application, robot, devices, duration, …).
 Chunks are written to the file as soon as they fill (`CHUNK_SIZE` bytes before
 compression), so a run killed with `kill -9` loses at most the chunk being filled: the reader
@@ -27,9 +31,12 @@ from pathlib import Path
 from typing import Any, Iterator
 
 from applications.exceptions import ApplicationError
+from applications.foxglove_messages import TOPICS as FOXGLOVE_TOPICS
+from applications.foxglove_messages import SceneWriter, load_schemas, static_messages
+from applications.packing import pack_inputs, unpack_inputs
 
 CHUNK_SIZE = 512 * 1024           # bytes before compression; at most this is lost on kill -9
-FORMAT_VERSION = "1"
+FORMAT_VERSION = "2"            # 2: laser arrays plane by plane (read_ticks reads 1 and 2)
 
 _NUMBER_OR_NULL = {"type": ["number", "null"]}
 _ANY = {}
@@ -76,7 +83,9 @@ SCHEMAS: dict[str, dict] = {
         "title": "interbot.Inputs", "type": "object",
         "properties": {"tick": {"type": "integer"}, "t": {"type": "number"},
                        "inputs": {"type": "array", "description":
-                                  "[key, value] per hardware reading, in call order"}}},
+                                  "[key, value] per hardware reading, in call order; a "
+                                  "laser's float64 arrays byte plane by byte plane, as "
+                                  "'ranges@planes' (applications/packing.py)"}}},
     "/interbot/map": {
         "title": "interbot.Map", "type": "object",
         "properties": {"name": {"type": "string"},
@@ -132,10 +141,10 @@ def join(messages: dict[str, dict]) -> dict[str, Any]:
 try:                                   # eight times faster than json: keeps --record cheap
     import orjson
 
-    def _dumps(value: Any) -> bytes:
+    def dumps(value: Any) -> bytes:
         return orjson.dumps(value)
 except ImportError:                    # pragma: no cover - orjson is a dependency
-    def _dumps(value: Any) -> bytes:
+    def dumps(value: Any) -> bytes:
         # allow_nan=False: a NaN or inf that slipped through is an error here, not a file
         # Foxglove cannot parse
         return json.dumps(value, separators=(",", ":"), allow_nan=False,
@@ -147,7 +156,12 @@ class Recorder:
 
     wants_inputs = True          # the exact hardware readings, for replay
 
-    def __init__(self, path: str | Path, meta: dict[str, Any], map_: dict | None = None) -> None:
+    def __init__(self, path: str | Path, meta: dict[str, Any], map_: dict | None = None, *,
+                 well_known: bool = True, message_indexes: bool = True,
+                 planes: bool = True) -> None:
+        """`well_known`: also Foxglove's 3D topics; `message_indexes`: the per-chunk message
+        indexes Foxglove's reader needs; `planes`: laser arrays byte plane by byte plane
+        (`applications.packing`). All on by default; off only to measure what each costs."""
         from mcap.writer import CompressionType, IndexType, Writer
 
         self.path = Path(path)
@@ -156,14 +170,17 @@ class Recorder:
         except OSError as exc:
             raise ApplicationError(f"cannot write the recording {self.path}: {exc.strerror}; "
                                    f"choose a writable --record path") from exc
-        # Chunk, attachment and metadata indexes; no per-message index: readers (Foxglove, ours)
-        # find ticks by chunk, and leaving it out saves a quarter of the writer's time.
+        # Every index MCAP knows: Foxglove's and Lichtblick's reader (McapIndexedReader) refuses
+        # a chunk index that points at no message index, and seeks through the message indexes.
+        indexes = IndexType.ALL if message_indexes else IndexType.ALL & ~IndexType.MESSAGE
         self._writer = Writer(self._file, chunk_size=CHUNK_SIZE, compression=CompressionType.ZSTD,
-                              index_types=IndexType.CHUNK | IndexType.ATTACHMENT
-                              | IndexType.METADATA)
+                              index_types=indexes)
+        self._well_known = well_known
+        self._planes = planes
         self.meta = dict(meta)       # may be completed until the first tick (e.g. the duration)
         self._map = map_
         self._channels: dict[str, int] = {}
+        self._scene = SceneWriter()
         self._epoch = time.time_ns()
         self.ticks = 0
         self.closed = False
@@ -179,6 +196,14 @@ class Recorder:
             schema_id = self._writer.register_schema(schema["title"], "jsonschema",
                                                      json.dumps(schema).encode())
             self._channels[topic] = self._writer.register_channel(topic, "json", schema_id)
+        if not self._well_known:
+            return
+        well_known = load_schemas()
+        ids = {name: self._writer.register_schema(name, "jsonschema",
+                                                  json.dumps(well_known[name]).encode())
+               for name in sorted(set(FOXGLOVE_TOPICS.values()))}
+        for topic, name in FOXGLOVE_TOPICS.items():
+            self._channels[topic] = self._writer.register_channel(topic, "json", ids[name])
 
     def _stamp(self, t: float) -> int:
         """Log time: the wall clock at the start plus robot time, ns (Foxglove shows dates)."""
@@ -191,13 +216,22 @@ class Recorder:
             self.meta.setdefault("duration", snapshot.get("duration"))
             self._start()
         stamp = self._stamp(snapshot["t"])
+        add, channels, tick = self._writer.add_message, self._channels, snapshot["tick"]
         if self._map is not None:
-            self._writer.add_message(self._channels["/interbot/map"], stamp, _dumps(self._map),
-                                     stamp)
+            add(channels["/interbot/map"], stamp, dumps(self._map), stamp)
+            if self._well_known:
+                for topic, message in static_messages(self._map, stamp):
+                    add(channels[topic], stamp, dumps(message), stamp)
             self._map = None
-        for topic, message in split(snapshot).items():
-            self._writer.add_message(self._channels[topic], stamp, _dumps(message), stamp,
-                                     sequence=snapshot["tick"])
+        messages = split(snapshot)
+        if self._planes:
+            inputs = messages["/interbot/inputs"]
+            inputs["inputs"] = pack_inputs(inputs["inputs"])
+        for topic, message in messages.items():
+            add(channels[topic], stamp, dumps(message), stamp, sequence=tick)
+        if self._well_known:
+            for topic, message in self._scene.tick_messages(snapshot, stamp):
+                add(channels[topic], stamp, dumps(message), stamp, sequence=tick)
         # A chunk the writer finished is in the file buffer: hand it to the OS now, so it
         # survives a kill -9 (nothing to do, and next to no cost, on other ticks).
         self._file.flush()
@@ -290,7 +324,11 @@ def read_ticks(recording: Recording | str | Path) -> Iterator[dict[str, dict]]:
                     topics[inner.id] = inner.topic
                 elif isinstance(inner, Message):
                     topic = topics.get(inner.channel_id)
+                    if topic not in SCHEMAS:
+                        continue       # Foxglove's views of the tick: not needed to replay
                     data = json.loads(inner.data)
+                    if topic == "/interbot/inputs":
+                        data["inputs"] = unpack_inputs(data["inputs"])
                     if topic == "/interbot/map":
                         recording.map = data
                         continue

@@ -26,10 +26,14 @@ class Divergence:
     what: str                # one of DECISIONS
     recorded: Any
     replayed: Any
+    why: tuple[str, ...] = ()   # the conditions that decided differently, with percept values
 
     def line(self) -> str:
         return (f"first divergence at tick {self.tick} (t = {self.t:.1f} s): {self.what} was "
                 f"{_show(self.recorded)} when recorded, {_show(self.replayed)} in the replay")
+
+    def lines(self) -> list[str]:
+        return [self.line(), *self.why]
 
 
 def _show(value: Any) -> str:
@@ -80,12 +84,17 @@ class Comparator:
     """A tick observer: compares each replayed tick with the recorded one."""
 
     def __init__(self, feed: ReplayFeed, stop: bool = True,
-                 on_recorded: Callable[[dict], None] | None = None) -> None:
+                 on_recorded: Callable[[dict], None] | None = None,
+                 explain: Callable[[dict, dict, dict | None], list[str]] | None = None) -> None:
+        """`explain(recorded, replayed, previous recorded)` says why a tick diverged
+        (`applications.divergence.explain` with the two applications)."""
         self.feed = feed
         self.stop = stop
         self.on_recorded = on_recorded
+        self.explain = explain
         self.first: Divergence | None = None
         self.compared = 0
+        self._previous: dict | None = None
 
     def __call__(self, snapshot: dict[str, Any]) -> None:
         recorded = self._recorded(snapshot["tick"])
@@ -99,9 +108,12 @@ class Comparator:
         if self.first is not None:
             return
         was, now = decisions(recorded), decisions(snapshot)
+        previous, self._previous = self._previous, recorded
         for what in DECISIONS:
             if _normal(was[what]) != _normal(now[what]):
-                self.first = Divergence(snapshot["tick"], snapshot["t"], what, was[what], now[what])
+                why = self.explain(recorded, snapshot, previous) if self.explain else []
+                self.first = Divergence(snapshot["tick"], snapshot["t"], what, was[what],
+                                        now[what], tuple(why))
                 if self.stop:
                     raise Diverged(self.first)
                 return

@@ -1,5 +1,6 @@
 """What happened in a run, from its recording (MCAP) or its trace (JSON lines): a summary and
-two pictures (a time line of states; the robot's path with the people's tracks), as SVG.
+two pictures (a time line of states; the robot's path with the people's tracks), drawn as SVG
+and written as SVG, PNG or PDF, as the file name asks.
 
 A trace has only events, so its summary lacks poses and clearances; a recording has every
 tick. Both are read as a stream, so an hour of recording needs no hour of memory.
@@ -46,7 +47,8 @@ class Summary:
         if self.ticks is not None:
             head += f" in {self.ticks} ticks"
         if self.truncated:
-            head += " (cut short: the run was killed)"
+            head += (" (cut short: the run was killed; `interbot trace --repair FILE` makes it "
+                     "readable by Foxglove and the mcap tools)")
         out = [head, "time per state:"]
         for state, seconds in self.time_in_state.most_common():
             share = seconds / self.duration if self.duration else 0.0
@@ -261,6 +263,33 @@ def path_svg(summary: Summary, size: int = 700) -> str:
         parts.append(f'<circle cx="{x}" cy="{y}" r="4" fill="#1565c0"/>')
     parts.append("</svg>")
     return "\n".join(parts)
+
+
+PICTURE_FORMATS = (".svg", ".png", ".pdf")
+
+
+def write_picture(svg: str, path: str | Path) -> None:
+    """Write a drawing in the format its file name asks for: SVG as it is, PNG or PDF rendered
+    from it by cairosvg (on the Cairo library, which Graphviz brings along)."""
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in PICTURE_FORMATS:
+        raise ApplicationError(f"{path}: cannot draw a '{suffix or 'suffix-less'}' file; name it "
+                               f"{', '.join('OUT' + s for s in PICTURE_FORMATS)}")
+    if suffix == ".svg":
+        path.write_text(svg, encoding="utf-8")
+        return
+    try:
+        import cairosvg
+    except (ImportError, OSError) as exc:        # OSError: cairocffi finds no libcairo
+        raise ApplicationError(f"{path}: drawing {suffix[1:]} needs cairosvg and the Cairo "
+                               f"library ({exc}); install libcairo2 (it comes with graphviz), "
+                               f"or draw to OUT.svg") from exc
+    render = cairosvg.svg2png if suffix == ".png" else cairosvg.svg2pdf
+    try:
+        render(bytestring=svg.encode("utf-8"), write_to=str(path))
+    except OSError as exc:
+        raise ApplicationError(f"cannot write {path}: {exc.strerror or exc}") from exc
 
 
 def _svg_head(width: float, height: float, title: str) -> str:

@@ -49,7 +49,8 @@ class ReplayCommand:
         pose = meta.get("initial_pose")
         robot = open_robot(robot_name, replay=feed, seed=int(meta.get("seed") or 0),
                            map=meta.get("map"), initial_pose=tuple(pose) if pose else None)
-        comparator = Comparator(feed, stop=not args.all)
+        comparator = Comparator(feed, stop=not args.all,
+                                explain=_explainer(recording, folder, app, robot_name))
         print(f"interbot: replaying {recording.path} ({meta.get('app')} on {robot_name}) "
               f"with {folder}", flush=True)
         watching = None
@@ -78,18 +79,38 @@ class ReplayCommand:
                 watching.close(summary)
             robot.close()
         if comparator.first is not None:
-            print(comparator.first.line())
+            print("\n".join(comparator.first.lines()))
             status = 1
         else:
             print(f"no divergence in {comparator.compared} ticks")
         return status
 
 
+def _explainer(recording, folder, app, robot_name):
+    """`explain(recorded, replayed, previous)` comparing the recorded application (when its
+    folder is still there) with the replayed one."""
+    from pathlib import Path
+
+    from applications.divergence import explain
+    from applications.exceptions import ApplicationError as Refused
+    from applications.graph.loader import load_application
+
+    recorded_app = app
+    original = recording.meta.get("folder")
+    if original and Path(original).resolve() != Path(folder).resolve():
+        try:
+            recorded_app = load_application(Path(original), robot=robot_name)
+        except (Refused, OSError):
+            recorded_app = None      # gone or changed since: the recorded condition texts
+    return lambda recorded, replayed, previous: explain(recorded, replayed, previous,
+                                                        recorded_app, app)
+
+
 def _keep_serving(comparator) -> None:
     """Leave the inspector up on the last tick (a divergence) until the user is done."""
     try:             # Ctrl-C right after the line below still ends the replay normally
         if comparator.first is not None:
-            print(comparator.first.line())
+            print("\n".join(comparator.first.lines()))
         print("interbot: the replay is over; the inspector shows its last tick until Ctrl-C",
               flush=True)
         while True:

@@ -75,3 +75,18 @@ def test_show_draws_a_graph_with_errors_and_prints_them(tmp_path, capsys) -> Non
     captured = capsys.readouterr()
     assert "--> Nowhere" in captured.out
     assert "transition to unknown state 'Nowhere'" in captured.err
+
+
+def test_show_writes_the_format_the_file_name_asks_for(tmp_path, capsys) -> None:
+    assert shutil.which("dot"), "Graphviz's dot is needed: .ci/run installs it (apt-get install graphviz)"
+    png, dot = tmp_path / "survey.png", tmp_path / "survey.gv"
+    assert main(["show", "survey", "-o", str(png)]) == 0
+    assert png.read_bytes().startswith(b"\x89PNG\r\n\x1a\n")
+    assert main(["show", "survey", "-o", str(dot)]) == 0
+    assert dot.read_text().startswith('digraph "survey"')
+    capsys.readouterr()
+    assert main(["show", "survey", "--format", "svg", "-o", str(tmp_path / "x.png")]) == 2
+    assert "--format svg, but the file name" in capsys.readouterr().err
+    assert main(["show", "survey", "-o", str(tmp_path / "x.pdf")]) == 2
+    assert "cannot tell the picture's format from '.pdf'" in capsys.readouterr().err
+    assert not (tmp_path / "x.png").exists() and not (tmp_path / "x.pdf").exists()

@@ -17,6 +17,7 @@ from mcap.reader import make_reader
 
 from applications.cli import main
 from applications.exceptions import ApplicationError
+from applications.foxglove_messages import TOPICS as FOXGLOVE_TOPICS
 from applications.graph.loader import find_application
 from applications.recording import (CHUNK_SIZE, SCHEMAS, Recording, open_recording, read_ticks)
 from applications.replay import ReplayFeed
@@ -45,7 +46,7 @@ def test_every_topic_has_a_declared_json_schema_and_every_message_follows_it(rec
         summary = reader.get_summary()
         topics = {channel.topic: summary.schemas[channel.schema_id]
                   for channel in summary.channels.values()}
-        assert set(topics) == set(SCHEMAS)
+        assert set(topics) == set(SCHEMAS) | set(FOXGLOVE_TOPICS)
         for schema in topics.values():
             assert schema.encoding == "jsonschema"
             jsonschema.Draft7Validator.check_schema(json.loads(schema.data))
@@ -54,7 +55,7 @@ def test_every_topic_has_a_declared_json_schema_and_every_message_follows_it(rec
             assert channel.message_encoding == "json"
             jsonschema.validate(json.loads(message.data), json.loads(schema.data))
             checked += 1
-    assert checked == summary.statistics.message_count > 600 * 5
+    assert checked == summary.statistics.message_count > 600 * 9
 
 
 def test_a_recording_holds_each_tick_with_inputs_decisions_and_metadata(recorded):
@@ -130,6 +131,14 @@ def test_a_changed_application_shows_the_first_divergence(recorded, tmp_path, ca
     tick = round(entered / 0.1)
     assert (f"first divergence at tick {tick} (t = {entered:.1f} s): state was Interaction when "
             f"recorded, CreateAttention in the replay") in out
+    # and why: the condition that held in the recording and not in the replay, with the value
+    recorded = [m for m in read_ticks(path) if m["/interbot/tick"]["tick"] == tick][0]
+    distance = recorded["/interbot/behaviors"]["percepts"]["user.distance"]["value"]
+    assert 0.6 <= distance < 0.75
+    assert ("  recorded  CreateAttention -> Interaction when user.distance < 0.75m: held\n"
+            "  replay    CreateAttention -> Interaction when user.distance < 0.6m: did not hold\n"
+            "  percepts they read, recorded / replay:\n"
+            f"    user.distance = {distance:.3f} / {distance:.3f}\n") in out
 
 
 def test_summary_of_the_recording_and_of_the_trace_agree(recorded):
@@ -200,6 +209,24 @@ def test_trace_command_draws_the_time_line_and_the_path(recorded, tmp_path, caps
     assert {"robot", "track", "truth"} <= kinds
     assert main(["trace", str(trace), "--path", str(tmp_path / "nope.svg")]) == 1
     assert "a trace has no poses" in capsys.readouterr().err
+
+
+def test_pictures_are_written_in_the_format_their_name_asks_for(recorded, tmp_path, capsys):
+    from PIL import Image
+
+    path, _ = recorded
+    timeline, route = tmp_path / "states.png", tmp_path / "path.pdf"
+    assert main(["trace", str(path), "--timeline", str(timeline), "--path", str(route)]) == 0
+    with Image.open(timeline) as picture:
+        assert picture.format == "PNG" and picture.size == (900, 148)
+        colours = {colour for _, colour in picture.convert("RGB").getcolors(1 << 20)}
+    assert (0x1f, 0x77, 0xb4) in colours and (0xff, 0x7f, 0x0e) in colours   # Wait, CreateAttention
+    assert route.read_bytes().startswith(b"%PDF-")
+    capsys.readouterr()
+    assert main(["trace", str(path), "--timeline", str(tmp_path / "states.gif")]) == 1
+    assert "states.gif: cannot draw a '.gif' file; name it OUT.svg, OUT.png, OUT.pdf" \
+        in capsys.readouterr().err
+    assert not (tmp_path / "states.gif").exists()
 
 
 def test_a_real_port_run_on_the_real_clock_records_and_replays_without_divergence(tmp_path, capsys):

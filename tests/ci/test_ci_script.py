@@ -79,3 +79,16 @@ def test_without_root_or_sudo_it_says_what_to_install(tmp_path, commands):
     assert result.returncode == 1
     assert EVERY in result.stderr and "'dot'" in result.stderr
     assert not any(c.startswith("lint-imports") for c in calls)
+
+
+def test_foxglove_s_reader_is_installed_from_the_lock_file_where_npm_is(tmp_path):
+    present = {name: "exit 0" for name in ("dot", "espeak-ng", "chromium", "chromedriver")}
+    result, calls = run_ci(tmp_path, fake_machine(tmp_path, 0, {**present, "npm": "exit 0"}))
+    assert result.returncode == 0, result.stderr
+    assert any(c.startswith("npm ci --prefix tests/js") for c in calls), calls
+    (tmp_path / "calls").unlink()
+    other = tmp_path / "without"
+    other.mkdir()
+    result, calls = run_ci(other, fake_machine(other, 0, present))
+    assert result.returncode == 0, result.stderr
+    assert not any(c.startswith("npm") for c in calls)
