@@ -61,6 +61,8 @@ class HeadSpec:
     tilt_min: float
     tilt_max: float
     max_pan_rate: float  # rad/s
+    model: str = "evi-d31"   # the VISCA camera model (robots.visca), for a real head
+    device: str = ""         # where the real head is: "visca:/dev/ttyUSB1" (used with --port)
 
 
 @dataclass(frozen=True)
@@ -259,7 +261,21 @@ class _ProfileReader:
                         pan_max=self.angle("head", "pan_max_deg", 0.0, 180.0),
                         tilt_min=self.angle("head", "tilt_min_deg", -90.0, 0.0),
                         tilt_max=self.angle("head", "tilt_max_deg", 0.0, 90.0),
-                        max_pan_rate=self.angle("head", "max_pan_rate_deg", 1.0, 720.0))
+                        max_pan_rate=self.angle("head", "max_pan_rate_deg", 1.0, 720.0),
+                        model=self.choice("head", "model", ("evi-d31", "evi-d70"), "evi-d31"),
+                        device=self.text("head", "device", ""))
+
+    def choice(self, table: str, key: str, allowed: tuple[str, ...], default: str) -> str:
+        value = self.data.get(table, {}).get(key, default)
+        if value not in allowed:
+            raise self.fail(table, f"{key} = {value!r}; allowed: {', '.join(map(repr, allowed))}")
+        return value
+
+    def text(self, table: str, key: str, default: str) -> str:
+        value = self.data.get(table, {}).get(key, default)
+        if not isinstance(value, str):
+            raise self.fail(table, f"{key} = {value!r} must be a string")
+        return value
 
     def odometry(self) -> OdometrySpec:
         """The simulated odometry error; each key defaults to `OdometrySpec`'s value."""
