@@ -111,13 +111,10 @@ class Camera:
         return p.error(self.address, socket, p.ErrorCode.CANCELLED)
 
     def _move(self, c: p.Command) -> bytes:
-        free = [s for s in p.SOCKETS if s not in self.busy]
-        if not free:
-            self.counts["refused"] += 1
-            return p.error(self.address, 0, p.ErrorCode.BUFFER_FULL)
-        socket = free[0]
+        socket = next(s for s in p.SOCKETS if s not in self.busy)
         if self.motion is not None and self.motion.socket:
-            # one pan-tilt motion at a time: cancel the running one first (our reading)
+            # one pan-tilt motion at a time (our reading): cancel the running one first. Only
+            # motions hold a socket, so the second one is never busy and the buffer never full.
             self.counts["refused"] += 1
             return p.error(self.address, socket, p.ErrorCode.NOT_EXECUTABLE)
         reply = p.ack(self.address, socket)

@@ -459,18 +459,18 @@ class ViscaParser(FramedParser):
         return frame
 
     def _scan(self, packets: list) -> int:
-        buf, pos = self._buf, 0
+        buf, pos, after_reject = self._buf, 0, -1
         while True:
             start = _next_header(buf, pos)
             if start < 0:
-                self._stray(pos, len(buf))
+                self._stray(pos, len(buf), pos == after_reject)
                 return len(buf)
-            self._stray(pos, start)
+            self._stray(pos, start, pos == after_reject)
             pos = start
             try:
                 length = self.frame_length(buf, pos)
             except Reject as exc:
-                pos = self._reject(exc, pos)
+                pos = after_reject = self._reject(exc, pos)
                 continue
             if length is None:
                 return pos
@@ -478,11 +478,15 @@ class ViscaParser(FramedParser):
             self.stats.packets += 1
             pos += length
 
-    def _stray(self, start: int, end: int) -> None:
-        if end > start:
-            self.stats.last_error = (f"byte {self._base + start}: {end - start} byte(s) outside "
-                                     f"any packet (no header 80..FE before them)")
-            self._count_drop(end - start)
+    def _stray(self, start: int, end: int, after_reject: bool) -> None:
+        if end <= start:
+            return
+        what = f"{end - start} byte(s) outside any packet (no header 80..FE before them)"
+        if after_reject:                 # keep the rejection's reason, which explains these
+            self.stats.last_error += f"; then {what}"
+        else:
+            self.stats.last_error = f"byte {self._base + start}: {what}"
+        self._count_drop(end - start)
 
 
 def _next_header(buf: bytearray, pos: int) -> int:
