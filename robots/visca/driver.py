@@ -62,7 +62,7 @@ class ViscaHead(PanTiltHead):
         self.backoff = Backoff(initial=0.1, factor=2.0, maximum=2.0)
         self.parser = p.ViscaParser(gap_timeout=0.1)
         self.stats = {"replies": 0, "timeouts": 0, "errors": 0, "bad_replies": 0, "commands": 0,
-                      "cancels": 0, "link_downs": 0, "reconnects": 0}
+                      "cancels": 0, "clears": 0, "link_downs": 0, "reconnects": 0}
         self.last_error = ""
         self._port: serial.SerialBase | None = None
         self._lock = threading.RLock()
@@ -76,7 +76,7 @@ class ViscaHead(PanTiltHead):
         self._position = (0.0, 0.0)                     # rad, newest reported
         self._position_t = -math.inf
         self._last_reply = -math.inf
-        self._errors_in_row = 0
+        self._errors_in_row = {"command": 0, "inquiry": 0}   # refusals since the last success
         self._next_attempt = 0.0
 
     @classmethod
@@ -157,7 +157,7 @@ class ViscaHead(PanTiltHead):
         with self._lock:
             self._goal = self._sent = None          # nothing resumes by itself
             self._socket = 0
-            self._errors_in_row = 0
+            self._errors_in_row = {"command": 0, "inquiry": 0}
             self._link_up = True
         log.info("%s: VISCA %s at address %d", self.url, self.model.name, self.address)
 
@@ -237,9 +237,9 @@ class ViscaHead(PanTiltHead):
             return
         if reply.kind == "ack":
             self._socket, self._sent = reply.socket, goal
-            self._errors_in_row = 0
+            self._errors_in_row["command"] = 0
         else:
-            self._on_error(reply, "AbsolutePosition")
+            self._on_error(reply, "AbsolutePosition", "command")
 
     def _cancel(self) -> None:
         self.stats["cancels"] += 1
@@ -252,7 +252,7 @@ class ViscaHead(PanTiltHead):
         if reply is None:
             return False
         if reply.kind == "error":
-            self._on_error(reply, "Pan-tiltPosInq")
+            self._on_error(reply, "Pan-tiltPosInq", "inquiry")
             return False
         try:
             pan, tilt = p.decode_position(reply)
@@ -262,23 +262,24 @@ class ViscaHead(PanTiltHead):
             return False
         self._position = p.radians_of(self.model, pan, tilt)
         self._position_t = time.monotonic()
-        self._errors_in_row = 0
+        self._errors_in_row["inquiry"] = 0
         return True
 
-    def _on_error(self, reply: p.Reply, what: str) -> None:
-        """An error reply: count it; clear the camera's sockets when it is busy; too many in a
-        row take the link down."""
+    def _on_error(self, reply: p.Reply, what: str, kind: str) -> None:
+        """An error reply: count it; clear the camera's sockets when it is busy. MAX_ERRORS
+        refused commands (or inquiries) in a row, whatever else succeeds meanwhile, take the
+        link down: a head that answers but will not move cannot be driven."""
         self.stats["errors"] += 1
-        self._errors_in_row += 1
+        self._errors_in_row[kind] += 1
         self.last_error = f"{self.url}: {what} refused: {reply.error_name}"
         log.debug("%s", self.last_error)
         if reply.code in (p.ErrorCode.BUFFER_FULL, p.ErrorCode.NOT_EXECUTABLE):
-            self._exchange(p.if_clear(self.address), lambda r: r.kind == "answer" or
-                           r.kind == "completion")
+            self.stats["clears"] += 1
+            self._exchange(p.if_clear(self.address), lambda r: r.kind == "completion")
             self._socket, self._sent = 0, None
-        if self._errors_in_row >= self.max_errors:
-            self._link_lost(f"{self._errors_in_row} error replies in a row, the last to {what}: "
-                            f"{reply.error_name}")
+        if self._errors_in_row[kind] >= self.max_errors:
+            self._link_lost(f"{self._errors_in_row[kind]} error replies in a row, the last to "
+                            f"{what}: {reply.error_name}")
 
     # -- the line -------------------------------------------------------------------------------
     def _exchange(self, packet: bytes, wanted) -> p.Reply | None:

@@ -150,27 +150,42 @@ def test_a_head_sending_garbage_is_a_fault_that_says_so(rig):
 
 
 class RefusingCamera(Camera):
-    """Refuses every motion as not executable, and every inquiry as a syntax error."""
-    refuse = False
+    """Once `motions` / `inquiries` name an error, answers every motion / inquiry with it."""
+    motions: p.ErrorCode | None = None
+    inquiries: p.ErrorCode | None = None
 
     def receive(self, packet: bytes) -> bytes:
-        if self.refuse and packet[1:3] == b"\x01\x06":
-            return p.error(self.address, 1, p.ErrorCode.NOT_EXECUTABLE)
-        if self.refuse and packet[1] == 0x09:
-            return p.error(self.address, 0, p.ErrorCode.SYNTAX)
+        if self.motions is not None and packet[1:3] == b"\x01\x06":
+            socket = 0 if self.motions in (p.ErrorCode.SYNTAX, p.ErrorCode.BUFFER_FULL) else 1
+            return p.error(self.address, socket, self.motions)
+        if self.inquiries is not None and packet[1] == 0x09:
+            return p.error(self.address, 0, self.inquiries)
         return super().receive(packet)
 
 
-def test_error_replies_in_a_row_are_a_fault_naming_the_error(rig):
+@pytest.mark.parametrize("code, name", [(p.ErrorCode.NOT_EXECUTABLE, "command not executable"),
+                                        (p.ErrorCode.BUFFER_FULL, "command buffer full"),
+                                        (p.ErrorCode.SYNTAX, "syntax error")])
+def test_refused_motions_are_a_fault_naming_the_error(rig, code, name):
     camera = RefusingCamera(rated_pan_deg_s=80.0)
     emulator, head = rig(emulator=ViscaEmulator(camera))
-    camera.refuse = True
+    camera.motions = code                   # inquiries are still answered
     head.point(math.radians(40), 0.0)
     assert wait_until(lambda: head.fault() is not None, 2.0)
-    assert "error replies in a row" in head.fault()
-    assert "command not executable" in head.fault() or "syntax error" in head.fault()
+    assert f"3 error replies in a row, the last to AbsolutePosition: {name}" in head.fault()
     assert head.stats["errors"] >= 3
     assert emulator.camera.pan == 0.0
+    busy = code in (p.ErrorCode.NOT_EXECUTABLE, p.ErrorCode.BUFFER_FULL)
+    assert (head.stats["clears"] >= 3) == busy        # a busy camera is cleared (IF_Clear)
+    assert (bytes.fromhex("81 01 00 01 FF") in emulator.received) == busy
+
+
+def test_refused_inquiries_are_a_fault(rig):
+    camera = RefusingCamera(rated_pan_deg_s=80.0)
+    emulator, head = rig(emulator=ViscaEmulator(camera))
+    camera.inquiries = p.ErrorCode.SYNTAX
+    assert wait_until(lambda: head.fault() is not None, 2.0)
+    assert "the last to Pan-tiltPosInq: syntax error" in head.fault()
 
 
 def test_a_pulled_cable_is_a_fault(rig):
