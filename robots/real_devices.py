@@ -1,0 +1,65 @@
+"""The devices a robot profile names beside a real base: where each is and which driver speaks
+to it. `[head] device = "visca:/dev/ttyUSB1"` (any pyserial URL after the colon: a pty,
+`socket://host:port`), `[camera] device = "opencv:/dev/video0"` (the colon part optional: a
+device index, a V4L2 path, an rtsp:// or http:// URL, a video file).
+
+Used by `robots.hardware` when a run drives the real robot (`--port`); a device the profile
+names but that does not answer is an error naming the device, not a robot without it.
+"""
+from __future__ import annotations
+
+from robots.devices import PanTiltHead, PersonDetector
+from robots.exceptions import ProfileError, RobotError
+
+HEAD_DRIVERS = ("visca",)
+CAMERA_DRIVERS = ("opencv",)
+
+
+def split_device(text: str, drivers: tuple[str, ...], where: str,
+                 default: str | None = None) -> tuple[str, str]:
+    """(driver, address) of "driver:address"; `default` when the text names no driver."""
+    driver, sep, address = text.partition(":")
+    if sep and driver in drivers:
+        return driver, address
+    if default is not None:
+        return default, text
+    raise ProfileError(f"{where} device = {text!r}: expected DRIVER:ADDRESS with DRIVER one of "
+                       f"{', '.join(drivers)} (e.g. \"visca:/dev/ttyUSB1\")")
+
+
+def open_head(profile, clock=None) -> PanTiltHead | None:
+    """The real pan-tilt head the profile's [head] names, opened; None if it names none."""
+    spec = profile.head
+    if spec is None or not spec.device:
+        return None
+    _, address = split_device(spec.device, HEAD_DRIVERS, f"{profile.source}: [head]")
+    from robots.visca.driver import ViscaHead
+    head = ViscaHead.for_profile(profile, address, clock=clock)
+    try:
+        head.open()
+    except BaseException as exc:
+        head.close()
+        if isinstance(exc, RobotError):
+            raise RobotError(f"the head of robot '{profile.name}' ([head] device = "
+                             f"{spec.device!r}): {exc}") from exc
+        raise
+    return head
+
+
+def open_camera(profile, clock=None, head: PanTiltHead | None = None) -> PersonDetector | None:
+    """The real camera the profile's [camera] names, opened as a person detector; None if it
+    names none. A camera on the head (`on_head`) adds the head's pan to its bearings."""
+    spec = profile.camera
+    if spec is None or not spec.device:
+        return None
+    _, address = split_device(spec.device, CAMERA_DRIVERS, f"{profile.source}: [camera]",
+                              default="opencv")
+    from robots.camera.detector import CameraPersonDetector
+    camera = CameraPersonDetector.for_profile(profile, address, clock=clock, head=head)
+    try:
+        camera.open()
+    except RobotError as exc:
+        raise RobotError(f"the camera of robot '{profile.name}' ([camera] device = "
+                         f"{spec.device!r}): {exc}") from exc
+    return camera
+
