@@ -12,6 +12,7 @@ simulated camera's), so followers can tell people apart.
 from __future__ import annotations
 
 import math
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -27,17 +28,28 @@ HUE_BINS = 8
 
 class CameraPersonDetector(PersonDetector):
     """People in a `FrameSource`'s newest frame; each frame is reported once (later calls
-    before a new frame return [])."""
+    before a new frame return []).
+
+    In real time the finding runs on a thread of its own (a HOG search can take longer than a
+    tick), and `detect` hands over what it found since the last call;
+    on a simulated clock `detect` finds them itself, so a run stays deterministic."""
 
     def __init__(self, source: FrameSource, spec: CameraSpec, intrinsics: Intrinsics,
-                 finder: PeopleFinder | None = None, head: PanTiltHead | None = None) -> None:
+                 finder: PeopleFinder | None = None, head: PanTiltHead | None = None,
+                 threaded: bool | None = None) -> None:
         self.source = source
         self.spec = spec
         self.intrinsics = intrinsics
         self.finder = finder or PeopleFinder(spec.detect)
         self.head = head if spec.on_head else None
+        simulated = getattr(getattr(source, "clock", None), "simulated", False)
+        self.threaded = not simulated if threaded is None else threaded
         self._last_number = 0
         self.boxes: list[Box] = []          # the newest frame's boxes (for display, tests)
+        self._found: list[Detection] = []   # threaded: found since the last detect()
+        self._lock = threading.Lock()
+        self._closing = threading.Event()
+        self._worker: threading.Thread | None = None
 
     @classmethod
     def for_profile(cls, profile, device: str | None = None, clock=None,
@@ -51,14 +63,39 @@ class CameraPersonDetector(PersonDetector):
 
     def open(self) -> None:
         self.source.open()
+        if self.threaded:
+            self._closing.clear()
+            self._worker = threading.Thread(target=self._find_in_background,
+                                            name="camera-finder", daemon=True)
+            self._worker.start()
 
     def close(self) -> None:
+        self._closing.set()
+        if self._worker is not None and self._worker is not threading.current_thread():
+            self._worker.join(timeout=2.0)
+        self._worker = None
         self.source.close()
 
     def fault(self) -> str | None:
         return self.source.fault()
 
     def detect(self) -> list[Detection]:
+        if self.threaded:
+            with self._lock:
+                found, self._found = self._found, []
+            return found
+        return self._find_in_newest()
+
+    def _find_in_background(self) -> None:
+        while not self._closing.is_set():
+            found = self._find_in_newest()
+            if found:
+                with self._lock:
+                    self._found = found          # only the newest frame's: older ones are stale
+            elif self._closing.wait(0.01):
+                return
+
+    def _find_in_newest(self) -> list[Detection]:
         frame = self.source.read()
         if frame is None or frame.number == self._last_number:
             return []

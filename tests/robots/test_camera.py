@@ -4,6 +4,7 @@ and ranges, a video file plays at its rate on a simulated clock, and faults are 
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import replace
 
 import cv2
@@ -109,7 +110,7 @@ class StillSource:
 def test_detections_in_the_robot_frame(distance, bearing_deg):
     image = blank(LENS)
     person_at(image, LENS, distance, math.radians(bearing_deg))
-    detector = CameraPersonDetector(StillSource(smooth(image)), SPEC, LENS)
+    detector = CameraPersonDetector(StillSource(smooth(image)), SPEC, LENS, threaded=False)
     found = detector.detect()
     assert len(found) == 1
     d = found[0]
@@ -129,7 +130,8 @@ def test_a_camera_on_the_head_adds_the_pan():
     image = blank(LENS)
     person_at(image, LENS, 2.0, 0.0)
     spec = replace(SPEC, on_head=True, x=0.0)
-    found = CameraPersonDetector(StillSource(smooth(image)), spec, LENS, head=Head()).detect()
+    found = CameraPersonDetector(StillSource(smooth(image)), spec, LENS, head=Head(),
+                                 threaded=False).detect()
     assert math.degrees(math.atan2(found[0].y, found[0].x)) == pytest.approx(30, abs=2.0)
 
 
@@ -195,3 +197,23 @@ def test_addresses():
     assert capture_target("0") == 0 and capture_target(" 2 ") == 2
     assert capture_target("/dev/video0") == "/dev/video0"
     assert capture_target("rtsp://10.0.0.2/stream") == "rtsp://10.0.0.2/stream"
+
+
+def test_in_real_time_people_are_found_on_a_thread_of_its_own(tmp_path):
+    image = blank(LENS)
+    person_at(image, LENS, 2.5, math.radians(-20))
+    path = write_video(tmp_path / "standing.avi", [smooth(image)] * 30, fps=10.0)
+    detector = CameraPersonDetector(FrameSource(path), SPEC, LENS)      # no clock: real time
+    assert detector.threaded
+    detector.open()
+    try:
+        found, deadline = [], time.monotonic() + 3
+        while not found and time.monotonic() < deadline:
+            found = detector.detect()
+            time.sleep(0.05)
+        assert found and detector._worker.is_alive()
+        assert math.degrees(math.atan2(found[0].y, found[0].x - SPEC.x)) == pytest.approx(-20,
+                                                                                          abs=2)
+    finally:
+        detector.close()
+    assert detector._worker is None
