@@ -5,6 +5,7 @@ import math
 
 from robots.devices import PanTiltHead
 from robots.profile import HeadSpec
+from skills.device_link import DeviceLink
 from skills.localization import Localization
 from skills.perception import PeoplePerception
 from skills.skill import Skill
@@ -25,7 +26,7 @@ class HeadControl(Skill):
         self.perception = perception
         self.tracking = False
         self.target: tuple[float, float] | None = None     # a map point to look at instead
-        self._down_since: float | None = None   # in a link episode of a head on a wire
+        self.link = DeviceLink(events, "head")  # a head on a wire may fall silent
 
     def look_at(self, xy: tuple[float, float] | None, now: float) -> None:
         """Keep the head pointed at a map point (a guide looking back at its follower), as far
@@ -51,7 +52,7 @@ class HeadControl(Skill):
         self.set_status(IDLE, now)
 
     def sense(self, now: float) -> None:
-        fault = self._link_episode(now)
+        fault = self.link.update(self.head, now)
         pan, tilt = self.head.read()
         self.write("head/pan_tilt", (pan, tilt), now)
         if fault is not None:
@@ -77,19 +78,6 @@ class HeadControl(Skill):
             self.set_status(SUCCEEDED, now)
         elif not self.status.failed:
             self.set_status(RUNNING, now)
-
-    def _link_episode(self, now: float) -> str | None:
-        """The head's fault (a head on a wire that fell silent or refuses), with a `link` event
-        (device "head") when an episode starts and when it ends, as the base's."""
-        fault = getattr(self.head, "fault", lambda: None)()
-        if fault is not None and self._down_since is None:
-            self._down_since = now
-            self.events.emit(now, "link", device="head", state="down", reason=fault)
-        elif fault is None and self._down_since is not None:
-            self.events.emit(now, "link", device="head", state="up",
-                             after=round(now - self._down_since, 3))
-            self._down_since = None
-        return fault
 
     def _point_at(self, xy: tuple[float, float], state) -> None:
         bearing = math.atan2(xy[1] - state.y, xy[0] - state.x) - state.th
