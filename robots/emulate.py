@@ -43,6 +43,10 @@ EMULATORS: dict[str, EmulatorEntry] = {
     "visca": EmulatorEntry("horos", "robots.visca.emulator:ViscaEmulator.for_profile",
                            "Sony EVI-D31 pan-tilt camera head (VISCA)",
                            hint='[head] device = "visca:{address}" in the robot profile'),
+    "camera": EmulatorEntry("horos", "robots.camera.emulator:CameraEmulator.for_profile",
+                            "a camera looking at the simulated people, as an MJPEG stream",
+                            address="http://{host}:{port}/video.mjpg", tcp_only=True,
+                            hint='[camera] device = "{address}" in the robot profile'),
 }
 
 
