@@ -72,6 +72,8 @@ class Hardware:
         if self.simulation is not None:
             self.simulation.advance(now)
         self.base.poll()
+        if hasattr(self.head, "poll"):        # a head on a wire, on a simulated clock
+            self.head.poll()
         return now
 
     @property
@@ -302,10 +304,24 @@ def _open_simulated(profile: RobotProfile, clock, scenario, seed: int, emulate: 
         base = SimulatedBase(profile.limits, world=simulation.world)
     base.open()
     devices = simulation.devices()
-    return Hardware(profile=profile, clock=clock, base=base, simulation=simulation,
-                    laser=devices.get("laser"), people_detector=devices.get("people_detector"),
-                    head=devices.get("head"), screen=devices.get("screen"),
-                    speaker=devices.get("speaker"))
+    hardware = Hardware(profile=profile, clock=clock, base=base, simulation=simulation,
+                        laser=devices.get("laser"), people_detector=devices.get("people_detector"),
+                        head=devices.get("head"), screen=devices.get("screen"),
+                        speaker=devices.get("speaker"))
+    try:
+        _wire_simulated_head(hardware)
+    except BaseException:
+        hardware.close()
+        raise
+    return hardware
+
+
+def _wire_simulated_head(hardware: Hardware) -> None:
+    """A head the profile names on a wire goes through its driver and emulator here too."""
+    from robots.real_devices import open_simulated_head
+    head = open_simulated_head(hardware.profile, hardware.simulation, hardware.clock)
+    if head is not None:
+        hardware.head = head
 
 
 def _open_interaction(hardware: Hardware, interaction: Interaction) -> None:

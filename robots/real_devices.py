@@ -4,7 +4,10 @@ to it. `[head] device = "visca:/dev/ttyUSB1"` (any pyserial URL after the colon:
 device index, a V4L2 path, an rtsp:// or http:// URL, a video file).
 
 Used by `robots.hardware` when a run drives the real robot (`--port`); a device the profile
-names but that does not answer is an error naming the device, not a robot without it.
+names but that does not answer is an error naming the device, not a robot without it. In the
+simulated world a head the profile names is driven the same way, through its driver and wire
+protocol, by the camera emulator in the head's place (as the base's driver talks to its
+firmware emulator); without a device the simulated head stands in.
 """
 from __future__ import annotations
 
@@ -42,6 +45,23 @@ def open_head(profile, clock=None) -> PanTiltHead | None:
         if isinstance(exc, RobotError):
             raise RobotError(f"the head of robot '{profile.name}' ([head] device = "
                              f"{spec.device!r}): {exc}") from exc
+        raise
+    return head
+
+
+def open_simulated_head(profile, simulation, clock) -> PanTiltHead | None:
+    """In simulation: the profile's wired head through its driver and the VISCA emulator
+    stepped with the world, opened; None when the profile names no head device."""
+    spec = profile.head
+    if spec is None or not spec.device:
+        return None
+    split_device(spec.device, HEAD_DRIVERS, f"{profile.source}: [head]")
+    from robots.visca.driver import ViscaHead
+    head = ViscaHead.for_simulation(profile, simulation, clock)
+    try:
+        head.open()
+    except BaseException:
+        head.close()
         raise
     return head
 

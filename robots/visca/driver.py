@@ -13,6 +13,12 @@ sends only garbage), or MAX_ERRORS error replies in a row, takes the link down. 
 out it sends Cancel and Pan-tiltDrive Stop (the line may still carry them), forgets the goal
 (nothing resumes by itself), says why in `fault()` and the log, and reconnects with back-off;
 a new `point()` moves the head again. Counters in `stats`.
+
+In the simulated world (`for_simulation`) the driver talks to the camera emulator on a pty, as
+the base's driver talks to its firmware emulator. On a simulated clock it has no thread: a new
+goal is sent within `point()` and the position asked for in `poll()` (once a tick, after the
+world stepped), so a `--fast` run stays deterministic; there it does not reconnect (the
+emulator lives in the same process: a dead link is a broken run).
 """
 from __future__ import annotations
 
@@ -59,6 +65,8 @@ class ViscaHead(PanTiltHead):
         self.max_errors = int(max_errors)
         self.reconnect = bool(reconnect)
         self.clock = clock
+        self.simulated = bool(getattr(clock, "simulated", False))
+        self.emulator = None                            # set by for_simulation
         self.backoff = Backoff(initial=0.1, factor=2.0, maximum=2.0)
         self.parser = p.ViscaParser(gap_timeout=0.1)
         self.stats = {"replies": 0, "timeouts": 0, "errors": 0, "bad_replies": 0, "commands": 0,
@@ -87,12 +95,38 @@ class ViscaHead(PanTiltHead):
         options.setdefault("model", getattr(profile.head, "model", "") or "evi-d31")
         return cls(profile.head, url, clock=clock, **options)
 
+    @classmethod
+    def for_simulation(cls, profile, simulation, clock) -> "ViscaHead":
+        """The camera emulator on a pty, stepped with `simulation`; a driver for that pty."""
+        from robots.visca.emulator import ViscaEmulator    # the emulator only when simulating
+        emulator = ViscaEmulator.for_profile(profile)
+        emulator.attach(simulation)
+        head = cls.for_profile(profile, emulator.serve_pty(), clock=clock,
+                               reconnect=not getattr(clock, "simulated", False))
+        head.emulator = emulator
+        return head
+
     # -- PanTiltHead -----------------------------------------------------------------------------
     def open(self) -> None:
         self._closing.clear()
         self._connect()
+        if self.simulated:
+            return
         self._worker = threading.Thread(target=self._run, name="visca-head", daemon=True)
         self._worker.start()
+
+    def poll(self) -> None:
+        """Simulated clock: ask where the head is now, and check the link (once a tick)."""
+        if not self.simulated or not self._link_up:
+            return
+        try:
+            self._inquire_position()
+        except (serial.SerialException, OSError) as exc:
+            self._link_lost(f"port error: {exc}")
+            return
+        if time.monotonic() - self._last_reply > self.silence:
+            self._link_lost(f"no valid reply for {time.monotonic() - self._last_reply:.2f} s"
+                            + self._garbage_note())
 
     def point(self, pan: float, tilt: float) -> None:
         """Aim at (pan, tilt) rad, clamped to the profile's limits; NaN keeps that axis's goal."""
@@ -101,7 +135,10 @@ class ViscaHead(PanTiltHead):
             pan = _clamp(pan, self.spec.pan_min, self.spec.pan_max, old[0])
             tilt = _clamp(tilt, self.spec.tilt_min, self.spec.tilt_max, old[1])
             self._goal = p.units_of(self.model, pan, tilt)
-        self._wake.set()
+        if self.simulated:
+            self._send_now()
+        else:
+            self._wake.set()
 
     def read(self) -> tuple[float, float]:
         return self._position
@@ -113,7 +150,10 @@ class ViscaHead(PanTiltHead):
         """Stop where the head is (the worker cancels the running motion)."""
         with self._lock:
             self._goal = None
-        self._wake.set()
+        if self.simulated:
+            self._send_now()
+        else:
+            self._wake.set()
 
     def close(self) -> None:
         self._closing.set()
@@ -126,6 +166,9 @@ class ViscaHead(PanTiltHead):
                 self._stop_on_the_way_out()
             self._drop_port()
             self._link_up = False
+        if self.emulator is not None:
+            self.emulator.close()
+            self.emulator = None
 
     @property
     def link_up(self) -> bool:
@@ -208,6 +251,11 @@ class ViscaHead(PanTiltHead):
 
     def _cycle(self) -> None:
         """Send a new goal (or stop), then ask where the head is."""
+        self._send_pending()
+        self._inquire_position()
+
+    def _send_pending(self) -> None:
+        """Cancel the running motion for no goal; send a goal that moved enough."""
         with self._lock:
             goal = self._goal
         if goal is None and self._socket:
@@ -216,7 +264,15 @@ class ViscaHead(PanTiltHead):
             if self._socket:
                 self._cancel()
             self._send_goal(goal)
-        self._inquire_position()
+
+    def _send_now(self) -> None:
+        """Simulated clock: send what `point`/`stop` changed at once (no worker thread)."""
+        if not self._link_up:
+            return
+        try:
+            self._send_pending()
+        except (serial.SerialException, OSError) as exc:
+            self._link_lost(f"port error: {exc}")
 
     def _worth_sending(self, goal: tuple[int, int]) -> bool:
         if self._sent is None:
