@@ -1,7 +1,8 @@
-"""The survey on a HOROS whose pan-tilt head is on a wire: in the simulated world the head goes
+"""HOROS's applications with its pan-tilt head on a wire: in the simulated world the head goes
 through the VISCA driver and the camera emulator (as the base goes through P2OS and its
-firmware emulator), and every bundled scenario goes through the same states at the same times,
-with the same behaviors and realizations, as with the simulated head."""
+firmware emulator), and every bundled scenario of the survey, the guide and the receptionist
+goes through the same states at the same times, with the same behaviors and realizations, as
+with the simulated head."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -15,8 +16,12 @@ from applications.runtime import Run
 from applications.trace import TraceWriter, read_trace
 from behaviors.robot import open_robot
 
-SURVEY = Path(applications.__file__).parent / "bundled" / "survey"
+BUNDLED = Path(applications.__file__).parent / "bundled"
+SURVEY = BUNDLED / "survey"
 SCENARIOS = sorted(p.stem for p in (SURVEY / "scenarios").glob("*.toml"))
+APPLICATIONS = ("survey", "guide", "receptionist")      # the bundled applications of HOROS
+CASES = [(app, p.stem) for app in APPLICATIONS
+         for p in sorted((BUNDLED / app / "scenarios").glob("*.toml"))]
 HOROS = Path(applications.__file__).parent.parent / "robots" / "profiles" / "horos.toml"
 
 
@@ -28,14 +33,16 @@ def wired_horos(folder: Path) -> Path:
     return path
 
 
-def run_survey(robot_profile, scenario: str, folder: Path) -> tuple[list[dict], str]:
-    loaded = load_folder(SURVEY)
-    robot = open_robot(robot_profile, scenario=SURVEY / "scenarios" / f"{scenario}.toml",
+def run_app(robot_profile, app: str, scenario: str, folder: Path) -> tuple[list[dict], str]:
+    """One `interbot run APP --fast --scenario S` in process; (trace, the head's class)."""
+    loaded = load_folder(BUNDLED / app)
+    robot = open_robot(robot_profile, scenario=BUNDLED / app / "scenarios" / f"{scenario}.toml",
                        fast=True, seed=0)
     head = type(robot.skills.hardware.head).__name__
-    trace_path = folder / f"{scenario}-{head}.jsonl"
+    trace_path = folder / f"{app}-{scenario}-{head}.jsonl"
     trace = TraceWriter(trace_path)
-    database = ApplicationDatabase(folder / f"{scenario}-{head}.sqlite", loaded.schema_file)
+    database = ApplicationDatabase(folder / f"{app}-{scenario}-{head}.sqlite",
+                                   loaded.schema_file)
     try:
         Run(loaded.app, robot, dialog=loaded.dialog, trace=trace, database=database,
             echo=None).run()
@@ -52,10 +59,10 @@ def test_every_survey_scenario_is_covered():
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("scenario", SCENARIOS)
-def test_same_states_with_the_head_on_the_wire(tmp_path, scenario):
-    reference, sim_head = run_survey("horos", scenario, tmp_path)
-    wired, wired_head = run_survey(wired_horos(tmp_path), scenario, tmp_path)
+@pytest.mark.parametrize("app, scenario", CASES)
+def test_same_states_with_the_head_on_the_wire(tmp_path, app, scenario):
+    reference, sim_head = run_app("horos", app, scenario, tmp_path)
+    wired, wired_head = run_app(wired_horos(tmp_path), app, scenario, tmp_path)
     assert (sim_head, wired_head) == ("SimPanTilt", "ViscaHead")
 
     def states(trace):
