@@ -82,7 +82,6 @@ class ViscaHead(PanTiltHead):
         self._sent: tuple[int, int] | None = None       # units, accepted by the camera
         self._socket = 0                                # the socket our motion holds
         self._position = (0.0, 0.0)                     # rad, newest reported
-        self._position_t = -math.inf
         self._last_reply = -math.inf
         self._errors_in_row = {"command": 0, "inquiry": 0}   # refusals since the last success
         self._next_attempt = 0.0
@@ -173,11 +172,6 @@ class ViscaHead(PanTiltHead):
     @property
     def link_up(self) -> bool:
         return self._link_up
-
-    @property
-    def position_age(self) -> float:
-        """s since the camera last reported its position."""
-        return time.monotonic() - self._position_t
 
     # -- start-up -------------------------------------------------------------------------------
     def _connect(self) -> None:
@@ -317,7 +311,6 @@ class ViscaHead(PanTiltHead):
             self.last_error = f"{self.url}: {exc}"
             return False
         self._position = p.radians_of(self.model, pan, tilt)
-        self._position_t = time.monotonic()
         self._errors_in_row["inquiry"] = 0
         return True
 

@@ -15,9 +15,10 @@ from __future__ import annotations
 
 import math
 import time
+from collections import deque
 from dataclasses import dataclass
 
-from robots.exceptions import ProtocolError
+from robots.exceptions import ProfileError
 from robots.link.host import EmulatorHost
 from robots.visca import protocol as p
 
@@ -187,7 +188,7 @@ class ViscaEmulator(EmulatorHost):
         self.world = world
         self.clock = clock
         self.parser = p.ViscaParser(gap_timeout=None)
-        self.received: list[bytes] = []
+        self.received: deque[bytes] = deque(maxlen=10_000)   # the newest packets (tests)
         self._hooked = False
         self._last_t: float | None = None
         self._mirror()
@@ -198,7 +199,7 @@ class ViscaEmulator(EmulatorHost):
         """The camera of `profile`'s [head]: its model, limits and rated pan speed."""
         spec = profile.head
         if spec is None:
-            raise ProtocolError(f"robot '{profile.name}' has no [head] to emulate")
+            raise ProfileError(f"robot '{profile.name}' has no [head] to emulate")
         chosen = p.model_named(model or getattr(spec, "model", "") or "evi-d31")
         pan_limits = p.units_of(chosen, spec.pan_min, 0.0)[0], p.units_of(chosen, spec.pan_max, 0.0)[0]
         tilt_limits = (p.units_of(chosen, 0.0, spec.tilt_min)[1],
