@@ -114,3 +114,37 @@ def test_emulate_camera_prints_the_stream_address():
         if proc.poll() is None:
             proc.kill()
             proc.wait()
+
+
+def test_a_network_camera_that_stops_is_a_fault_until_it_streams_again(standing_person):
+    simulation = world_with_person(standing_person, -0.5, 3.0)
+    first = CameraEmulator.for_profile(HOROS, simulation.world)
+    host, port = first.serve_tcp("127.0.0.1", 0)
+    first.start_clock()
+    source = FrameSource(f"http://{host}:{port}/video.mjpg")
+    second = None
+    try:
+        source.open()
+        deadline = time.monotonic() + 5
+        while source.read() is None and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert source.read() is not None and source.fault() is None
+        first.close()                                       # the camera goes away
+        deadline = time.monotonic() + 5
+        while source.fault() is None and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert "no frame for" in source.fault()
+        frames = source.frames
+        second = CameraEmulator.for_profile(HOROS, simulation.world)
+        second.serve_tcp("127.0.0.1", port)                 # and comes back at the same address
+        second.start_clock()
+        deadline = time.monotonic() + 8
+        while (source.fault() is not None or source.frames == frames) and \
+                time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert source.fault() is None and source.frames > frames
+    finally:
+        source.close()
+        first.close()
+        if second is not None:
+            second.close()
