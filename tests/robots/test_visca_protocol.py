@@ -235,3 +235,21 @@ def test_parser_drops_an_unfinished_packet_after_a_gap():
     assert parser.feed(b("90 50 0F 0C"), now=0.0) == []
     assert parser.feed(b("90 51 FF"), now=0.5) == [b("90 51 FF")]
     assert parser.stats.gaps == 1
+
+
+PACKETS = [b("90 41 FF"), b("90 51 FF"), b("90 60 02 FF"), b("90 62 05 FF"),
+           b("90 50 0F 0C 09 00 00 01 02 0C FF"), b("88 30 02 FF"), b("88 01 00 01 FF")]
+
+
+@given(st.lists(st.tuples(st.binary(max_size=6).map(lambda g: bytes(x & 0x7F for x in g)),
+                          st.sampled_from(PACKETS)), max_size=8),
+       st.lists(st.integers(1, 12), min_size=1, max_size=6))
+def test_parser_recovers_every_packet_between_garbage_in_any_chunks(pieces, cuts):
+    stream = b"".join(garbage + packet for garbage, packet in pieces)
+    parser, found, at, i = p.ViscaParser(), [], 0, 0
+    while at < len(stream):
+        size = cuts[i % len(cuts)]
+        found += parser.feed(stream[at:at + size])
+        at, i = at + size, i + 1
+    assert found == [packet for _, packet in pieces]
+    assert parser.stats.dropped_bytes == sum(len(garbage) for garbage, _ in pieces)
