@@ -1,4 +1,5 @@
-"""`interbot emulate BASE`: a base's (or a device's) firmware emulator around the simulated world, on a pty or TCP.
+"""`interbot emulate BASE`: a base's (or device's) emulator around the simulated world, on a pty
+or TCP.
 
 Like MobileSim for ARIA: start it, then point any client (our driver with `--port`, or another
 program) at the printed address. The CLI (L3) finds this command by the entry point

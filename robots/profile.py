@@ -62,7 +62,8 @@ class HeadSpec:
     tilt_max: float
     max_pan_rate: float  # rad/s
     model: str = "evi-d31"   # the VISCA camera model (robots.visca), for a real head
-    device: str = ""         # where the real head is: "visca:/dev/ttyUSB1" (used with --port)
+    device: str = ""         # where the real head is: "visca:/dev/ttyUSB1"; in simulation its
+    #                          emulator stands there (robots.real_devices)
 
 
 @dataclass(frozen=True)
