@@ -309,19 +309,21 @@ def _open_simulated(profile: RobotProfile, clock, scenario, seed: int, emulate: 
                         head=devices.get("head"), screen=devices.get("screen"),
                         speaker=devices.get("speaker"))
     try:
-        _wire_simulated_head(hardware)
+        _wire_simulated_devices(hardware)
     except BaseException:
         hardware.close()
         raise
     return hardware
 
 
-def _wire_simulated_head(hardware: Hardware) -> None:
-    """A head the profile names on a wire goes through its driver and emulator here too."""
-    from robots.real_devices import open_simulated_head
-    head = open_simulated_head(hardware.profile, hardware.simulation, hardware.clock)
-    if head is not None:
-        hardware.head = head
+def _wire_simulated_devices(hardware: Hardware) -> None:
+    """A head or camera the profile names goes through its real driver here too, facing the
+    simulated world (robots.real_devices)."""
+    from robots.real_devices import open_simulated_camera, open_simulated_head
+    profile, simulation, clock = hardware.profile, hardware.simulation, hardware.clock
+    hardware.head = open_simulated_head(profile, simulation, clock) or hardware.head
+    hardware.people_detector = (open_simulated_camera(profile, simulation, clock, hardware.head)
+                                or hardware.people_detector)
 
 
 def _open_interaction(hardware: Hardware, interaction: Interaction) -> None:

@@ -79,7 +79,8 @@ class DetectorSpec:
 @dataclass(frozen=True)
 class CameraSpec:
     """A real camera used as a person detector (table `[camera]`, robots.camera): where it is,
-    its lens, what it looks for and how sure a detection is. The simulation does not read it."""
+    its lens, what it looks for and how sure a detection is. Without a `device` it is not
+    used; with one, a simulated run draws the world for it (robots.real_devices)."""
     device: str = ""             # a device index, /dev/video path, URL or video file (with --port)
     calibration: str = ""        # an OpenCV calibration file, relative to the profile's folder
     hfov_deg: float = 48.8       # horizontal field of view when there is no calibration file
@@ -137,7 +138,7 @@ class RobotProfile:
     people_detector: DetectorSpec | None
     odometry: OdometrySpec = field(default_factory=OdometrySpec)
     speech_input: bool = False      # a microphone for spoken answers ([speech] input)
-    camera: CameraSpec | None = None    # a real camera ([camera]); the simulation ignores it
+    camera: CameraSpec | None = None    # a real camera ([camera]), where it names a device
 
     @property
     def capabilities(self) -> frozenset[str]:

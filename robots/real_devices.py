@@ -7,7 +7,9 @@ Used by `robots.hardware` when a run drives the real robot (`--port`); a device 
 names but that does not answer is an error naming the device, not a robot without it. In the
 simulated world a head the profile names is driven the same way, through its driver and wire
 protocol, by the camera emulator in the head's place (as the base's driver talks to its
-firmware emulator); without a device the simulated head stands in.
+firmware emulator), and a camera the profile names sees the simulated world drawn
+(robots.camera.emulator) through the real camera pipeline; without devices the simulated
+head and person detector stand in.
 """
 from __future__ import annotations
 
@@ -83,3 +85,22 @@ def open_camera(profile, clock=None, head: PanTiltHead | None = None) -> PersonD
                          f"{spec.device!r}): {exc}") from exc
     return camera
 
+
+
+def open_simulated_camera(profile, simulation, clock,
+                          head: PanTiltHead | None = None) -> PersonDetector | None:
+    """In simulation: the profile's named camera as the camera pipeline on frames drawn from
+    the world; None when the profile names no camera device."""
+    spec = profile.camera
+    if spec is None or not spec.device:
+        return None
+    from pathlib import Path
+
+    from robots.camera.detector import CameraPersonDetector, intrinsics_for
+    from robots.camera.emulator import WorldCamera, WorldFrameSource
+    lens = intrinsics_for(spec, Path(profile.source).parent)
+    source = WorldFrameSource(WorldCamera(simulation.world, spec, lens), clock)
+    camera = CameraPersonDetector(source, spec, lens, head=head,
+                                  threaded=not getattr(clock, "simulated", False))
+    camera.open()
+    return camera

@@ -9,6 +9,8 @@ closer than 0.3 m. What it leaves out: docs/emulator-fidelity.md.
 
 `CameraEmulator` (`interbot emulate camera --tcp PORT`) serves the newest frame at FPS frames
 a second to every client of http://HOST:PORT/video.mjpg, and steps the world in real time.
+`WorldFrameSource` hands the frames to a camera pipeline in the same process (a simulated run
+whose profile names a camera device).
 """
 from __future__ import annotations
 
@@ -56,6 +58,37 @@ class WorldCamera:
 
     def frame(self):
         return render(self.lens, self.visible())
+
+
+class WorldFrameSource:
+    """A `FrameSource` stand-in in the simulated world's own process: a new rendered frame
+    every 1/FPS s of the clock (the simulated one in `--fast` runs: deterministic)."""
+
+    def __init__(self, camera: WorldCamera, clock, fps: float = FPS) -> None:
+        self.camera = camera
+        self.clock = clock
+        self.fps = fps
+        self.frames = 0
+        self._newest = None
+        self._due = -math.inf
+
+    def open(self) -> None:
+        """Nothing to open: the world is here."""
+
+    def read(self):
+        from robots.camera.source import Frame
+        now = self.clock.now()
+        if now + 1e-9 >= self._due:
+            self.frames += 1
+            self._newest = Frame(now, self.frames, self.camera.frame())
+            self._due = now + 1.0 / self.fps
+        return self._newest
+
+    def fault(self) -> str | None:
+        return None
+
+    def close(self) -> None:
+        """Nothing to close."""
 
 
 class CameraEmulator:

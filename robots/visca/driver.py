@@ -98,7 +98,7 @@ class ViscaHead(PanTiltHead):
     def for_simulation(cls, profile, simulation, clock) -> "ViscaHead":
         """The camera emulator on a pty, stepped with `simulation`; a driver for that pty."""
         from robots.visca.emulator import ViscaEmulator    # the emulator only when simulating
-        emulator = ViscaEmulator.for_profile(profile)
+        emulator = ViscaEmulator.for_profile(profile, simulation.world)   # the world's head
         emulator.attach(simulation)
         head = cls.for_profile(profile, emulator.serve_pty(), clock=clock,
                                reconnect=not getattr(clock, "simulated", False))
