@@ -45,12 +45,20 @@ class RunSummary:
     link_ups: int = 0               # ... and "up" again (re-connected, data fresh)
     link_down_seconds: float = 0.0  # summed over the episodes that ended
     dropped_readings: int = 0       # readings the profile does not describe (`dropped` events)
+    device_links: dict[str, list] = field(default_factory=dict)  # device -> [downs, ups, s down]
     ended_by: str | None = None     # why the loop ended early: "SIGTERM", "an error", ...
 
     def count(self, event: dict[str, Any]) -> None:
         """Keep the link and dropped-reading counters from the events that pass by."""
         kind = event.get("kind")
-        if kind == "link":
+        if kind == "link" and event.get("device"):      # a device beside the base (the head)
+            counts = self.device_links.setdefault(event["device"], [0, 0, 0.0])
+            if event.get("state") == "down":
+                counts[0] += 1
+            else:
+                counts[1] += 1
+                counts[2] += float(event.get("after", 0.0))
+        elif kind == "link":
             if event.get("state") == "down":
                 self.link_downs += 1
             else:
@@ -71,6 +79,10 @@ class RunSummary:
             out.append(f"link to the base: down {self.link_downs} time(s), re-connected "
                        f"{self.link_ups} time(s), {self.link_down_seconds:.1f} s down in all"
                        + ("; down at the end" if self.link_downs > self.link_ups else ""))
+        for device, (downs, ups, seconds) in sorted(self.device_links.items()):
+            out.append(f"link to the {device}: down {downs} time(s), re-connected {ups} "
+                       f"time(s), {seconds:.1f} s down in all"
+                       + ("; down at the end" if downs > ups else ""))
         if self.dropped_readings:
             out.append(f"readings dropped (not described by the robot profile): "
                        f"{self.dropped_readings}")
@@ -309,6 +321,10 @@ def _describe(event: dict[str, Any], robot: str) -> str | None:
         return f"{t} FAULT: {event['reason']} (the robot is stopped)"
     if kind == "skill" and event.get("status") == "failed":
         return f"{t}   skill {event['name']} failed: {event['reason']}"
+    if kind == "link" and event.get("device"):
+        return (f"{t} {event['device'].upper()} LINK DOWN: {event['reason']} (it does not move)"
+                if event["state"] == "down" else
+                f"{t} {event['device']} link back up after {event['after']:.1f} s")
     if kind == "link":
         return (f"{t} LINK DOWN: {event['reason']} (the robot is stopped)"
                 if event["state"] == "down" else

@@ -19,3 +19,15 @@ def robot_capabilities(robot: str) -> frozenset[str]:
         return capabilities(robot)
     except SkillError as exc:
         raise RobotOpenError(str(exc)) from exc
+
+
+def check_robot_devices(robot: str, port: str | None = None) -> list[dict]:
+    """Which of the robot's devices answer where its profile says they are: one dict per
+    device (device, address, answers: True/False/None when not named, detail)."""
+    from behaviors.exceptions import RobotOpenError
+    from skills.exceptions import SkillError
+    from skills.skillset import check_robot_devices as check
+    try:
+        return check(robot, port)
+    except SkillError as exc:
+        raise RobotOpenError(str(exc)) from exc

@@ -44,6 +44,10 @@ class PersonDetector(ABC):
     def detect(self) -> list[Detection]:
         """Person detections of the newest frame (may include misses and false positives)."""
 
+    def fault(self) -> str | None:
+        """Why the detector cannot see now (a camera that stopped delivering frames), or None."""
+        return None
+
 
 class PanTiltHead(ABC):
     @abstractmethod
@@ -53,6 +57,11 @@ class PanTiltHead(ABC):
     @abstractmethod
     def read(self) -> tuple[float, float]:
         """The current (pan, tilt) in rad."""
+
+    def fault(self) -> str | None:
+        """Why the head cannot be driven now (a silent or refusing link), or None. A head with
+        a fault does not move; `read` then gives the last position it reported."""
+        return None
 
 
 class TouchScreen(ABC):

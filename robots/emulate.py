@@ -1,4 +1,5 @@
-"""`interbot emulate BASE`: a base's firmware emulator around the simulated world, on a pty or TCP.
+"""`interbot emulate BASE`: a base's (or device's) emulator around the simulated world, on a pty
+or TCP.
 
 Like MobileSim for ARIA: start it, then point any client (our driver with `--port`, or another
 program) at the printed address. The CLI (L3) finds this command by the entry point
@@ -30,6 +31,7 @@ class EmulatorEntry:
     about: str = ""
     address: str = "socket://{host}:{port}"     # how a client names the TCP server
     tcp_only: bool = False                      # no pty (a bus, not a serial line)
+    hint: str = "interbot run APP --robot {robot} --port {address}"   # how a client uses it
 
 
 EMULATORS: dict[str, EmulatorEntry] = {
@@ -39,6 +41,13 @@ EMULATORS: dict[str, EmulatorEntry] = {
     "can": EmulatorEntry("argos", "robots.canopen.emulator:CanOpenEmulator.for_profile",
                          "two CiA 402 drives on CAN, served as socketcand",
                          address="socketcand:{host}:{port}", tcp_only=True),
+    "visca": EmulatorEntry("horos", "robots.visca.emulator:ViscaEmulator.for_profile",
+                           "Sony EVI-D31 pan-tilt camera head (VISCA)",
+                           hint='[head] device = "visca:{address}" in the robot profile'),
+    "camera": EmulatorEntry("horos", "robots.camera.emulator:CameraEmulator.for_profile",
+                            "a camera looking at the simulated people, as an MJPEG stream",
+                            address="http://{host}:{port}/video.mjpg", tcp_only=True,
+                            hint='[camera] device = "{address}" in the robot profile'),
 }
 
 
@@ -53,7 +62,7 @@ def load_factory(spec: str):
 
 class EmulateCommand:
     name = "emulate"
-    help = "run a base's firmware emulator around the simulated world, on a pty or a TCP port"
+    help = "run a base's or device's firmware emulator in the simulated world, on a pty or TCP port"
 
     def add_arguments(self, parser: argparse.ArgumentParser) -> None:
         parser.add_argument("base", choices=sorted(EMULATORS), help="which firmware to emulate")
@@ -105,7 +114,7 @@ class EmulateCommand:
             emulator.start_clock(simulation)
             print(f"{args.base} emulator ({entry.about}, robot {profile.name}) ready; connect to: "
                   f"{address}", flush=True)
-            print(f"  e.g. interbot run APP --robot {profile.name} --port {address}", flush=True)
+            print(f"  e.g. {entry.hint.format(robot=profile.name, address=address)}", flush=True)
             _wait_for_interrupt(stop)
         finally:
             emulator.close()

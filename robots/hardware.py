@@ -72,6 +72,8 @@ class Hardware:
         if self.simulation is not None:
             self.simulation.advance(now)
         self.base.poll()
+        if hasattr(self.head, "poll"):        # a head on a wire, on a simulated clock
+            self.head.poll()
         return now
 
     @property
@@ -177,8 +179,9 @@ class Hardware:
             self.base.stop()
         finally:
             self.base.close()
-            for device in (self.recognizer, self.speaker, self.screen):
-                if device is not None:
+            for device in (self.recognizer, self.speaker, self.screen, self.people_detector,
+                           self.head):
+                if device is not None and hasattr(device, "close"):
                     try:
                         device.close()
                     except Exception as exc:   # the base is stopped; report and go on closing
@@ -270,8 +273,22 @@ def _open_real(profile: RobotProfile, clock, port: str) -> Hardware:
     except BaseException:         # a link error, or a signal in the middle of the handshake
         base.close()
         raise
-    # On a real robot only the base is wired up here; the interaction devices follow the options.
-    return Hardware(profile=profile, clock=clock, base=base)
+    # The base, and the head and camera where the profile names them; the interaction devices
+    # follow the options.
+    hardware = Hardware(profile=profile, clock=clock, base=base)
+    try:
+        _open_head_and_camera(hardware)
+    except BaseException:
+        hardware.close()
+        raise
+    return hardware
+
+
+def _open_head_and_camera(hardware: Hardware) -> None:
+    """The profile's [head] and [camera] devices beside a real base (robots.real_devices)."""
+    from robots.real_devices import open_camera, open_head
+    hardware.head = open_head(hardware.profile, hardware.clock)
+    hardware.people_detector = open_camera(hardware.profile, hardware.clock, hardware.head)
 
 
 def _open_simulated(profile: RobotProfile, clock, scenario, seed: int, emulate: bool,
@@ -287,10 +304,26 @@ def _open_simulated(profile: RobotProfile, clock, scenario, seed: int, emulate: 
         base = SimulatedBase(profile.limits, world=simulation.world)
     base.open()
     devices = simulation.devices()
-    return Hardware(profile=profile, clock=clock, base=base, simulation=simulation,
-                    laser=devices.get("laser"), people_detector=devices.get("people_detector"),
-                    head=devices.get("head"), screen=devices.get("screen"),
-                    speaker=devices.get("speaker"))
+    hardware = Hardware(profile=profile, clock=clock, base=base, simulation=simulation,
+                        laser=devices.get("laser"), people_detector=devices.get("people_detector"),
+                        head=devices.get("head"), screen=devices.get("screen"),
+                        speaker=devices.get("speaker"))
+    try:
+        _wire_simulated_devices(hardware)
+    except BaseException:
+        hardware.close()
+        raise
+    return hardware
+
+
+def _wire_simulated_devices(hardware: Hardware) -> None:
+    """A head or camera the profile names goes through its real driver here too, facing the
+    simulated world (robots.real_devices)."""
+    from robots.real_devices import open_simulated_camera, open_simulated_head
+    profile, simulation, clock = hardware.profile, hardware.simulation, hardware.clock
+    hardware.head = open_simulated_head(profile, simulation, clock) or hardware.head
+    hardware.people_detector = (open_simulated_camera(profile, simulation, clock, hardware.head)
+                                or hardware.people_detector)
 
 
 def _open_interaction(hardware: Hardware, interaction: Interaction) -> None:

@@ -61,6 +61,9 @@ class HeadSpec:
     tilt_min: float
     tilt_max: float
     max_pan_rate: float  # rad/s
+    model: str = "evi-d31"   # the VISCA camera model (robots.visca), for a real head
+    device: str = ""         # where the real head is: "visca:/dev/ttyUSB1"; in simulation its
+    #                          emulator stands there (robots.real_devices)
 
 
 @dataclass(frozen=True)
@@ -71,6 +74,28 @@ class DetectorSpec:
     noise: float         # m, standard deviation of each coordinate
     miss_rate: float     # probability a visible person is not reported in a frame
     false_rate: float    # expected false detections per frame
+
+
+@dataclass(frozen=True)
+class CameraSpec:
+    """A real camera used as a person detector (table `[camera]`, robots.camera): where it is,
+    its lens, what it looks for and how sure a detection is. Without a `device` it is not
+    used; with one, a simulated run draws the world for it (robots.real_devices)."""
+    device: str = ""             # a device index, /dev/video path, URL or video file (with --port)
+    calibration: str = ""        # an OpenCV calibration file, relative to the profile's folder
+    hfov_deg: float = 48.8       # horizontal field of view when there is no calibration file
+    width: int = 640             # px
+    height: int = 480
+    x: float = 0.0               # m, robot frame
+    y: float = 0.0
+    heading: float = 0.0         # rad
+    on_head: bool = False        # it turns with the pan-tilt head (a camera head)
+    detect: tuple[str, ...] = ("body", "face")
+    person_height: float = 1.7   # m, to range a whole person from the box height
+    face_size: float = 0.19      # m, the height a face box spans at the person
+    bearing_sd: float = math.radians(2.0)   # rad, one standard deviation
+    range_sd: float = 0.2        # fraction of the range, one standard deviation
+    max_range: float = 8.0       # m, farther detections are dropped
 
 
 @dataclass(frozen=True)
@@ -113,6 +138,7 @@ class RobotProfile:
     people_detector: DetectorSpec | None
     odometry: OdometrySpec = field(default_factory=OdometrySpec)
     speech_input: bool = False      # a microphone for spoken answers ([speech] input)
+    camera: CameraSpec | None = None    # a real camera ([camera]), where it names a device
 
     @property
     def capabilities(self) -> frozenset[str]:
@@ -215,6 +241,7 @@ class _ProfileReader:
             people_detector=self.detector(),
             odometry=self.odometry(),
             speech_input=bool(self.data.get("speech", {}).get("input", False)),
+            camera=self.camera(),
         )
 
     def limits(self) -> Limits:
@@ -259,7 +286,54 @@ class _ProfileReader:
                         pan_max=self.angle("head", "pan_max_deg", 0.0, 180.0),
                         tilt_min=self.angle("head", "tilt_min_deg", -90.0, 0.0),
                         tilt_max=self.angle("head", "tilt_max_deg", 0.0, 90.0),
-                        max_pan_rate=self.angle("head", "max_pan_rate_deg", 1.0, 720.0))
+                        max_pan_rate=self.angle("head", "max_pan_rate_deg", 1.0, 720.0),
+                        model=self.choice("head", "model", ("evi-d31", "evi-d70"), "evi-d31"),
+                        device=self.text("head", "device", ""))
+
+    def choice(self, table: str, key: str, allowed: tuple[str, ...], default: str) -> str:
+        value = self.data.get(table, {}).get(key, default)
+        if value not in allowed:
+            raise self.fail(table, f"{key} = {value!r}; allowed: {', '.join(map(repr, allowed))}")
+        return value
+
+    def text(self, table: str, key: str, default: str) -> str:
+        value = self.data.get(table, {}).get(key, default)
+        if not isinstance(value, str):
+            raise self.fail(table, f"{key} = {value!r} must be a string")
+        return value
+
+    def camera(self) -> CameraSpec | None:
+        table = self.table("camera", required=False)
+        if table is None:
+            return None
+        known = set(CameraSpec.__dataclass_fields__) - {"heading", "bearing_sd"} | {
+            "heading_deg", "bearing_sd_deg"}
+        unknown = set(table) - known
+        if unknown:
+            raise self.fail("camera", f"unknown key(s) {', '.join(sorted(unknown))}; "
+                            f"known: {', '.join(sorted(known))}")
+        detect = table.get("detect", ["body", "face"])
+        if not isinstance(detect, list) or not detect or \
+                not set(detect) <= {"body", "face"}:
+            raise self.fail("camera", f"detect = {detect!r}; allowed a non-empty list of "
+                            f"'body', 'face'")
+        d = CameraSpec()
+        return CameraSpec(
+            device=self.text("camera", "device", ""),
+            calibration=self.text("camera", "calibration", ""),
+            hfov_deg=self.number("camera", "hfov_deg", 1.0, 179.0, d.hfov_deg),
+            width=int(self.number("camera", "width", 16, 10000, d.width)),
+            height=int(self.number("camera", "height", 16, 10000, d.height)),
+            x=self.number("camera", "x", -2.0, 2.0, 0.0),
+            y=self.number("camera", "y", -2.0, 2.0, 0.0),
+            heading=self.angle("camera", "heading_deg", -180.0, 180.0, 0.0),
+            on_head=bool(table.get("on_head", False)),
+            detect=tuple(detect),
+            person_height=self.number("camera", "person_height", 0.5, 2.5, d.person_height),
+            face_size=self.number("camera", "face_size", 0.05, 0.5, d.face_size),
+            bearing_sd=self.angle("camera", "bearing_sd_deg", 0.01, 30.0, 2.0),
+            range_sd=self.number("camera", "range_sd", 0.01, 2.0, d.range_sd),
+            max_range=self.number("camera", "max_range", 0.5, 50.0, d.max_range))
 
     def odometry(self) -> OdometrySpec:
         """The simulated odometry error; each key defaults to `OdometrySpec`'s value."""

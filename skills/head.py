@@ -5,6 +5,7 @@ import math
 
 from robots.devices import PanTiltHead
 from robots.profile import HeadSpec
+from skills.device_link import DeviceLink
 from skills.localization import Localization
 from skills.perception import PeoplePerception
 from skills.skill import Skill
@@ -25,6 +26,7 @@ class HeadControl(Skill):
         self.perception = perception
         self.tracking = False
         self.target: tuple[float, float] | None = None     # a map point to look at instead
+        self.link = DeviceLink(events, "head")  # a head on a wire may fall silent
 
     def look_at(self, xy: tuple[float, float] | None, now: float) -> None:
         """Keep the head pointed at a map point (a guide looking back at its follower), as far
@@ -50,8 +52,12 @@ class HeadControl(Skill):
         self.set_status(IDLE, now)
 
     def sense(self, now: float) -> None:
+        fault = self.link.update(self.head, now)
         pan, tilt = self.head.read()
         self.write("head/pan_tilt", (pan, tilt), now)
+        if fault is not None:
+            self.set_status(failed(f"head link is down: {fault}"), now)
+            return
         if self.target is not None:
             state = self.localization.state
             if state is not None:

@@ -13,6 +13,7 @@ every leg pair may confirm. The user (the interaction partner) is chosen by
 from __future__ import annotations
 
 from robots.devices import Detection, Laser, PersonDetector
+from skills.device_link import DeviceLink
 from skills.localization import Localization
 from skills.people.frames import robot_to_world
 from skills.people.legs import detect_legs
@@ -32,6 +33,7 @@ class PeoplePerception(Skill):
         self.localization = localization
         self.detector = detector
         self.laser = laser
+        self.camera_link = DeviceLink(events, "camera")   # a real camera may stop delivering
         confirming = ("camera",) if detector is not None else None
         self.tracker = PeopleTracker(TrackerParams(confirming_sources=confirming))
         self.selector = UserSelector(max_range=user_range)
@@ -46,7 +48,7 @@ class PeoplePerception(Skill):
         if self.detector is None and self.laser is None:
             self.set_status(failed("no person detector and no laser on this robot"), now)
             return
-        detections = self._detections()
+        detections = self._detections(now)
         pose = (state.x, state.y, state.th)
         world = [(*robot_to_world(d.x, d.y, d.cov, pose), d.source, d.appearance)
                  for d in detections]
@@ -63,8 +65,11 @@ class PeoplePerception(Skill):
                    None if self.user is None else approach_speed(self.user, robot_xy), now)
         self.set_status(RUNNING, now)
 
-    def _detections(self) -> list[Detection]:
-        camera = self.detector.detect() if self.detector is not None else []
+    def _detections(self, now: float) -> list[Detection]:
+        camera = []
+        if self.detector is not None:
+            self.camera_link.update(self.detector, now)
+            camera = self.detector.detect()
         laser = []
         if self.laser is not None:
             scan = self.laser.read()

@@ -47,6 +47,15 @@ def robot_capabilities(robot: str) -> frozenset[str]:
         raise SkillError(str(exc)) from exc
 
 
+def check_robot_devices(robot: str | Path, port: str | None = None) -> list[dict]:
+    """Which of the robot's devices answer (robots.check), as plain data."""
+    from robots.check import check_devices
+    try:
+        return [vars(check) for check in check_devices(robot, port)]
+    except RobotError as exc:
+        raise SkillError(str(exc)) from exc
+
+
 class SkillSet:
     def __init__(self, hardware: Hardware, *, map: str | Path | GridMap | None = None,
                  initial_pose: tuple[float, float, float] | None = None, seed: int = 0) -> None:

@@ -1,0 +1,1 @@
+"""Sony VISCA pan-tilt camera heads (EVI-D31, EVI-D70): codec, driver and emulator."""
