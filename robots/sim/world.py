@@ -83,7 +83,6 @@ class World:
         self.scenario = scenario
         self.rng = np.random.default_rng(seed)
         self.appearance_rng = np.random.default_rng([seed, 0xA99])   # its own stream
-        self.laser_rng = np.random.default_rng([seed, 0x1A5])        # … and the laser's
         self.t = 0.0
         x, y, th = self._start_pose()
         self.body = UnicycleBody(x, y, th, profile.limits, profile.radius)
@@ -302,18 +301,14 @@ class World:
         return ranges.reshape(-1, len(SONAR_RAY_SPREAD)).min(axis=1)
 
     def laser_scan(self) -> tuple[np.ndarray, np.ndarray]:
-        """(angles in the robot frame, ranges in m from the laser) with Gaussian range noise:
-        one scan per substep, the same for every reader (as a laser sends one per cycle), its
-        noise from a stream of its own (so how often it is read changes no other draw)."""
-        if self.profile.laser is None:
+        """(angles in the robot frame, ranges in m from the laser) with Gaussian range noise."""
+        laser = self.profile.laser
+        if laser is None:
             return np.zeros(0), np.zeros(0)
-        return self._laser_offsets.copy(), self._cached("laser_noisy", self._noisy_laser).copy()
-
-    def _noisy_laser(self) -> np.ndarray:
-        ranges, noise = self._cached("laser", self._laser_ranges), self.profile.laser.noise
-        if noise > 0:
-            ranges = np.maximum(ranges + self.laser_rng.normal(0.0, noise, ranges.shape), 0.0)
-        return ranges
+        ranges = self._cached("laser", self._laser_ranges)
+        if laser.noise > 0:
+            ranges = np.maximum(ranges + self.rng.normal(0.0, laser.noise, ranges.shape), 0.0)
+        return self._laser_offsets.copy(), ranges.copy()
 
     def _laser_ranges(self) -> np.ndarray:
         """Noise-free laser ranges of the current substep."""
