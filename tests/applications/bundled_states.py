@@ -8,12 +8,6 @@ faster ray caster, a parallel test run) is checked against what the robots did b
 robots do rewrites the file on purpose, and says why in its commit:
 
     python -m tests.applications.bundled_states --write [--jobs 2]
-
-Rewritten so far (each with the evidence that the old states were a coin toss, not a feature):
-- guide/horos/walks_away: on the way home from room N2 the robot stops in the room's door (the
-  local controller's door problem, issue 22) and the run ends in GoHome instead of Wait. With a
-  scan weighed every tick it reached home on seed 0 and on 3 of seeds 1-8; with the update rule
-  of issue 21 it does not on seed 0 and does on 6 of seeds 1-8 (measured with both).
 """
 from __future__ import annotations
 
