@@ -45,9 +45,10 @@ from canopen.sdo import SdoAbortedError, SdoCommunicationError
 
 from robots.base import Base, BaseState, clamp_velocity
 from robots.canopen import protocol as p
+from robots.canopen.objects import ABSENT_CODES, OPTIONAL, described
 from robots.canopen.bus import CandumpLog, Counted, DriverBus, open_bus, parse_port
 from robots.canopen.od import drive_dictionary
-from robots.canopen.wheels import DriveConfig, Odometry
+from robots.canopen.wheels import DriveConfig, Odometry, wrap_delta
 from robots.exceptions import HandshakeError
 from robots.link.lockstep import LockStep
 from robots.link.watchdog import CommandWatchdog
@@ -59,6 +60,8 @@ WATCHDOG = 0.15             # s without a fresh command -> zero
 BUS_STATE_EVERY = 0.5       # s between polls of the interface's error state (real time)
 LOG_ENV = "INTERBOT_CAN_LOG"
 NOTIFIER_CYCLE = 0.05       # s, longest the receive thread blocks (canopen's default is 1 s)
+SELF_CHECK_SPEED = 0.05     # m/s at the wheel during the start-up self-check
+PLAUSIBLE = (0.5, 2.0)      # self-check: measured / expected outside this is a contradiction
 
 
 class StartupError(HandshakeError):
@@ -112,6 +115,15 @@ class CanOpenBase(Base):
         self._pos = {n: 0 for n in self.nodes}
         self._pos_seen = {n: 0 for n in self.nodes}
         self._cycle_done = 0
+        self._streaming = False                 # SYNC and RPDOs go out (driving, or stopping)
+        self._powered = False                   # a drive was enabled by us (start-up got that far)
+        self._controlword = p.Cw.ENABLE_OPERATION   # what RPDO1 carries: enable, or quick stop
+        self._world_step = None                 # simulation: steps the world to a time (for_simulation)
+        self.present: dict[int, dict[tuple[int, int], bool]] = {}   # optional objects found
+        self.startup_notes: list[str] = []      # optional objects skipped, and why that is fine
+        self.identity: dict[int, dict[str, int]] = {}
+        self.self_check_result: dict[int, dict[str, float]] = {}
+        self.stop_log: list[dict] = []          # each stop sequence: steps and times
         self._sonar: tuple[float, ...] = tuple([math.inf] * c.sonars)
         self.bus_state = "error-active"
         self._closing = threading.Event()
@@ -144,6 +156,7 @@ class CanOpenBase(Base):
                    config=emulator.config, lockstep=lockstep,
                    initial_pose=(body.x, body.y, body.th))
         base.emulator = emulator
+        base._world_step = simulation.advance
         return base
 
     # -- time ----------------------------------------------------------------------------------
@@ -200,6 +213,10 @@ class CanOpenBase(Base):
     def close(self) -> None:
         if self._closing.is_set() and self.network is None:
             return
+        try:
+            self._stop_drives("close")
+        except Exception as exc:          # the heartbeat time-out remains the drives' backstop
+            log.warning("%s: stopping the drives failed: %s", self.port, exc)
         self._closing.set()
         self.watchdog.stop()
         if self._cycle_thread is not None and self._cycle_thread is not threading.current_thread():
@@ -208,13 +225,11 @@ class CanOpenBase(Base):
         with self._lock:
             if self.network is not None:
                 try:
-                    if self._enabled:
-                        for node in self.nodes:
-                            self._send(*p.rpdo1(node, p.Cw.SWITCH_ON, 0))   # stop, disable operation
                     self._send(*p.nmt(p.Nmt.PRE_OPERATIONAL))
                 except Exception:
                     pass
                 self._enabled = False
+                self._streaming = False
                 try:
                     self.network.disconnect()
                 except Exception:
@@ -232,20 +247,24 @@ class CanOpenBase(Base):
         """Lock-step: heartbeat and SYNC in sim time, handle every frame, supervise."""
         if not self.simulated or self.network is None:
             return
+        now = self._lockstep_cycle(timeout)
+        self.watchdog.check(now)
+
+    def _lockstep_cycle(self, timeout: float = 0.0) -> float:
         now = self._time()
         with self._lock:
             if now + 1e-9 >= self._next_heartbeat:
                 self._send_host_heartbeat()
                 self._next_heartbeat = now + self.config.host_heartbeat_ms / 1000.0
-            if self._enabled and now + 1e-9 >= self._next_sync:
+            if self._streaming and now + 1e-9 >= self._next_sync:
                 self._send_sync()
                 self._next_sync = now + self.config.sync_period
         self._drain(time.monotonic() + max(timeout, 2.0))
         self._supervise(now)
-        self.watchdog.check(now)
         with self._lock:
-            if self._enabled:
+            if self._streaming:
                 self._send_targets()
+        return now
 
     # -- explicit recovery -------------------------------------------------------------------------
     def reset_faults(self) -> list[int]:
@@ -306,6 +325,9 @@ class CanOpenBase(Base):
                     S.FAULT, S.FAULT_REACTION_ACTIVE):
                 raise StartupError(f"{self._who(node)} is in Fault ({self._fault_text(node)}); "
                                    f"call reset_faults() first, after finding the cause")
+        with self._lock:
+            self._streaming = False
+            self._controlword = p.Cw.ENABLE_OPERATION
         with self._boot_cond:
             self._boot_seen.clear()
         times = self.startup_timings = {"reset": time.monotonic()}
@@ -316,9 +338,12 @@ class CanOpenBase(Base):
             self._configure(node)
         times["nmt_start"] = time.monotonic()
         self._send(*p.nmt(p.Nmt.START))
+        self._powered = True
         for node in self.nodes:
             self._enable(node)
         times["enabled"] = time.monotonic()
+        self._self_check()
+        times["checked"] = time.monotonic()
         with self._lock:
             self.odometry.reset()
             self._cmd = (0, 0)
@@ -328,6 +353,7 @@ class CanOpenBase(Base):
             for node in self.nodes:
                 self._heartbeat_t[node] = now
             self._enabled = True
+            self._streaming = True
             self._send_targets()
             self._next_sync = now
             self._set_link(True)
@@ -365,46 +391,140 @@ class CanOpenBase(Base):
                 f"({self.config.bitrate} bit/s) and the bus termination")
 
     def _configure(self, node: int) -> None:
+        """Identify, check the options, write what the drive offers: mandatory objects without
+        asking, optional ones after `_has` found them (the rest skipped with a note)."""
         c, lim = self.config, self.limits
         u32 = lambda value: struct.pack("<I", value)          # noqa: E731
+        i16 = lambda value: struct.pack("<h", value)          # noqa: E731
+        self.present[node] = {}
+        self._identify(node)
+        self._check_modes(node)
+        self._check_polarity(node)
         max_wheel = lim.max_speed + lim.max_turn_rate * c.track_width / 2
-        steps = [
-            (p.MODES_OF_OPERATION, 0, struct.pack("<b", p.PROFILE_VELOCITY_MODE), "modes of operation"),
-            (p.TARGET_VELOCITY, 0, struct.pack("<i", 0), "target velocity"),
-            (p.PROFILE_ACCELERATION, 0, u32(c.accel_counts(lim.max_accel)), "profile acceleration"),
-            (p.PROFILE_DECELERATION, 0, u32(c.accel_counts(max(lim.max_accel, 1e-3))), "profile deceleration"),
-            (p.QUICK_STOP_DECELERATION, 0, u32(c.accel_counts(c.quick_stop_decel)), "quick-stop deceleration"),
-            (p.MAX_PROFILE_VELOCITY, 0, u32(abs(c.to_counts(max_wheel, c.left_node))), "max profile velocity"),
-            (p.QUICK_STOP_OPTION, 0, struct.pack("<h", 2), "quick stop option code"),
-            (p.ABORT_CONNECTION_OPTION, 0, struct.pack("<h", 3), "abort connection option code"),
-        ]
-        for index, sub, value, what in steps:
-            self._sdo_write(node, index, sub, value, what)
+        self._sdo_write(node, p.MODES_OF_OPERATION, 0, struct.pack("<b", p.PROFILE_VELOCITY_MODE),
+                        "modes of operation")
+        self._sdo_write(node, p.TARGET_VELOCITY, 0, struct.pack("<i", 0), "target velocity")
+        for index, value in (
+                (p.PROFILE_ACCELERATION, u32(c.accel_counts(lim.max_accel))),
+                (p.PROFILE_DECELERATION, u32(c.accel_counts(max(lim.max_accel, 1e-3)))),
+                (p.QUICK_STOP_DECELERATION, u32(c.accel_counts(c.quick_stop_decel))),
+                (p.MAX_PROFILE_VELOCITY, u32(abs(c.to_counts(max_wheel, c.left_node)))),
+                (p.QUICK_STOP_OPTION, i16(2)),              # quick-stop ramp, then switch on disabled
+                (p.DISABLE_OPERATION_OPTION, i16(1)),       # disable operation brakes (slow-down ramp)
+                (p.ABORT_CONNECTION_OPTION, i16(3))):       # host lost: quick stop
+            self._write_optional(node, index, 0, value)
         self._map_pdo(node, 0x1400, 0x1600, p.rpdo_id(1, node), 0xFF, p.RPDO1_MAP, "RPDO1")
-        self._sdo_write(node, 0x1401, 1, u32(p.PDO_INVALID | p.rpdo_id(2, node)), "RPDO2 COB-ID (off)",
-                        missing_ok=True)
+        self._write_optional(node, 0x1401, 1, u32(p.PDO_INVALID | p.rpdo_id(2, node)))
         self._map_pdo(node, 0x1800, 0x1A00, p.tpdo_id(1, node), p.SYNC_EVERY, p.TPDO1_MAP, "TPDO1")
         self._map_pdo(node, 0x1801, 0x1A01, p.tpdo_id(2, node), p.SYNC_EVERY, p.TPDO2_MAP, "TPDO2")
+        if not self._has(node, p.PRODUCER_HEARTBEAT, 0):
+            raise StartupError(f"{self._who(node)}: no producer heartbeat time 0x1017 (abort "
+                               f"0x06020000); this driver supervises drives by heartbeat only "
+                               f"(node guarding is not implemented)")
         self._sdo_write(node, p.PRODUCER_HEARTBEAT, 0, struct.pack("<H", c.heartbeat_ms),
                         "producer heartbeat time")
-        self._sdo_write(node, p.CONSUMER_HEARTBEAT, 1, u32((p.HOST_NODE << 16) | c.host_timeout_ms),
-                        "consumer heartbeat time (the host)")
+        self._write_optional(node, p.CONSUMER_HEARTBEAT, 1, u32((p.HOST_NODE << 16) | c.host_timeout_ms))
         mode = self._sdo_read(node, p.MODES_DISPLAY, 0, "modes of operation display", signed=True)
         if mode != p.PROFILE_VELOCITY_MODE:
             raise StartupError(f"{self._who(node)}: modes of operation display 0x6061 shows {mode}, "
                                f"not 3 (profile velocity) after writing 0x6060 = 3")
 
+    def _has(self, node: int, index: int, sub: int) -> bool:
+        """Does the drive have this object? An SDO upload: abort 0x06020000 or 0x06090011 = no.
+        (Any other abort, e.g. write-only, means it exists.)"""
+        known = self.present.setdefault(node, {})
+        if (index, sub) not in known:
+            try:
+                self.remote[node].sdo.upload(index, sub)
+                known[(index, sub)] = True
+            except SdoAbortedError as exc:
+                known[(index, sub)] = exc.code not in ABSENT_CODES
+            except (SdoCommunicationError, can.CanError) as exc:
+                raise StartupError(f"{self._who(node)}: SDO read {index:#06x}:{sub:02x} got no "
+                                   f"answer within {self.config.sdo_timeout} s (2 tries): {exc}") from exc
+        return known[(index, sub)]
+
+    def _note_absent(self, node: int, index: int, sub: int) -> None:
+        what = described(index, sub)
+        note = f"{self._who(node)}: no {what.name} {what.key} (optional): {what.without}"
+        self.startup_notes.append(note)
+        log.info("%s: %s", self.port, note)
+
+    def _write_optional(self, node: int, index: int, sub: int, value: bytes) -> bool:
+        """Write an optional object where the drive has it; note it when it has not."""
+        what = described(index, sub)
+        assert what.need == OPTIONAL, what
+        if not self._has(node, index, sub):
+            self._note_absent(node, index, sub)
+            return False
+        self._sdo_write(node, index, sub, value, what.name)
+        return True
+
+    def _read_optional(self, node: int, index: int, sub: int = 0, signed: bool = False) -> int | None:
+        if not self._has(node, index, sub):
+            self._note_absent(node, index, sub)
+            return None
+        return self._sdo_read(node, index, sub, described(index, sub).name, signed=signed)
+
+    def _identify(self, node: int) -> None:
+        """0x1000 must say CiA 402; 0x1018 names the drive in the log (subs 2-4 where present)."""
+        device_type = self._sdo_read(node, p.DEVICE_TYPE, 0, "device type")
+        if device_type & 0xFFFF != 402:
+            raise StartupError(f"{self._who(node)}: device type 0x1000 = {device_type:#010x} is "
+                               f"device profile {device_type & 0xFFFF}, not 402 (a CiA 402 drive); "
+                               f"wrong node id?")
+        identity = {"vendor": self._sdo_read(node, p.IDENTITY, 1, "identity: vendor-ID")}
+        for sub, key in ((2, "product"), (3, "revision"), (4, "serial")):
+            if self._has(node, p.IDENTITY, sub):
+                identity[key] = self._sdo_read(node, p.IDENTITY, sub, f"identity: {key}")
+        self.identity[node] = identity
+        log.info("%s: %s: %s", self.port, self._who(node),
+                 ", ".join(f"{k} {v:#010x}" for k, v in identity.items()))
+
+    def _check_modes(self, node: int) -> None:
+        modes = self._read_optional(node, p.SUPPORTED_DRIVE_MODES)
+        if modes is not None and not modes & 0x04:
+            raise StartupError(f"{self._who(node)}: supported drive modes 0x6502 = {modes:#010x} "
+                               f"has no profile velocity mode (bit 2); this driver needs it")
+
+    def _check_polarity(self, node: int) -> None:
+        """A wheel inverted inside the drive and again by right_mirrored turns the wrong way; one
+        inverted in velocity only counts its position against its motion."""
+        bits = self._read_optional(node, p.POLARITY)
+        if bits is None:
+            return
+        velocity, position = bool(bits & 0x40), bool(bits & 0x80)
+        if velocity != position:
+            raise StartupError(
+                f"{self._who(node)}: polarity 0x607E = {bits:#04x} inverts the "
+                f"{'velocity' if velocity else 'position'} only: position actual would count "
+                f"against the wheel's motion; set bits 6 and 7 alike")
+        if velocity and self.config.sign(node) < 0:
+            raise StartupError(
+                f"{self._who(node)}: mirrored twice: the drive inverts it (polarity 0x607E = "
+                f"{bits:#04x}) and the profile says right_mirrored = true; the robot would spin "
+                f"when told to go straight. Set right_mirrored = false, or 0x607E = 0")
+        if velocity:
+            self.startup_notes.append(f"{self._who(node)}: mirrored inside the drive (0x607E = {bits:#04x})")
+
     def _map_pdo(self, node: int, comm: int, mapping: int, cob_id: int, kind: int,
                  entries: tuple[int, ...], what: str) -> None:
-        """The remap procedure: invalidate, clear, write entries, count, type, validate."""
+        """The remap procedure: invalidate, clear, write entries, count, type, validate. A drive
+        whose mapping already is `entries` is not remapped (fixed mappings exist)."""
         u32 = lambda value: struct.pack("<I", value)          # noqa: E731
         self._sdo_write(node, comm, 1, u32(p.PDO_INVALID | cob_id), f"{what} COB-ID (invalid)")
-        self._sdo_write(node, mapping, 0, b"\0", f"{what} mapping count (0)")
-        for sub, entry in enumerate(entries, start=1):
-            self._sdo_write(node, mapping, sub, u32(entry), f"{what} mapping entry {sub}")
-        self._sdo_write(node, mapping, 0, bytes((len(entries),)), f"{what} mapping count")
+        if self._current_mapping(node, mapping, what) != entries:
+            self._sdo_write(node, mapping, 0, b"\0", f"{what} mapping count (0)")
+            for sub, entry in enumerate(entries, start=1):
+                self._sdo_write(node, mapping, sub, u32(entry), f"{what} mapping entry {sub}")
+            self._sdo_write(node, mapping, 0, bytes((len(entries),)), f"{what} mapping count")
         self._sdo_write(node, comm, 2, bytes((kind,)), f"{what} transmission type")
         self._sdo_write(node, comm, 1, u32(cob_id), f"{what} COB-ID (valid)")
+
+    def _current_mapping(self, node: int, mapping: int, what: str) -> tuple[int, ...]:
+        count = self._sdo_read(node, mapping, 0, f"{what} mapping count")
+        return tuple(self._sdo_read(node, mapping, sub, f"{what} mapping entry {sub}")
+                     for sub in range(1, min(count, 8) + 1))
 
     def _enable(self, node: int) -> None:
         """Shutdown, switch on, enable operation, each confirmed by the statusword."""
@@ -445,6 +565,171 @@ class CanOpenBase(Base):
                                    f"{self.config.state_timeout} s")
             time.sleep(0.01)
 
+    # -- the start-up self-check ---------------------------------------------------------------------
+    def _self_check(self) -> None:
+        """Move each wheel a little forward by the profile's reckoning and read its encoder back.
+        Refuses, before anything drives, a profile whose units, gear or mirroring contradict what
+        the drive reports: velocity or position against the command, or off by a factor."""
+        c = self.config
+        self.self_check_result = {}
+        if not c.self_check:
+            self.startup_notes.append("self-check off (self_check = false): units and polarity unchecked")
+            return
+        run_time = c.self_check_distance / SELF_CHECK_SPEED
+        self.odometry.reset()
+        positions = self._odometry_by_sdo()          # the robot moves: odometry follows it
+        for node in self.nodes:
+            start = positions[node]
+            self._sdo_write(node, p.TARGET_VELOCITY, 0,
+                            struct.pack("<i", c.to_counts(SELF_CHECK_SPEED, node)), "target velocity (self-check)")
+            try:
+                self._pause(run_time * 0.6)
+                velocity = c.velocity_mps(self._sdo_read(node, p.VELOCITY_ACTUAL, 0, "velocity actual value",
+                                                         signed=True), node)
+                self._pause(run_time * 0.4)
+            finally:
+                self._sdo_write(node, p.TARGET_VELOCITY, 0, struct.pack("<i", 0), "target velocity")
+            self._wait_standstill(c.stop_timeout, lambda n=node: {n: self._sdo_velocity(n)})
+            positions = self._odometry_by_sdo()
+            travel = c.travel_metres(wrap_delta(positions[node], start), node)
+            self.self_check_result[node] = {"commanded_mps": SELF_CHECK_SPEED, "velocity_mps": velocity,
+                                            "expected_m": c.self_check_distance, "travel_m": travel}
+            self._judge_self_check(node, velocity, travel)
+
+    def _odometry_by_sdo(self) -> dict[int, int]:
+        """Both position counters read by SDO, fed to odometry (no PDOs before driving)."""
+        positions = {n: self._sdo_read(n, p.POSITION_ACTUAL, 0, "position actual value", signed=True)
+                     for n in self.nodes}
+        self.odometry.update(positions[self.config.left_node], positions[self.config.right_node])
+        return positions
+
+    def _sdo_velocity(self, node: int) -> float:
+        units = self._sdo_read(node, p.VELOCITY_ACTUAL, 0, "velocity actual value", signed=True)
+        return self.config.velocity_mps(units, node)
+
+    def _judge_self_check(self, node: int, velocity: float, travel: float) -> None:
+        c = self.config
+        low, high = PLAUSIBLE
+        units = (f"velocity_unit = {c.velocity_unit!r} x {c.velocity_resolution}, position_unit = "
+                 f"{c.position_unit!r} x {c.position_resolution}, encoder_counts = {c.encoder_counts}, "
+                 f"gear_ratio = {c.gear_ratio}, wheel_radius = {c.wheel_radius}")
+        head = (f"{self._who(node)}: start-up self-check: commanded {SELF_CHECK_SPEED:.3f} m/s forward "
+                f"for {c.self_check_distance * 1000:.0f} mm")
+        if velocity <= 0 or travel <= 0:
+            which = ("velocity actual 0x606C" if velocity <= 0 else "position actual 0x6064")
+            raise StartupError(f"{head}, but its {which} ran backwards (velocity {velocity:+.3f} m/s, "
+                               f"travel {travel * 1000:+.1f} mm by the profile's reckoning): the drive's "
+                               f"feedback contradicts its command or the profile's mirroring "
+                               f"(right_mirrored = {str(c.right_mirrored).lower()}); check the "
+                               f"drive's polarity 0x607E and the mounting, wheels off the ground")
+        if not low <= velocity / SELF_CHECK_SPEED <= high:
+            raise StartupError(f"{head}; the drive reports {velocity:.3f} m/s: the velocity units "
+                               f"disagree by x{velocity / SELF_CHECK_SPEED:.2f} ({units})")
+        if not low <= travel / c.self_check_distance <= high:
+            raise StartupError(f"{head}; its encoder says {travel * 1000:.1f} mm: velocity and position "
+                               f"units disagree by x{travel / c.self_check_distance:.2f} ({units})")
+
+    # -- waiting, and stopping as a drive manual says --------------------------------------------------
+    def _pause(self, seconds: float) -> None:
+        """Let `seconds` pass for the drives: real time sleeps; a simulated clock steps the world
+        cycle by cycle (host heartbeat, SYNC while streaming, every frame handled)."""
+        end = self._time() + seconds
+        while True:
+            now = self._time()
+            if now >= end - 1e-9:
+                return
+            step = min(self.config.sync_period, end - now)
+            if self.simulated:
+                stepped = self.clock.advance(step)
+                if self._world_step is not None:
+                    self._world_step(stepped)
+                self._lockstep_cycle()
+            else:
+                time.sleep(step)
+                if self._world_step is not None and self.clock is not None:
+                    self._world_step(self.clock.now())     # a real-time simulation: its world
+
+    def _wait_for(self, done, timeout: float) -> bool:
+        """Pause cycle by cycle until `done()` or `timeout` s; whether it came true."""
+        deadline = self._time() + timeout
+        while True:
+            self._pause(self.config.sync_period)
+            if done():
+                return True
+            if self._time() >= deadline:
+                return False
+
+    def _wait_standstill(self, timeout: float, speeds=None) -> bool:
+        """Until every wheel's velocity actual is within `standstill_window`, or `timeout` s.
+        `speeds()` gives {node: m/s}; default: the TPDOs, counted fresh only after two cycles."""
+        window = self.config.standstill_window
+        first_cycle = self.stats["cycles"]
+
+        def still() -> bool:
+            if speeds is not None:
+                current = speeds()
+            elif self.stats["cycles"] >= first_cycle + 2:
+                current = {n: self.config.velocity_mps(self._vel[n], n) for n in self.nodes}
+            else:
+                return False
+            return all(abs(v) <= window for v in current.values())
+        return self._wait_for(still, timeout)
+
+    def _stop_by_sdo(self) -> None:
+        """A start-up that failed after enabling (no PDOs yet): the same steps by SDO."""
+        def each(word: int) -> None:
+            for node in self.nodes:
+                try:
+                    self._sdo_write(node, p.TARGET_VELOCITY, 0, struct.pack("<i", 0), "target velocity")
+                    self._sdo_write(node, p.CONTROLWORD, 0, struct.pack("<H", word), "controlword")
+                except StartupError as exc:
+                    log.warning("%s: %s", self.port, exc)
+
+        def speeds() -> dict[int, float]:
+            try:
+                return {n: self._sdo_velocity(n) for n in self.nodes}
+            except StartupError:
+                return {}
+        each(p.Cw.QUICK_STOP)
+        self._wait_standstill(self.config.stop_timeout, speeds)
+        each(p.Cw.DISABLE_VOLTAGE)
+        self._powered = False
+
+    def _stop_drives(self, why: str) -> None:
+        """Quick stop (0x605A = 2: the quick-stop ramp), wait for standstill or `stop_timeout`,
+        disable operation (braking, 0x605C = 1, for a drive the quick stop left enabled), then
+        disable voltage. SYNC goes on throughout, so odometry sees the whole stopping distance."""
+        with self._lock:
+            if self.network is None or not (self._enabled or self._streaming or self._powered):
+                return
+            if not (self._enabled or self._streaming):
+                self._stop_by_sdo()
+                return
+            record = {"why": why, "t_quick_stop": time.monotonic()}
+            self._enabled = False
+            self.watchdog.disarm()
+            self._cmd = (0, 0)
+            self._controlword = p.Cw.QUICK_STOP
+            self._streaming = True
+            self._send_targets()
+        record["standstill"] = self._wait_standstill(self.config.stop_timeout)
+        record["t_standstill"] = time.monotonic()
+        with self._lock:
+            self._controlword = p.Cw.SWITCH_ON         # disable operation
+            self._send_targets()
+        self._wait_for(lambda: not any(p.state_of(self._sw[n]) is S.OPERATION_ENABLED
+                                       for n in self.nodes), self.config.stop_timeout)
+        with self._lock:
+            self._controlword = p.Cw.DISABLE_VOLTAGE
+            self._send_targets()
+            self._streaming = self._powered = False
+        record["t_disabled"] = time.monotonic()
+        record["states"] = {n: (p.state_of(self._sw[n]).value if p.state_of(self._sw[n]) else "?")
+                            for n in self.nodes}
+        self.stop_log.append(record)
+        log.info("%s: stopped (%s): %s", self.port, why,
+                 "standstill" if record["standstill"] else f"no standstill within {self.config.stop_timeout} s")
+
     # -- SDO through canopen, with errors that name node, object and cause ----------------------
     def _sdo_write(self, node: int, index: int, sub: int, value: bytes, what: str,
                    missing_ok: bool = False) -> None:
@@ -484,7 +769,7 @@ class CanOpenBase(Base):
         """RPDO1 to both drives with the current command (caller holds the lock)."""
         try:
             for node, target in zip(self.nodes, self._cmd):
-                self._send(*p.rpdo1(node, p.Cw.ENABLE_OPERATION, target))
+                self._send(*p.rpdo1(node, self._controlword, target))
                 self.stats["rpdos"] += 1
                 self.rpdo_times.append((time.monotonic(), node, target))
             if len(self.rpdo_times) > 20_000:
@@ -584,7 +869,7 @@ class CanOpenBase(Base):
             self._cycle_done = cycle
             self.stats["cycles"] += 1
             self._publish()
-            if not self.simulated and self._enabled:
+            if not self.simulated and self._streaming:
                 self._send_targets()          # the control cycle: TPDOs in, RPDOs out
 
     def _on_sonar(self, can_id: int, data: bytes, timestamp: float) -> None:
@@ -599,7 +884,7 @@ class CanOpenBase(Base):
         c = self.config
         left, right = c.left_node, c.right_node
         x, y, th = self.odometry.update(self._pos[left], self._pos[right])
-        v, w = c.body_speeds(c.to_metres(self._vel[left], left), c.to_metres(self._vel[right], right))
+        v, w = c.body_speeds(c.velocity_mps(self._vel[left], left), c.velocity_mps(self._vel[right], right))
         enabled = all(p.state_of(self._sw[n]) is S.OPERATION_ENABLED for n in self.nodes)
         up = self._fault is None and self._enabled
         state = BaseState(t=self._now(), x=x, y=y, th=th, v=v, w=w, sonar=self._sonar,
@@ -646,8 +931,10 @@ class CanOpenBase(Base):
                 self._cmd = (0, 0)
                 self.watchdog.disarm()
                 t_zero = None
+                self._controlword = p.Cw.QUICK_STOP   # from now on every RPDO1: quick stop, target 0
+                self._streaming = self._streaming or was_enabled   # SYNC, odometry go on
                 try:
-                    for node in self.nodes:           # stop both wheels: quick stop, target 0
+                    for node in self.nodes:           # stop both wheels at once
                         self._send(*p.rpdo1(node, p.Cw.QUICK_STOP, 0))
                     t_zero = time.monotonic()
                 except can.CanError as exc:
@@ -690,7 +977,7 @@ class CanOpenBase(Base):
                 if next_heartbeat < now:
                     next_heartbeat = now + c.host_heartbeat_ms / 1000.0
             if now >= next_sync:
-                if self._enabled:
+                if self._streaming:
                     self._send_sync()
                 next_sync += c.sync_period
                 if next_sync < now:

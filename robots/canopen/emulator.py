@@ -62,6 +62,7 @@ class Drive:
         self.powered = True
         self.booted = False
         self.injected: list[int] = []           # EMCY codes sent (tests read them)
+        self.encoder_inverted = False           # a vendor setting outside the OD (encoder wired reversed)
         self.rpdo_log: list[tuple[float, int, int]] = []   # (monotonic, controlword, target) received
         self._reset_application()
         self.nmt_state = p.NodeState.BOOT_UP
@@ -116,10 +117,25 @@ class Drive:
                 word |= p.SW_TARGET_REACHED
         return word
 
-    def _u(self, index: int, sub: int = 0) -> int:
-        data = self.node.get_data(index, sub)
+    def _u(self, index: int, sub: int = 0, default: int = 0) -> int:
+        """An object's value; `default` where this drive lacks the object (`remove_objects`)."""
         var = self.node.object_dictionary.get_variable(index, sub)
-        return var.decode_raw(data)
+        if var is None:
+            return default
+        return var.decode_raw(self.node.get_data(index, sub))
+
+    def remove_objects(self, *keys) -> None:
+        """Tests: a drive without these optional objects (an index, or (index, sub)): its SDO
+        server then aborts 0x06020000 / 0x06090011 like another maker's drive."""
+        od = self.node.object_dictionary
+        for key in keys:
+            index, sub = key if isinstance(key, tuple) else (key, None)
+            if sub is None:
+                del od[index]
+            else:
+                record = od[index]
+                del record.subindices[sub]
+                del record.names[next(n for n, v in record.names.items() if v.subindex == sub)]
 
     # -- object access (SDO and RPDO) -----------------------------------------------------------
     def _on_read(self, index: int, subindex: int, od, **_):
@@ -306,9 +322,26 @@ class Drive:
                 self.state = S.FAULT
                 self.demand = 0.0
 
-    def ramp(self, dt: float, config: DriveConfig, actual: float) -> None:
-        """Move the demand towards the target on the profile's ramps; check following error."""
-        self.actual = actual
+    def polarity(self) -> tuple[int, int]:
+        """(velocity sign, position sign) from 0x607E bits 6 and 7, where the drive has it."""
+        bits = self._u(p.POLARITY)
+        position = -1 if bits & 0x80 else 1
+        return (-1 if bits & 0x40 else 1), -position if self.encoder_inverted else position
+
+    def wheel_demand(self, config: DriveConfig, mount: int) -> float:
+        """The forward wheel speed (m/s) the motor is driven at: demand through polarity and mount."""
+        if not self.powered:
+            return 0.0
+        return self.demand * self.polarity()[0] * mount / config.velocity_per_mps
+
+    def ramp(self, dt: float, config: DriveConfig, wheel_mps: float, mount: int) -> None:
+        """Move the demand towards the target on the profile's ramps; check following error.
+        `wheel_mps` is the wheel's true forward speed, `mount` -1 where the motor is mirrored."""
+        velocity_sign, position_sign = self.polarity()
+        motor = wheel_mps * mount                            # m/s in the motor's own direction
+        self.actual = motor * config.velocity_per_mps * velocity_sign
+        self.position += motor * config.position_per_metre * position_sign * dt
+        actual = self.actual
         if self.state is S.OPERATION_ENABLED:
             target = max(-self._u(p.MAX_PROFILE_VELOCITY), min(self._u(p.MAX_PROFILE_VELOCITY), self.target)) \
                 if self._u(p.MAX_PROFILE_VELOCITY) else self.target
@@ -317,7 +350,7 @@ class Drive:
             speeding_up = abs(target) > abs(self.demand) and target * self.demand >= 0
             rate = self._u(p.PROFILE_ACCELERATION if speeding_up else p.PROFILE_DECELERATION)
             self.demand = _approach(self.demand, target, (rate or 1e12) * dt)
-            slip = abs(self.demand - actual) / config.counts_per_metre
+            slip = abs(self.demand - actual) / config.velocity_per_mps
             if slip > FOLLOWING_WINDOW:
                 self.following_since = self.following_since if self.following_since is not None \
                     else self.emulator.now()
@@ -334,7 +367,6 @@ class Drive:
                     self.state = S.SWITCH_ON_DISABLED
         else:
             self.demand = 0.0
-        self.position += actual * dt
 
 
 def _approach(current: float, target: float, step: float) -> float:
@@ -367,6 +399,7 @@ class CanOpenEmulator:
         self.lock = threading.RLock()
         boot = boot_delays or {}
         self.drives = {n: Drive(self, n, boot.get(n, 0.0)) for n in (config.left_node, config.right_node)}
+        self.mirrored: dict[int, bool] = {}      # tests: how a motor is really mounted, if not as profiled
         self.sent = 0
         self.network = canopen.Network()
         self.network.NOTIFIER_CYCLE = 0.05                # close() returns promptly
@@ -430,15 +463,20 @@ class CanOpenEmulator:
         left, right = c.wheel_speeds(body.v, body.w)
         with self.lock:
             lf, rt = self.drives[c.left_node], self.drives[c.right_node]
-            lf.ramp(dt, c, left * c.counts_per_metre * c.sign(c.left_node))
-            rt.ramp(dt, c, right * c.counts_per_metre * c.sign(c.right_node))
-            demand_l = lf.demand * c.sign(c.left_node) / c.counts_per_metre if lf.powered else 0.0
-            demand_r = rt.demand * c.sign(c.right_node) / c.counts_per_metre if rt.powered else 0.0
+            lf.ramp(dt, c, left, self.mount(c.left_node))
+            rt.ramp(dt, c, right, self.mount(c.right_node))
+            demand_l = lf.wheel_demand(c, self.mount(c.left_node))
+            demand_r = rt.wheel_demand(c, self.mount(c.right_node))
         body.set_command(*c.body_speeds(demand_l, demand_r))
         self._check_stall(body, demand_l, demand_r)
         if c.sonar_node and c.sonars and self.world.t + 1e-9 >= self._sonar_due:
             self._sonar = [float(r) for r in self.world.sonar_ranges()][:c.sonars]
             self._sonar_due = self.world.t + SONAR_CYCLE
+
+    def mount(self, node: int) -> int:
+        """-1 where the motor is mounted mirrored (the truth: `mirrored`, else the profile's)."""
+        mirrored = self.mirrored.get(node, node == self.config.right_node and self.config.right_mirrored)
+        return -1 if mirrored else 1
 
     def _check_stall(self, body, demand_l: float, demand_r: float) -> None:
         """A body held by an obstacle while the wheels push: over-current on the pushing drives."""
