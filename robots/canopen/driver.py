@@ -114,6 +114,7 @@ class CanOpenBase(Base):
         self._vel = {n: 0 for n in self.nodes}
         self._pos = {n: 0 for n in self.nodes}
         self._pos_seen = {n: 0 for n in self.nodes}
+        self._vel_seen = {n: 0 for n in self.nodes}     # TPDO1s received per drive
         self._cycle_done = 0
         self._streaming = False                 # SYNC and RPDOs go out (driving, or stopping)
         self._powered = False                   # a drive was enabled by us (start-up got that far)
@@ -663,15 +664,16 @@ class CanOpenBase(Base):
         """Until every wheel's velocity actual is within `standstill_window`, or `timeout` s.
         `speeds()` gives {node: m/s}; default: the TPDOs, counted fresh only after two cycles."""
         window = self.config.standstill_window
-        first_cycle = self.stats["cycles"]
+        first = dict(self._vel_seen)
 
         def still() -> bool:
             if speeds is not None:
                 current = speeds()
-            elif self.stats["cycles"] >= first_cycle + 2:
-                current = {n: self.config.velocity_mps(self._vel[n], n) for n in self.nodes}
             else:
-                return False
+                heard = self._heard()
+                if any(self._vel_seen[n] < first[n] + 2 for n in heard):
+                    return False
+                current = {n: self.config.velocity_mps(self._vel[n], n) for n in heard}
             return all(abs(v) <= window for v in current.values())
         return self._wait_for(still, timeout)
 
@@ -694,6 +696,12 @@ class CanOpenBase(Base):
         self._wait_standstill(self.config.stop_timeout, speeds)
         each(p.Cw.DISABLE_VOLTAGE)
         self._powered = False
+
+    def _heard(self) -> list[int]:
+        """The drives whose heartbeat is fresh: a silent one cannot be waited for."""
+        limit = self.config.heartbeat_timeout_ms / 1000.0
+        now = self._time()
+        return [n for n in self.nodes if now - self._heartbeat_t.get(n, -math.inf) <= limit]
 
     def _stop_drives(self, why: str) -> None:
         """Quick stop (0x605A = 2: the quick-stop ramp), wait for standstill or `stop_timeout`,
@@ -718,7 +726,7 @@ class CanOpenBase(Base):
             self._controlword = p.Cw.SWITCH_ON         # disable operation
             self._send_targets()
         self._wait_for(lambda: not any(p.state_of(self._sw[n]) is S.OPERATION_ENABLED
-                                       for n in self.nodes), self.config.stop_timeout)
+                                       for n in self._heard()), self.config.stop_timeout)
         with self._lock:
             self._controlword = p.Cw.DISABLE_VOLTAGE
             self._send_targets()
@@ -843,6 +851,7 @@ class CanOpenBase(Base):
             return
         self.stats["tpdos"] += 1
         self._sw[node], self._vel[node] = sw, vel
+        self._vel_seen[node] += 1
         if self._enabled:
             state = p.state_of(sw)
             if sw & p.SW_FAULT:

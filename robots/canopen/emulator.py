@@ -43,6 +43,7 @@ FOLLOWING_TIME = 1.0         # ... for this long: following error
 SONAR_CYCLE = 0.05           # s between the sonar board's readings
 STALL_TIME = 0.5             # s pushing against an obstacle before the current limit trips
 STALL_DEMAND = 0.05          # m/s of demand that counts as pushing
+COAST_DECEL = 0.2            # m/s²: a wheel whose drive let go rolls on, slowed by friction only
 _channels = itertools.count(1)
 
 
@@ -64,6 +65,7 @@ class Drive:
         self.injected: list[int] = []           # EMCY codes sent (tests read them)
         self.encoder_inverted = False           # a vendor setting outside the OD (encoder wired reversed)
         self.rpdo_log: list[tuple[float, int, int]] = []   # (monotonic, controlword, target) received
+        self.cw_log: list[tuple[float, int, float]] = []   # each new controlword: (robot time, word, m/s)
         self._reset_application()
         self.nmt_state = p.NodeState.BOOT_UP
 
@@ -95,6 +97,8 @@ class Drive:
         self.error_register = 0
         self.mode = 0
         self.following_since: float | None = None
+        self.coasting = False           # power stage off while the wheel still turned: it rolls on
+        self.slowing_to: S | None = None   # disable operation with 0x605C = 1: ramp down, then this
         self.host_seen: float | None = None
         self.host_lost = False
         self.next_heartbeat: float | None = None
@@ -165,6 +169,9 @@ class Drive:
     def controlword_written(self, word: int) -> None:
         """The CiA 402 transitions of ../shared/protocols/canopen-drive.md §3."""
         rising_reset = word & 0x80 and not self.controlword & 0x80
+        if word != self.controlword or not self.cw_log:
+            speed = self.actual / self.emulator.config.velocity_per_mps
+            self.cw_log.append((self.emulator.now(), word, abs(speed)))
         self.controlword = word
         state = self.state
         if state is S.FAULT:
@@ -187,15 +194,21 @@ class Drive:
             if state in (S.SWITCH_ON_DISABLED, S.SWITCHED_ON, S.OPERATION_ENABLED):
                 self.state = S.READY_TO_SWITCH_ON
         elif low & 0x0F == 0x07:                            # switch on / disable operation
-            if state in (S.READY_TO_SWITCH_ON, S.OPERATION_ENABLED):
+            if state is S.READY_TO_SWITCH_ON:
                 self.state = S.SWITCHED_ON
+            elif state is S.OPERATION_ENABLED:
+                if self._u(p.DISABLE_OPERATION_OPTION) == 1:   # slow down, then disable
+                    self.slowing_to = S.SWITCHED_ON
+                else:                                       # 0: disable drive function at once
+                    self.state = S.SWITCHED_ON
         elif low & 0x0F == 0x0F:                            # enable operation
             if state in (S.SWITCHED_ON, S.READY_TO_SWITCH_ON):
                 self.state = S.OPERATION_ENABLED
                 self.following_since = None
         if self.state is not S.OPERATION_ENABLED and state is S.OPERATION_ENABLED \
                 and self.state is not S.QUICK_STOP_ACTIVE:
-            self.demand = 0.0
+            self.coasting = self.demand != 0.0          # the power stage let go of a turning wheel
+            self.slowing_to = None
 
     # -- frames in ------------------------------------------------------------------------------
     def _on_sdo(self, can_id: int, data: bytes, timestamp: float) -> None:
@@ -313,8 +326,8 @@ class Drive:
         if reaction == 3 and self.state is S.OPERATION_ENABLED:
             self.state = S.QUICK_STOP_ACTIVE
         elif reaction == 2:
+            self.coasting = self.state in (S.OPERATION_ENABLED, S.QUICK_STOP_ACTIVE) and self.demand != 0.0
             self.state = S.SWITCH_ON_DISABLED
-            self.demand = 0.0
         elif reaction == 1 or reaction not in (0, 2, 3):
             if self.state in (S.OPERATION_ENABLED, S.QUICK_STOP_ACTIVE):
                 self.state = S.FAULT_REACTION_ACTIVE
@@ -345,11 +358,14 @@ class Drive:
         if self.state is S.OPERATION_ENABLED:
             target = max(-self._u(p.MAX_PROFILE_VELOCITY), min(self._u(p.MAX_PROFILE_VELOCITY), self.target)) \
                 if self._u(p.MAX_PROFILE_VELOCITY) else self.target
-            if self.controlword & 0x100:
+            if self.controlword & 0x100 or self.slowing_to is not None:
                 target = 0
             speeding_up = abs(target) > abs(self.demand) and target * self.demand >= 0
             rate = self._u(p.PROFILE_ACCELERATION if speeding_up else p.PROFILE_DECELERATION)
             self.demand = _approach(self.demand, target, (rate or 1e12) * dt)
+            if self.slowing_to is not None and self.demand == 0.0:
+                self.state, self.slowing_to = self.slowing_to, None
+                return
             slip = abs(self.demand - actual) / config.velocity_per_mps
             if slip > FOLLOWING_WINDOW:
                 self.following_since = self.following_since if self.following_since is not None \
@@ -359,12 +375,22 @@ class Drive:
             else:
                 self.following_since = None
         elif self.state in (S.QUICK_STOP_ACTIVE, S.FAULT_REACTION_ACTIVE):
-            self.demand = _approach(self.demand, 0.0, (self._u(p.QUICK_STOP_DECELERATION) or 1e12) * dt)
+            option = self._u(p.QUICK_STOP_OPTION if self.state is S.QUICK_STOP_ACTIVE
+                             else p.FAULT_REACTION_OPTION, default=2)
+            if option == 0:                                 # disable drive function: let go
+                self.coasting = self.demand != 0.0
+                self.state = S.SWITCH_ON_DISABLED if self.state is S.QUICK_STOP_ACTIVE else S.FAULT
+                return
+            ramp = p.PROFILE_DECELERATION if option in (1, 5) else p.QUICK_STOP_DECELERATION
+            self.demand = _approach(self.demand, 0.0, (self._u(ramp) or 1e12) * dt)
             if self.demand == 0.0:
                 if self.state is S.FAULT_REACTION_ACTIVE:
                     self.state = S.FAULT
                 elif self._u(p.QUICK_STOP_OPTION) in (1, 2, 3, 4):
                     self.state = S.SWITCH_ON_DISABLED
+        elif self.coasting:
+            self.demand = _approach(self.demand, 0.0, COAST_DECEL * config.velocity_per_mps * dt)
+            self.coasting = self.demand != 0.0
         else:
             self.demand = 0.0
 
