@@ -577,25 +577,29 @@ class CanOpenBase(Base):
             self.startup_notes.append("self-check off (self_check = false): units and polarity unchecked")
             return
         run_time = c.self_check_distance / SELF_CHECK_SPEED
+        if not self.simulated and self._world_step is not None and self.clock is not None:
+            self._world_step(self.clock.now())     # a real-time simulation: its world up to now first
         self.odometry.reset()
         positions = self._odometry_by_sdo()          # the robot moves: odometry follows it
         for node in self.nodes:
             start = positions[node]
             self._sdo_write(node, p.TARGET_VELOCITY, 0,
                             struct.pack("<i", c.to_counts(SELF_CHECK_SPEED, node)), "target velocity (self-check)")
+            t_on = self._time()
             try:
                 self._pause(run_time * 0.6)
                 velocity = c.velocity_mps(self._sdo_read(node, p.VELOCITY_ACTUAL, 0, "velocity actual value",
                                                          signed=True), node)
-                self._pause(run_time * 0.4)
+                self._pause(max(0.0, run_time - (self._time() - t_on)))
             finally:
                 self._sdo_write(node, p.TARGET_VELOCITY, 0, struct.pack("<i", 0), "target velocity")
+            expected = SELF_CHECK_SPEED * (self._time() - t_on)    # as long as it really ran
             self._wait_standstill(c.stop_timeout, lambda n=node: {n: self._sdo_velocity(n)})
             positions = self._odometry_by_sdo()
             travel = c.travel_metres(wrap_delta(positions[node], start), node)
             self.self_check_result[node] = {"commanded_mps": SELF_CHECK_SPEED, "velocity_mps": velocity,
-                                            "expected_m": c.self_check_distance, "travel_m": travel}
-            self._judge_self_check(node, velocity, travel)
+                                            "expected_m": expected, "travel_m": travel}
+            self._judge_self_check(node, velocity, travel, expected)
 
     def _odometry_by_sdo(self) -> dict[int, int]:
         """Both position counters read by SDO, fed to odometry (no PDOs before driving)."""
@@ -608,14 +612,14 @@ class CanOpenBase(Base):
         units = self._sdo_read(node, p.VELOCITY_ACTUAL, 0, "velocity actual value", signed=True)
         return self.config.velocity_mps(units, node)
 
-    def _judge_self_check(self, node: int, velocity: float, travel: float) -> None:
+    def _judge_self_check(self, node: int, velocity: float, travel: float, expected: float) -> None:
         c = self.config
         low, high = PLAUSIBLE
         units = (f"velocity_unit = {c.velocity_unit!r} x {c.velocity_resolution}, position_unit = "
                  f"{c.position_unit!r} x {c.position_resolution}, encoder_counts = {c.encoder_counts}, "
                  f"gear_ratio = {c.gear_ratio}, wheel_radius = {c.wheel_radius}")
         head = (f"{self._who(node)}: start-up self-check: commanded {SELF_CHECK_SPEED:.3f} m/s forward "
-                f"for {c.self_check_distance * 1000:.0f} mm")
+                f"for {expected * 1000:.0f} mm")
         if velocity <= 0 or travel <= 0:
             which = ("velocity actual 0x606C" if velocity <= 0 else "position actual 0x6064")
             raise StartupError(f"{head}, but its {which} ran backwards (velocity {velocity:+.3f} m/s, "
@@ -626,9 +630,9 @@ class CanOpenBase(Base):
         if not low <= velocity / SELF_CHECK_SPEED <= high:
             raise StartupError(f"{head}; the drive reports {velocity:.3f} m/s: the velocity units "
                                f"disagree by x{velocity / SELF_CHECK_SPEED:.2f} ({units})")
-        if not low <= travel / c.self_check_distance <= high:
+        if not low <= travel / expected <= high:
             raise StartupError(f"{head}; its encoder says {travel * 1000:.1f} mm: velocity and position "
-                               f"units disagree by x{travel / c.self_check_distance:.2f} ({units})")
+                               f"units disagree by x{travel / expected:.2f} ({units})")
 
     # -- waiting, and stopping as a drive manual says --------------------------------------------------
     def _pause(self, seconds: float) -> None:

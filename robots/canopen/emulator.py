@@ -31,8 +31,9 @@ import canopen
 from canopen.sdo import SdoAbortedError
 
 from robots.canopen import protocol as p
+from robots.canopen import rules
 from robots.canopen.bus import Counted, DriverBus
-from robots.canopen.od import drive_dictionary
+from robots.canopen.od import PV_ONLY, drive_dictionary
 from robots.canopen.wheels import I32, DriveConfig
 from robots.link.lockstep import LockStep
 
@@ -103,6 +104,8 @@ class Drive:
         self.host_lost = False
         self.next_heartbeat: float | None = None
         self.sync_counts = {1: 0, 2: 0}
+        self.pending_rpdo: dict[int, bytes] = {}        # synchronous RPDOs: applied at the next SYNC
+        self.tpdo_sent: dict[int, tuple[float, bytes]] = {}   # event-driven TPDOs: (when, data) last sent
 
     def _reset_communication(self) -> None:
         for index in list(self.node.data_store):
@@ -111,10 +114,15 @@ class Drive:
         self.host_seen = None
         self.host_lost = False
         self.next_heartbeat = None
+        self.pending_rpdo = {}
+        self.tpdo_sent = {}
 
     def statusword(self) -> int:
         word = p.STATUS_BITS[self.state]
         if self.state is S.OPERATION_ENABLED:
+            limit = self._u(p.MAX_PROFILE_VELOCITY)
+            if limit and abs(self.target) > limit:
+                word |= p.SW_INTERNAL_LIMIT                  # the target is being clamped
             if abs(self.actual) < 1.0:
                 word |= p.SW_SPEED_ZERO
             if abs(self.actual - self.target) < max(1.0, 0.01 * abs(self.target)):
@@ -157,14 +165,55 @@ class Drive:
         code = self.refuse.get((index, subindex))
         if code is not None:
             raise SdoAbortedError(code)
-        if index == p.CONTROLWORD:
+        if 0x1400 <= index < 0x1C00:
+            self._check_pdo_write(index, subindex, int.from_bytes(data, "little"))
+        elif index == p.PRE_DEFINED_ERROR_FIELD and data != b"\0":
+            raise SdoAbortedError(rules.INVALID_VALUE)     # only 0 (clear the history) may be written
+        elif index == p.COB_ID_SYNC and int.from_bytes(data, "little") != p.SYNC_ID:
+            raise SdoAbortedError(rules.INVALID_VALUE)     # a SYNC consumer on 0x80 only
+        elif index == p.COB_ID_EMCY and int.from_bytes(data, "little") & 0x7FFFFFFF != p.emcy_id(self.id):
+            raise SdoAbortedError(rules.INVALID_VALUE)     # bit 31 (EMCY off) only
+        elif index == p.CONTROLWORD:
             self.controlword_written(struct.unpack("<H", data)[0])
         elif index == p.TARGET_VELOCITY:
             self.target = struct.unpack("<i", data)[0]
         elif index == p.MODES_OF_OPERATION:
+            mode = struct.unpack("<b", data)[0]
+            if not 1 <= mode <= 32 or not self._u(p.SUPPORTED_DRIVE_MODES, default=PV_ONLY) & (1 << (mode - 1)):
+                raise SdoAbortedError(rules.INVALID_VALUE)  # a mode 0x6502 does not list
             if self.state is S.OPERATION_ENABLED and self.controlword & 0x100:
                 raise SdoAbortedError(0x08000022)      # no mode change while halted (pitfall)
-            self.mode = struct.unpack("<b", data)[0]
+            self.mode = mode
+        if index == p.PRE_DEFINED_ERROR_FIELD:
+            self.node.data_store.pop(index, None)      # cleared
+
+    def _check_pdo_write(self, index: int, sub: int, value: int) -> None:
+        """CiA 301's rules for PDO communication (0x1400/0x1800) and mapping (0x1600/0x1A00)
+        parameters: a valid PDO is not remapped, entries must fit and be mappable."""
+        receive = index < 0x1800
+        if index & 0x0200:                                   # a mapping parameter
+            if not self._u(index - 0x200, 1) & p.PDO_INVALID:
+                raise SdoAbortedError(rules.UNSUPPORTED_ACCESS)
+            if sub == 0:
+                subs = self.node.object_dictionary[index].subindices
+                if value >= len(subs):
+                    raise SdoAbortedError(rules.MAP_TOO_LONG)
+                entries = [self._u(index, k) for k in range(1, value + 1)]
+                code = rules.mapping_length(entries) or next(
+                    (c for c in (rules.mapping_entry(self.node.object_dictionary, e, receive)
+                                 for e in entries) if c), None)
+            elif self._u(index, 0) != 0:
+                code = rules.UNSUPPORTED_ACCESS               # set sub 0 to 0 first
+            else:
+                code = value and rules.mapping_entry(self.node.object_dictionary, value, receive)
+        elif sub == 1:
+            code = rules.pdo_cob_id_change(self._u(index, 1), value)
+        elif sub == 2:
+            code = rules.transmission_type(value, receive)
+        else:
+            code = None
+        if code:
+            raise SdoAbortedError(code)
 
     def controlword_written(self, word: int) -> None:
         """The CiA 402 transitions of ../shared/protocols/canopen-drive.md §3."""
@@ -212,12 +261,23 @@ class Drive:
 
     # -- frames in ------------------------------------------------------------------------------
     def _on_sdo(self, can_id: int, data: bytes, timestamp: float) -> None:
-        if not (self.powered and self.booted):
-            return
+        if not (self.powered and self.booted) or self.nmt_state is p.NodeState.STOPPED:
+            return                                          # no SDO in NMT stopped
         if self.sdo_delay:
             time.sleep(self.sdo_delay)
         with self.emulator.lock:
-            self.node.sdo.on_request(can_id, data, timestamp)
+            server = self.node.sdo
+            ccs = data[0] & 0xE0 if data else 0
+            if ccs not in (0x00, 0x60, 0x80) and len(data) >= 4:   # not a segment, not an abort
+                _, index, sub = struct.unpack_from("<BHB", bytes(data))
+                server._index, server._subindex = index, sub     # an abort names this request
+                code = rules.sdo_target(self.node.object_dictionary, index, sub)
+                if code is not None and ccs in (0x20, 0x40, 0xA0, 0xC0):
+                    server.abort(code)
+                    return
+            if server._index is None:
+                server._index = server._subindex = 0
+            server.on_request(can_id, data, timestamp)
 
     def _on_nmt(self, can_id: int, data: bytes, timestamp: float) -> None:
         if not (self.powered and self.booted) or len(data) != 2 or data[1] not in (0, self.id):
@@ -251,10 +311,19 @@ class Drive:
         if not (self.powered and self.nmt_state is p.NodeState.OPERATIONAL):
             return
         with self.emulator.lock:
+            pending, self.pending_rpdo = self.pending_rpdo, {}
+            for number, data in sorted(pending.items()):    # synchronous RPDOs take effect now
+                self._apply_rpdo(number, data)
             for number in (1, 2):
                 cob_id = self._u(0x1800 + number - 1, 1)
                 kind = self._u(0x1800 + number - 1, 2)
-                if cob_id & p.PDO_INVALID or not 1 <= kind <= 240:
+                if cob_id & p.PDO_INVALID or kind > 240:
+                    continue
+                if kind == 0:                                # acyclic: at a SYNC after a change
+                    data = self._pdo_data(0x1A00 + number - 1)
+                    if data != self.tpdo_sent.get(number, (0.0, None))[1]:
+                        self.tpdo_sent[number] = (self.emulator.now(), data)
+                        self.send((cob_id & 0x7FF, data))
                     continue
                 self.sync_counts[number] += 1
                 if self.sync_counts[number] >= kind:
@@ -281,17 +350,46 @@ class Drive:
                 cob_id = self._u(0x1400 + number - 1, 1)
                 if cob_id & p.PDO_INVALID or cob_id & 0x7FF != can_id:
                     continue
-                offset = 0
                 map_index = 0x1600 + number - 1
-                for sub in range(1, self._u(map_index, 0) + 1):
-                    index, subindex, bits = p.split_mapping(self._u(map_index, sub))
-                    chunk = bytes(data[offset: offset + bits // 8])
-                    offset += bits // 8
-                    if len(chunk) == bits // 8:
-                        try:
-                            self.node.set_data(index, subindex, chunk)
-                        except SdoAbortedError:
-                            pass
+                length = sum(self._u(map_index, k) & 0xFF for k in range(1, self._u(map_index, 0) + 1)) // 8
+                if len(data) < length:                      # too short: not applied at all
+                    self.fault(0x8210, reaction=0)
+                    continue
+                if self._u(0x1400 + number - 1, 2) <= 240:  # synchronous: at the next SYNC
+                    self.pending_rpdo[number] = bytes(data)
+                else:
+                    self._apply_rpdo(number, bytes(data))
+
+    def _apply_rpdo(self, number: int, data: bytes) -> None:
+        """Write each mapped object from its bytes (extra bytes at the end are ignored)."""
+        offset = 0
+        map_index = 0x1600 + number - 1
+        for sub in range(1, self._u(map_index, 0) + 1):
+            index, subindex, bits = p.split_mapping(self._u(map_index, sub))
+            chunk = data[offset: offset + bits // 8]
+            offset += bits // 8
+            try:
+                self.node.set_data(index, subindex, chunk)
+            except SdoAbortedError:
+                pass
+
+    def _event_tpdos(self, now: float) -> None:
+        """TPDOs of type 254/255: sent when the mapped data change (not sooner than the inhibit
+        time, sub 3, in 100 us) and at the latest every event timer (sub 5, ms; 0 = never)."""
+        if self.nmt_state is not p.NodeState.OPERATIONAL:
+            return
+        for number in (1, 2):
+            comm = 0x1800 + number - 1
+            cob_id, kind = self._u(comm, 1), self._u(comm, 2)
+            if cob_id & p.PDO_INVALID or kind not in (254, 255):
+                continue
+            data = self._pdo_data(0x1A00 + number - 1)
+            last_t, last_data = self.tpdo_sent.get(number, (-math.inf, None))
+            inhibit, timer = self._u(comm, 3) / 10_000.0, self._u(comm, 5) / 1000.0
+            changed = data != last_data and now - last_t >= inhibit
+            if changed or (timer > 0 and now - last_t >= timer - 1e-9):
+                self.tpdo_sent[number] = (now, data)
+                self.send((cob_id & 0x7FF, data))
 
     # -- time ----------------------------------------------------------------------------------
     def timers(self, now: float) -> None:
@@ -309,6 +407,7 @@ class Drive:
             if now + 1e-9 >= self.next_heartbeat:
                 self.send(p.heartbeat(self.id, self.nmt_state))
                 self.next_heartbeat = max(self.next_heartbeat + period, now + period / 2)
+        self._event_tpdos(now)
         consumer = self._u(p.CONSUMER_HEARTBEAT, 1)
         timeout = (consumer & 0xFFFF) / 1000.0
         if (timeout > 0 and self.host_seen is not None and not self.host_lost
@@ -317,7 +416,12 @@ class Drive:
             self.fault(0x8130, reaction=self._u(p.ABORT_CONNECTION_OPTION))
 
     def fault(self, code: int, reaction: int = 1) -> None:
-        """Raise EMCY `code`; `reaction` as 0x6007: 1 fault, 2 disable voltage, 3 quick stop."""
+        """Raise EMCY `code`; `reaction` as 0x6007: 0 none (a communication error only), 1 fault,
+        2 disable voltage, 3 quick stop. The code goes into the error history 0x1003."""
+        self._remember_error(code)
+        if reaction == 0:
+            self.send(p.emcy(self.id, code, self.error_register | 0x11))
+            return
         self.error_code = code
         self.error_register |= 0x01 | (0x02 if 0x2000 <= code < 0x3000 else 0) | \
             (0x10 if 0x8100 <= code < 0x8200 else 0)
@@ -346,6 +450,17 @@ class Drive:
         if not self.powered:
             return 0.0
         return self.demand * self.polarity()[0] * mount / config.velocity_per_mps
+
+    def _remember_error(self, code: int) -> None:
+        """0x1003: the newest error at sub 1, older ones shifted down, sub 0 = how many."""
+        od = self.node.object_dictionary[p.PRE_DEFINED_ERROR_FIELD]
+        size = len(od.subindices) - 1
+        history = [self._u(p.PRE_DEFINED_ERROR_FIELD, k) for k in range(1, self._u(p.PRE_DEFINED_ERROR_FIELD, 0) + 1)]
+        history = [code, *history][:size]
+        store = self.node.data_store.setdefault(p.PRE_DEFINED_ERROR_FIELD, {})
+        store[0] = bytes((len(history),))
+        for k, value in enumerate(history, start=1):
+            store[k] = struct.pack("<I", value)
 
     def ramp(self, dt: float, config: DriveConfig, wheel_mps: float, mount: int) -> None:
         """Move the demand towards the target on the profile's ramps; check following error.

@@ -18,6 +18,8 @@ VENDOR_ID = 0x00000000              # CiA's "unassigned"; an emulator claims no 
 PRODUCT_CODE = 0x00000402
 ERROR_HISTORY = 8                   # entries of the pre-defined error field 0x1003
 PV_ONLY = 0x00000004                # supported drive modes 0x6502: bit 2, profile velocity
+PDO_MAPPABLE = (p.CONTROLWORD, p.STATUSWORD, p.MODES_OF_OPERATION, p.MODES_DISPLAY, p.POSITION_ACTUAL,
+                p.VELOCITY_DEMAND, p.VELOCITY_ACTUAL, p.TARGET_VELOCITY, p.ERROR_CODE)
 
 
 def _var(name: str, index: int, sub: int, data_type: int, access: str = "rw", default=0) -> ODVariable:
@@ -99,6 +101,8 @@ def drive_dictionary(node: int) -> ObjectDictionary:
             ("Quick stop deceleration", p.QUICK_STOP_DECELERATION, dt.UNSIGNED32, "rw"),
             ("Target velocity", p.TARGET_VELOCITY, dt.INTEGER32, "rw")):
         od.add_object(_var(name, index, 0, data_type, access, 0))
+    for index in PDO_MAPPABLE:
+        od[index].pdo_mappable = True
     od[p.QUICK_STOP_OPTION].default = 2
     od[p.DISABLE_OPERATION_OPTION].default = 0      # CiA 402: disable drive function (coast)
     od[p.FAULT_REACTION_OPTION].default = 2         # stop on the quick-stop ramp

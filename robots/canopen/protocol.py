@@ -116,6 +116,8 @@ EMCY_MEANINGS = {
     0x8120: "CAN in error-passive mode",
     0x8130: "heartbeat or life-guard error (host heartbeat lost)",
     0x8140: "recovered from bus-off",
+    0x8210: "PDO not processed due to length error",
+    0x8220: "PDO length exceeded",
     0x8250: "RPDO timeout (deadline monitoring)",
     0x8611: "following error (wheel cannot follow the demand)",
 }
@@ -378,6 +380,7 @@ STATUS_BITS = {
 SW_FAULT = 0x0008
 SW_WARNING = 0x0080
 SW_TARGET_REACHED = 0x0400
+SW_INTERNAL_LIMIT = 0x0800
 SW_SPEED_ZERO = 0x1000
 
 

@@ -137,7 +137,8 @@ def test_self_check_moves_each_wheel_and_agrees(opened):
     base.open()
     for node in (1, 2):
         result = base.self_check_result[node]
-        assert result["travel_m"] == pytest.approx(0.02, rel=0.2)
+        assert result["travel_m"] == pytest.approx(result["expected_m"], rel=0.2)
+        assert result["expected_m"] == pytest.approx(0.02, rel=0.1)
         assert result["velocity_mps"] == pytest.approx(0.05, rel=0.1)
     body = simulation.world.body
     assert base.read_state().x == pytest.approx(body.x, abs=0.005)     # odometry saw it
