@@ -15,7 +15,7 @@ import numpy as np
 from robots.exceptions import RobotError
 from robots.hardware import Hardware, open_hardware
 from robots.profile import available_robots as _available_robots
-from robots.profile import load_profile
+from robots.profile import is_profile_file, load_profile
 from skills.blackboard import SKILL_STATUS_PREFIX, Blackboard
 from skills.events import EventLog
 from skills.exceptions import SkillError, SkillUnavailableError
@@ -38,6 +38,11 @@ from skills.status import SkillStatus
 
 def available_robots() -> list[str]:
     return _available_robots()
+
+
+def is_robot_file(robot: str) -> bool:
+    """A robot given as a profile file (`./my_robot.toml`) rather than a bundled name."""
+    return is_profile_file(robot)
 
 
 def robot_capabilities(robot: str) -> frozenset[str]:

@@ -64,7 +64,7 @@ class RunCommand:
         from applications.database import ApplicationDatabase
         from applications.runtime import Run, default_data_dir
         from applications.trace import TraceWriter
-        from behaviors import robot_capabilities
+        from behaviors import is_robot_file, robot_capabilities
         from behaviors.robot import open_robot
 
         arguments.refuse_simulation_options_on_a_port(args)
@@ -75,6 +75,8 @@ class RunCommand:
         loaded = load_folder(folder, robot=args.robot)     # refuses an application with errors
         app, dialog = loaded.app, loaded.dialog
         robot_name = args.robot or app.robot or DEFAULT_ROBOT
+        if is_robot_file(robot_name):               # a profile file: the same file from anywhere
+            robot_name = str(Path(robot_name).resolve())
         scenario = None if args.port else resolve_scenario(folder, args.scenario)
         robot = trace = database = run = watching = summary = None
         try:

@@ -135,13 +135,24 @@ class CanOpenBase(Base):
         self.last_error = ""
 
     # -- wiring ----------------------------------------------------------------------------------
+    PROFILE_OPTIONS = ("can_log", "reset_faults")       # besides the DriveConfig fields
+
+    @classmethod
+    def profile_problems(cls, options: dict) -> list[tuple[str, str]]:
+        known = DriveConfig.field_names() | set(cls.PROFILE_OPTIONS)
+        found = [(key, f"unknown canopen option {key!r}{_close(key, known)}; see docs/canopen.md")
+                 for key in options if key not in known]
+        if not isinstance(options.get("reset_faults", False), bool):
+            found.append(("reset_faults", f"reset_faults = {options['reset_faults']!r} must be true or false"))
+        return found + DriveConfig.problems(options)
+
     @classmethod
     def for_profile(cls, profile, port: str, clock=None) -> "CanOpenBase":
         """A driver for the real base on `port`, configured from the profile's [base] table."""
         options = dict(profile.base.options)
         config = DriveConfig.from_options(options, f"{profile.source} [base]")
         return cls(profile.limits, port, clock=clock, config=config,
-                   can_log=options.get("can_log"))
+                   can_log=options.get("can_log"), reset_faults=options.get("reset_faults", False))
 
     @classmethod
     def for_simulation(cls, profile, simulation, clock) -> "CanOpenBase":
@@ -155,6 +166,8 @@ class CanOpenBase(Base):
         body = simulation.world.body
         base = cls(profile.limits, f"virtual:{emulator.channel}", clock=clock,
                    config=emulator.config, lockstep=lockstep,
+                   reset_faults=profile.base.options.get("reset_faults", False),
+                   can_log=profile.base.options.get("can_log"),
                    initial_pose=(body.x, body.y, body.th))
         base.emulator = emulator
         base._world_step = simulation.advance
@@ -1028,6 +1041,12 @@ class CanOpenBase(Base):
     @property
     def fault(self) -> str | None:
         return self._fault
+
+
+def _close(word: str, known) -> str:
+    import difflib
+    close = difflib.get_close_matches(word, sorted(known), n=1)
+    return f" (did you mean {close[0]!r}?)" if close else ""
 
 
 class _Raw(can.Listener):

@@ -67,28 +67,42 @@ class DriveConfig:
     stop_timeout: float = 2.0           # s at most to wait for standstill when stopping
 
     @classmethod
-    def from_options(cls, options: dict, where: str = "profile [base]") -> "DriveConfig":
-        """Build from the profile's base options; unknown keys are left to the caller."""
-        known = {f.name: f for f in fields(cls)}
-        values = {}
+    def field_names(cls) -> set[str]:
+        return {f.name for f in fields(cls)}
+
+    @classmethod
+    def problems(cls, options: dict) -> list[tuple[str, str]]:
+        """(key, why) for each field of `options` of the wrong type or out of range; keys that
+        are not fields are left to the caller."""
+        found, values = [], {}
         for key, value in options.items():
-            if key not in known:
+            if key not in cls.field_names():
                 continue
             kind = type(getattr(cls, key))
-            if kind is str:
-                if not isinstance(value, str):
-                    raise ProfileError(f"{where}: {key} = {value!r} must be a string")
-            elif kind is bool:
-                if not isinstance(value, bool):
-                    raise ProfileError(f"{where}: {key} = {value!r} must be true or false")
-            elif isinstance(value, bool) or not isinstance(value, (int, float)):
-                raise ProfileError(f"{where}: {key} = {value!r} must be a number")
-            values[key] = kind(value)
-        config = cls(**values)
-        config.check(where)
-        return config
+            if kind is str and not isinstance(value, str):
+                found.append((key, f"{key} = {value!r} must be a string"))
+            elif kind is bool and not isinstance(value, bool):
+                found.append((key, f"{key} = {value!r} must be true or false"))
+            elif kind not in (str, bool) and (isinstance(value, bool) or not isinstance(value, (int, float))):
+                found.append((key, f"{key} = {value!r} must be a number"))
+            else:
+                values[key] = kind(value)
+        return found or list(cls(**values).value_problems())
+
+    @classmethod
+    def from_options(cls, options: dict, where: str = "profile [base]") -> "DriveConfig":
+        """Build from the profile's base options; unknown keys are left to the caller."""
+        found = cls.problems(options)
+        if found:
+            raise ProfileError(f"{where}: {found[0][1]}")
+        return cls(**{k: type(getattr(cls, k))(v) for k, v in options.items() if k in cls.field_names()})
 
     def check(self, where: str) -> None:
+        for _, why in self.value_problems():
+            raise ProfileError(f"{where}: {why}")
+
+    def value_problems(self):
+        """(key, why) for each value outside its range or inconsistent with another."""
         for key, low, high in (("wheel_radius", 0.01, 1.0), ("track_width", 0.05, 3.0),
                                ("encoder_counts", 1, 2**24), ("gear_ratio", 0.01, 1000.0),
                                ("left_node", 1, 127), ("right_node", 1, 127),
@@ -103,19 +117,19 @@ class DriveConfig:
                                ("stop_timeout", 0.05, 30.0)):
             value = getattr(self, key)
             if not low <= value <= high:
-                raise ProfileError(f"{where}: {key} = {value} outside the allowed range {low} .. {high}")
+                yield key, f"{key} = {value} outside the allowed range {low} .. {high}"
         for key, known in (("velocity_unit", VELOCITY_UNITS), ("position_unit", POSITION_UNITS)):
             if getattr(self, key) not in known:
-                raise ProfileError(f"{where}: {key} = {getattr(self, key)!r}; allowed: "
-                                   f"{', '.join(repr(k) for k in known)}")
+                yield key, (f"{key} = {getattr(self, key)!r}; allowed: "
+                            f"{', '.join(repr(k) for k in known)}")
         if self.left_node == self.right_node:
-            raise ProfileError(f"{where}: left_node and right_node are both {self.left_node}")
+            yield "right_node", f"left_node and right_node are both {self.left_node}"
         if self.heartbeat_timeout_ms <= self.heartbeat_ms:
-            raise ProfileError(f"{where}: heartbeat_timeout_ms ({self.heartbeat_timeout_ms}) must "
-                               f"exceed heartbeat_ms ({self.heartbeat_ms})")
+            yield "heartbeat_timeout_ms", (f"heartbeat_timeout_ms ({self.heartbeat_timeout_ms}) must "
+                                           f"exceed heartbeat_ms ({self.heartbeat_ms})")
         if self.host_timeout_ms <= self.host_heartbeat_ms:
-            raise ProfileError(f"{where}: host_timeout_ms ({self.host_timeout_ms}) must exceed "
-                               f"host_heartbeat_ms ({self.host_heartbeat_ms})")
+            yield "host_timeout_ms", (f"host_timeout_ms ({self.host_timeout_ms}) must exceed "
+                                      f"host_heartbeat_ms ({self.host_heartbeat_ms})")
 
     # -- scale -------------------------------------------------------------------------------------
     @property
