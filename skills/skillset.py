@@ -237,7 +237,7 @@ def open_skills(robot: str | Path, *, port: str | None = None, scenario: str | P
                 initial_pose: tuple[float, float, float] | None = None,
                 gui: str | None = None, speech_wav: str | Path | None = None,
                 language: str = "en", voice: str | None = None,
-                listen: bool = False, replay=None) -> SkillSet:
+                listen: bool = False, replay=None, reset_faults: bool = False) -> SkillSet:
     """Open the robot's hardware (real or simulated) and its skills.
 
     `map`: a bundled floor name, a floor .toml or a map_server .yaml, the map localization and
@@ -254,7 +254,7 @@ def open_skills(robot: str | Path, *, port: str | None = None, scenario: str | P
     try:
         hardware = open_hardware(robot, port=port, scenario=scenario, fast=fast, seed=seed,
                                  gui=gui, speech_wav=speech_wav, language=language, voice=voice,
-                                 listen=listen, replay=replay)
+                                 listen=listen, replay=replay, reset_faults=reset_faults)
     except RobotError as exc:
         raise SkillError(str(exc)) from exc
     try:

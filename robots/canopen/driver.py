@@ -106,6 +106,8 @@ class CanOpenBase(Base):
         self._cmd = (0, 0)                      # target velocities (left, right), increments/s
         self._enabled = False                   # both drives in Operation Enabled, ours to drive
         self._fault: str | None = None
+        self._fault_info: dict = {}             # the first fault: device, code, meaning
+        self._requested = (0.0, 0.0, -math.inf)  # the last command() asked: v, w, when
         self._pending_faults: list[tuple[str, float]] = []
         self._boot_seen: dict[int, float] = {}
         self._boot_cond = threading.Condition()
@@ -209,6 +211,7 @@ class CanOpenBase(Base):
         v, w = clamp_velocity(v, w, self.limits)
         target = self.config.command_counts(v, w)
         with self._lock:
+            self._requested = (v, w, self._time())
             self.watchdog.feed(self._time())
             if not self._enabled:
                 return
@@ -283,7 +286,13 @@ class CanOpenBase(Base):
     # -- explicit recovery -------------------------------------------------------------------------
     def reset_faults(self) -> list[int]:
         """Clear a Fault on each drive with the fault-reset edge (an explicit act; never automatic).
-        Returns the nodes that were in Fault. Motion stays off until `activate()`."""
+        Returns the nodes that were in Fault. Motion stays off until `activate()`. Refused while
+        motion is commanded (a non-zero command() within the watchdog time): a reset must never
+        meet a command that would drive off with it."""
+        v, w, when = self._requested
+        if (v or w) and self._time() - when <= self.watchdog.timeout:
+            raise StartupError(f"{self.port}: fault reset refused: motion is commanded (v {v:.2f} m/s, "
+                               f"w {w:.2f} rad/s); command zero first")
         reset = []
         for node in self.nodes:
             sw = self._sdo_read(node, p.STATUSWORD, 0, "statusword")
@@ -362,6 +371,7 @@ class CanOpenBase(Base):
             self.odometry.reset()
             self._cmd = (0, 0)
             self._fault = None
+            self._fault_info = {}
             self._pending_faults.clear()
             now = self._time()
             for node in self.nodes:
@@ -857,7 +867,8 @@ class CanOpenBase(Base):
         if emcy.code == 0:
             return
         self._raise_fault(f"{self._who(node)}: EMCY {emcy.code:#06x} {emcy.meaning} "
-                          f"(error register {emcy.register:#04x})")
+                          f"(error register {emcy.register:#04x})",
+                          {"device": self._who(node), "code": emcy.code, "meaning": emcy.meaning})
 
     def _on_tpdo1(self, can_id: int, data: bytes, timestamp: float) -> None:
         node = can_id - p.TPDO_BASE[0]
@@ -920,7 +931,10 @@ class CanOpenBase(Base):
             self._state_cond.notify_all()
 
     def _extra(self) -> dict:
-        return {"fault": self._fault or "", "bus": self.bus_state,
+        info = self._fault_info
+        return {"fault": self._fault or "", "fault_device": info.get("device", ""),
+                "fault_code": info.get("code"), "fault_meaning": info.get("meaning", ""),
+                "bus": self.bus_state,
                 "statusword": {n: self._sw[n] for n in self.nodes},
                 "watchdog_stops": self.stats["watchdog_stops"], "cycles": self.stats["cycles"]}
 
@@ -935,19 +949,21 @@ class CanOpenBase(Base):
             self._raise_fault(f"CAN bus {state} (reported by the CAN controller)")
 
     # -- faults --------------------------------------------------------------------------------------
-    def _raise_fault(self, reason: str) -> None:
-        """Record a fault; act at once in real time, in the next poll() in lock-step."""
+    def _raise_fault(self, reason: str, info: dict | None = None) -> None:
+        """Record a fault (`info`: device, code, meaning, where known); act at once in real
+        time, in the next poll() in lock-step."""
         with self._lock:
-            self._pending_faults.append((reason, time.monotonic()))
+            self._pending_faults.append((reason, time.monotonic(), info))
             if not self.simulated:
                 self._act_on_faults()
 
     def _act_on_faults(self) -> None:
         with self._lock:
             pending, self._pending_faults = self._pending_faults, []
-            for reason, t_event in pending:
+            for reason, t_event, info in pending:
                 if self._fault is None:
                     self._fault = reason
+                    self._fault_info = info or {"device": "CAN base", "meaning": reason}
                     log.warning("%s: fault: %s", self.port, reason)
                 else:
                     log.info("%s: further fault: %s", self.port, reason)
@@ -982,7 +998,9 @@ class CanOpenBase(Base):
                         self._pending_faults.append((
                             f"{self._who(node)}: no heartbeat for {age:.2f} s (time-out "
                             f"{limit:.2f} s); link down, stopped the {', '.join(other)}",
-                            time.monotonic()))
+                            time.monotonic(),
+                            {"device": self._who(node), "code": None,
+                             "meaning": f"heartbeat lost (none for {age:.2f} s, time-out {limit:.2f} s)"}))
             if self._pending_faults:
                 self._act_on_faults()
 
