@@ -128,6 +128,7 @@ class CanOpenBase(Base):
         self.self_check_result: dict[int, dict[str, float]] = {}
         self.stop_log: list[dict] = []          # each stop sequence: steps and times
         self._sonar: tuple[float, ...] = tuple([math.inf] * c.sonars)
+        self._sonar_t = -math.inf               # when the sonar board last reported
         self.bus_state = "error-active"
         self._closing = threading.Event()
         self._cycle_thread: threading.Thread | None = None
@@ -376,6 +377,7 @@ class CanOpenBase(Base):
             now = self._time()
             for node in self.nodes:
                 self._heartbeat_t[node] = now
+            self._sonar_t = now
             self._enabled = True
             self._streaming = True
             self._send_targets()
@@ -916,6 +918,7 @@ class CanOpenBase(Base):
             if first + k < len(ranges):
                 ranges[first + k] = math.inf if mm in (0, 0xFFFF) else mm / 1000.0
         self._sonar = tuple(ranges)
+        self._sonar_t = self._time()
 
     def _publish(self) -> None:
         c = self.config
@@ -1001,6 +1004,13 @@ class CanOpenBase(Base):
                             time.monotonic(),
                             {"device": self._who(node), "code": None,
                              "meaning": f"heartbeat lost (none for {age:.2f} s, time-out {limit:.2f} s)"}))
+                silent = now - self._sonar_t
+                if self.config.sonar_node and self.config.sonars and silent > limit:
+                    who = f"node {self.config.sonar_node} (sonar board)"
+                    self._pending_faults.append((
+                        f"{who}: no ranges for {silent:.2f} s; its silence would read as free "
+                        f"space ahead", time.monotonic(),
+                        {"device": who, "code": None, "meaning": f"sonar board silent for {silent:.2f} s"}))
             if self._pending_faults:
                 self._act_on_faults()
 

@@ -540,6 +540,7 @@ class CanOpenEmulator:
         self.lock = threading.RLock()
         boot = boot_delays or {}
         self.drives = {n: Drive(self, n, boot.get(n, 0.0)) for n in (config.left_node, config.right_node)}
+        self.sonar_powered = True                # tests: False = the sonar board goes silent
         self.mirrored: dict[int, bool] = {}      # tests: how a motor is really mounted, if not as profiled
         self.sent = 0
         self.network = canopen.Network()
@@ -655,7 +656,7 @@ class CanOpenEmulator:
     # -- the sonar board ----------------------------------------------------------------------
     def _on_sync_sonar(self, can_id: int, data: bytes, timestamp: float) -> None:
         node, count = self.config.sonar_node, self.config.sonars
-        if not node or not count:
+        if not node or not count or not self.sonar_powered:
             return
         with self.lock:
             ranges = list(self._sonar)

@@ -291,6 +291,9 @@ def test_emcy_over_current_stops_both_wheels_until_reset_and_activated(realtime)
     assert emulator.drives[2].target == 0 and emulator.drives[1].target == 0
     with pytest.raises(StartupError, match="reset_faults"):
         base.activate()
+    with pytest.raises(StartupError, match="motion is commanded"):
+        base.reset_faults()                                # 0.3 m/s was asked a moment ago
+    base.command(0.0, 0.0)
     assert base.reset_faults() == [1]
     base.activate()
     assert base.read_state().link_up and base.fault is None

@@ -147,3 +147,15 @@ def test_a_signal_ends_the_run_with_the_stop_sequence_on_the_bus(tmp_path, signu
         tail = [w for i, w in enumerate(words) if i == 0 or w != words[i - 1]][-4:]
         assert tail[-3:] == [p.Cw.QUICK_STOP, p.Cw.SWITCH_ON, p.Cw.DISABLE_VOLTAGE], tail
     assert frames(log, "000")[-1] == "8000"          # then NMT pre-operational
+
+
+def test_a_silent_sonar_board_is_a_fault_not_free_space(moving):
+    base, simulation, clock = moving
+    base.emulator.sonar_powered = False
+    for _ in range(5):
+        base.command(SPEED, 0.0)
+        simulation.advance(clock.advance(0.1))
+        base.poll()
+    state = base.read_state()
+    assert not state.link_up and "node 16 (sonar board): no ranges for" in base.fault
+    assert state.extra["fault_device"] == "node 16 (sonar board)"
