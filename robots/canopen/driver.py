@@ -458,20 +458,20 @@ class CanOpenBase(DriveStartUp, DriveStopping, Base):
             if len(self.rpdo_times) > 20_000:
                 del self.rpdo_times[:10_000]
         except can.CanError as exc:
-            self._raise_fault(f"CAN send failed: {exc} (bus-off or adapter unplugged?)")
+            self._raise_fault(f"CAN send failed: {exc} (bus-off or adapter unplugged?)", self._link_info(exc))
 
     def _send_sync(self) -> None:
         try:
             self._send(*p.sync())
             self.stats["syncs"] += 1
         except can.CanError as exc:
-            self._raise_fault(f"CAN send failed (SYNC): {exc}")
+            self._raise_fault(f"CAN send failed (SYNC): {exc}", self._link_info(exc))
 
     def _send_host_heartbeat(self) -> None:
         try:
             self._send(*p.heartbeat(p.HOST_NODE, p.NodeState.OPERATIONAL))
         except can.CanError as exc:
-            self._raise_fault(f"CAN send failed (heartbeat): {exc}")
+            self._raise_fault(f"CAN send failed (heartbeat): {exc}", self._link_info(exc))
 
     def _on_stale(self) -> None:
         """Watchdog: no fresh command for WATCHDOG s -> zero, once."""
@@ -595,9 +595,14 @@ class CanOpenBase(DriveStartUp, DriveStopping, Base):
     def on_bus_error(self, state: str) -> None:
         self.bus_state = state
         if state in ("error-passive", "bus-off"):
-            self._raise_fault(f"CAN bus {state} (reported by the CAN controller)")
+            self._raise_fault(f"CAN bus {state} (reported by the CAN controller)",
+                              {"device": f"CAN bus {self.spec}", "code": None,
+                               "meaning": f"the CAN controller is {state}"})
 
     # -- faults --------------------------------------------------------------------------------------
+    def _link_info(self, exc: Exception) -> dict:
+        return {"device": f"CAN link {self.spec}", "code": None, "meaning": f"sending failed: {exc}"}
+
     def _raise_fault(self, reason: str, info: dict | None = None) -> None:
         """Record a fault (`info`: device, code, meaning, where known); act at once in real
         time, in the next poll() in lock-step."""

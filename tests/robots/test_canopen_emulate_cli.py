@@ -109,6 +109,7 @@ def test_losing_the_socketcand_link_is_a_link_fault_not_an_exception(server):
             time.sleep(0.02)
         print(f"\nfault after the socketcand server died: {base.fault}")
         assert base.fault is not None and not base.read_state().link_up
+        assert base.read_state().extra["fault_device"].startswith("CAN link socketcand:127.0.0.1")
         t0 = time.monotonic()
     finally:
         base.close()
