@@ -596,12 +596,12 @@ class CanOpenBase(DriveStartUp, DriveStopping, Base):
         self.bus_state = state
         if state in ("error-passive", "bus-off"):
             self._raise_fault(f"CAN bus {state} (reported by the CAN controller)",
-                              {"device": f"CAN bus {self.spec}", "code": None,
+                              {"device": f"CAN bus {self.port.split('?')[0]}", "code": None,
                                "meaning": f"the CAN controller is {state}"})
 
     # -- faults --------------------------------------------------------------------------------------
     def _link_info(self, exc: Exception) -> dict:
-        return {"device": f"CAN link {self.spec}", "code": None, "meaning": f"sending failed: {exc}"}
+        return {"device": f"CAN link {self.port.split('?')[0]}", "code": None, "meaning": f"sending failed: {exc}"}
 
     def _raise_fault(self, reason: str, info: dict | None = None) -> None:
         """Record a fault (`info`: device, code, meaning, where known); act at once in real
