@@ -47,6 +47,7 @@ class RunSummary:
     dropped_readings: int = 0       # readings the profile does not describe (`dropped` events)
     device_links: dict[str, list] = field(default_factory=dict)  # device -> [downs, ups, s down]
     ended_by: str | None = None     # why the loop ended early: "SIGTERM", "an error", ...
+    device_faults: list[str] = field(default_factory=list)   # `fault` events naming a device
 
     def count(self, event: dict[str, Any]) -> None:
         """Keep the link and dropped-reading counters from the events that pass by."""
@@ -66,6 +67,10 @@ class RunSummary:
                 self.link_down_seconds += float(event.get("after", 0.0))
         elif kind == "dropped":
             self.dropped_readings += int(event.get("count", 0))
+        elif kind == "fault" and event.get("device"):      # a device of the base failed
+            self.device_faults.append(f"{event['device']}: "
+                                      f"{(event.get('code') + ' ') if event.get('code') else ''}"
+                                      f"{event.get('meaning', '')}")
 
     def lines(self) -> list[str]:
         out = [f"ran {self.duration:.1f} s of robot time in {self.ticks} ticks "
@@ -86,6 +91,8 @@ class RunSummary:
         if self.dropped_readings:
             out.append(f"readings dropped (not described by the robot profile): "
                        f"{self.dropped_readings}")
+        for fault in self.device_faults:
+            out.append(f"device fault: {fault}; the robot was stopped")
         if self.ended_by:
             out.append(f"ended early by {self.ended_by}; the robot was stopped")
         if self.fault:
@@ -317,6 +324,9 @@ def _describe(event: dict[str, Any], robot: str) -> str | None:
     if kind == "guide":
         why = f": {event['reason']}" if event.get("reason") else ""
         return f"{t}   guide to {event.get('place')}: {event.get('outcome')}{why}"
+    if kind == "fault" and event.get("device"):
+        code = f" {event['code']}" if event.get("code") else ""
+        return f"{t} FAULT: {event['device']}{code}: {event.get('meaning', '')} (the robot is stopped)"
     if kind == "fault":
         return f"{t} FAULT: {event['reason']} (the robot is stopped)"
     if kind == "skill" and event.get("status") == "failed":

@@ -10,6 +10,12 @@ def available_robots() -> list[str]:
     return robots()
 
 
+def is_robot_file(robot: str) -> bool:
+    """A robot given as a profile file (`./my_robot.toml`) rather than a bundled name."""
+    from skills.skillset import is_robot_file as is_file
+    return is_file(robot)
+
+
 def robot_capabilities(robot: str) -> frozenset[str]:
     """The capabilities of a robot (raises RobotOpenError naming the known robots)."""
     from behaviors.exceptions import RobotOpenError

@@ -62,6 +62,13 @@ class Base(ABC):
     def poll(self, timeout: float = 0.0) -> None:
         """Process pending I/O. Threaded drivers need nothing here; lock-step simulations do."""
 
+    @classmethod
+    def profile_problems(cls, options: dict) -> list[tuple[str, str]]:
+        """(key, why) for each option of a profile's [base] table this driver would refuse or
+        ignore, checked when the profile is read so that the message names file and line
+        (`driver`, `port`, `baud` are the profile's own). Default: none checked."""
+        return []
+
     def __enter__(self) -> "Base":
         self.open()
         return self

@@ -13,7 +13,7 @@ simulated speaker the simulated people hear); `listen` opens the microphone for 
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -225,7 +225,7 @@ def open_hardware(robot: str | Path, *, port: str | None = None, scenario: str |
                   floor: str | Path | None = None, gui: str | None = None,
                   speech_wav: str | Path | None = None, language: str = "en",
                   voice: str | None = None, listen: bool = False,
-                  replay=None) -> Hardware:
+                  replay=None, reset_faults: bool = False) -> Hardware:
     """Open `robot` (a profile name or path). `port` drives a real base; otherwise simulate.
 
     `emulate=False` forces the in-process simulated base even where an emulator exists;
@@ -233,9 +233,12 @@ def open_hardware(robot: str | Path, *, port: str | None = None, scenario: str |
     scenario's `floor`, else the office). The interaction
     options are those of `Interaction`. `replay` (an object with `devices`, the recorded
     robot's devices, and iterating over tap logs) opens a robot that plays a recording instead
-    (`robots.replay`).
+    (`robots.replay`). `reset_faults` clears a drive fault at start-up, for a base that offers
+    it (its `PROFILE_OPTIONS` has `reset_faults`); refused, before anything opens, for others.
     """
     profile = load_profile(robot)
+    if reset_faults:
+        profile = _with_fault_reset(profile)
     if replay is not None:
         from robots.replay import open_replay
         return open_replay(profile, replay, replay.devices, getattr(replay, "layout", None))
@@ -251,6 +254,15 @@ def open_hardware(robot: str | Path, *, port: str | None = None, scenario: str |
         hardware.close()
         raise
     return hardware
+
+
+def _with_fault_reset(profile: RobotProfile) -> RobotProfile:
+    driver = _driver_class(profile)
+    if "reset_faults" not in getattr(driver, "PROFILE_OPTIONS", ()):
+        raise RobotError(f"--reset-faults: the {profile.base.driver} base of {profile.name} has no "
+                         f"drive faults to reset (only the CAN base has)")
+    options = {**profile.base.options, "reset_faults": True}
+    return replace(profile, base=replace(profile.base, options=options))
 
 
 def _driver_class(profile: RobotProfile) -> type[Base] | None:

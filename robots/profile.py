@@ -1,4 +1,5 @@
-"""Robot profiles: what a robot is made of, read from TOML under `robots/profiles/`.
+"""Robot profiles: what a robot is made of, read from TOML under `robots/profiles/` or from any
+file (`--robot ./my_robot.toml`); every error names the file and line.
 
 A profile names the base driver and port, the geometry, the speed and acceleration limits,
 the sensors and the devices. Each layer reads its part: L0 opens the base, L1 picks methods
@@ -7,13 +8,14 @@ that fit the sensors, L2 picks behavior realizations by the capabilities listed 
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from robots.exceptions import ProfileError, UnknownRobotError
-from robots.tomlfile import read_toml
+from robots.tomlfile import key_line, read_toml
 
 PROFILE_DIR = Path(__file__).with_name("profiles")
 
@@ -166,27 +168,49 @@ def available_robots() -> list[str]:
     return sorted(p.stem for p in PROFILE_DIR.glob("*.toml"))
 
 
+def is_profile_file(robot: str | Path) -> bool:
+    """A robot given as a file (`./my_robot.toml`, `robots/x.toml`) rather than a bundled name."""
+    text = str(robot)
+    return isinstance(robot, Path) or text.endswith(".toml") or "/" in text or os.sep in text
+
+
 def load_profile(name_or_path: str | Path) -> RobotProfile:
     """Load a bundled profile by name (`horos`) or any profile file by path."""
-    path = Path(name_or_path)
-    if path.suffix != ".toml":
+    if is_profile_file(name_or_path):
+        path = Path(name_or_path).expanduser()
+        if not path.is_file():
+            raise ProfileError(f"{path}: no such robot profile file (a robot is a bundled name, "
+                               f"{', '.join(available_robots())}, or a .toml file)")
+    else:
         path = PROFILE_DIR / f"{name_or_path}.toml"
         if not path.exists():
             raise UnknownRobotError(
-                f"unknown robot '{name_or_path}'; known robots: {', '.join(available_robots())}")
-    data, _ = read_toml(path, ProfileError, "robot profile")
-    return _ProfileReader(path, data).profile()
+                f"unknown robot '{name_or_path}'; known robots: {', '.join(available_robots())} "
+                f"(or give a profile file, e.g. --robot ./my_robot.toml)")
+    data, text = read_toml(path, ProfileError, "robot profile")
+    return _ProfileReader(path, data, text).profile()
+
+
+STRICT_TABLES = {       # tables whose keys are all known here; the others may carry devices' keys
+    "geometry": {"shape", "radius", "length", "width"},
+    "limits": {"max_speed", "max_turn_rate_deg", "max_accel", "max_turn_accel_deg",
+               "max_speed_near_people", "near_people_distance"},
+}
+BASE_KEYS = {"driver", "port", "baud"}
 
 
 class _ProfileReader:
     """Turns the TOML tables into a RobotProfile, naming file and field on every error."""
 
-    def __init__(self, path: Path, data: dict) -> None:
+    def __init__(self, path: Path, data: dict, text: str = "") -> None:
         self.path = path
         self.data = data
+        self.text = text
 
-    def fail(self, key: str, why: str) -> ProfileError:
-        return ProfileError(f"{self.path}: [{key}] {why}")
+    def fail(self, table: str, why: str, key: str | None = None) -> ProfileError:
+        """`file:line: [table] why`, the line of `key` (or of the table) where it is written."""
+        line = (key_line(self.text, table, key) if key else None) or key_line(self.text, table)
+        return ProfileError(f"{self.path}{f':{line}' if line else ''}: [{table}] {why}")
 
     def table(self, key: str, required: bool = True) -> dict | None:
         value = self.data.get(key)
@@ -203,8 +227,28 @@ class _ProfileReader:
         if value is None:
             raise self.fail(table, f"{key} is missing (allowed {low} .. {high})")
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not low <= value <= high:
-            raise self.fail(table, f"{key} = {value!r} is outside the allowed range {low} .. {high}")
+            raise self.fail(table, f"{key} = {value!r} is outside the allowed range {low} .. {high}", key)
         return float(value)
+
+    def check_keys(self) -> None:
+        """Unknown keys in the tables whose keys are all known (a typo would silently be a
+        default), and the base driver's own options, each at its line."""
+        for table, known in STRICT_TABLES.items():
+            for key in self.data.get(table, {}) if isinstance(self.data.get(table), dict) else ():
+                if key not in known:
+                    raise self.fail(table, f"unknown key {key!r}{_did_you_mean(key, known)}; "
+                                    f"known: {', '.join(sorted(known))}", key)
+        base = self.data.get("base", {})
+        driver = base.get("driver")
+        from robots.base import base_classes       # the plugins (a base imports this module)
+        classes = base_classes()
+        if driver not in classes:
+            raise self.fail("base", f"driver = {driver!r}; known drivers: {', '.join(sorted(classes))}",
+                            "driver")
+        options = {k: v for k, v in base.items() if k not in BASE_KEYS}
+        check = getattr(classes[driver], "profile_problems", None)
+        for key, why in (check(options) if check is not None else []):
+            raise self.fail("base", why, key)
 
     def angle(self, table: str, key: str, low_deg: float, high_deg: float,
               default: float | None = None) -> float:
@@ -215,9 +259,10 @@ class _ProfileReader:
         base = self.table("base")
         geometry = self.table("geometry")
         self.table("limits")
+        self.check_keys()
         shape = geometry.get("shape", "round")
         if shape not in ("round", "rectangle"):
-            raise self.fail("geometry", f"shape = {shape!r}; allowed: 'round', 'rectangle'")
+            raise self.fail("geometry", f"shape = {shape!r}; allowed: 'round', 'rectangle'", "shape")
         return RobotProfile(
             name=str(robot.get("name", self.path.stem)),
             description=str(robot.get("description", "")),
@@ -366,3 +411,9 @@ class _ProfileReader:
                             noise=self.number("people_detector", "noise", 0.0, 2.0),
                             miss_rate=self.number("people_detector", "miss_rate", 0.0, 1.0),
                             false_rate=self.number("people_detector", "false_rate", 0.0, 10.0))
+
+
+def _did_you_mean(word: str, known) -> str:
+    import difflib
+    close = difflib.get_close_matches(word, sorted(known), n=1)
+    return f" (did you mean {close[0]!r}?)" if close else ""

@@ -5,6 +5,7 @@ the caller's error class, with the path in the message, never a bare traceback.
 """
 from __future__ import annotations
 
+import re
 import tomllib
 from pathlib import Path
 
@@ -20,4 +21,23 @@ def read_toml(path: Path, error: type[Exception], what: str) -> tuple[dict, str]
     try:
         return tomllib.loads(text), text
     except tomllib.TOMLDecodeError as exc:
-        raise error(f"{path}: not valid TOML: {exc}") from None
+        at = re.search(r"at line (\d+)", str(exc))
+        raise error(f"{path}{':' + at.group(1) if at else ''}: not valid TOML: {exc}") from None
+
+
+def key_line(text: str, table: str, key: str | None = None) -> int | None:
+    """The 1-based line of `[table]` (or of `key = ...` inside it) in TOML `text`; None when it
+    is not written there (a default, or written in another form)."""
+    header = re.compile(rf"^\s*\[\s*{re.escape(table)}\s*\]\s*(#.*)?$")
+    assignment = re.compile(rf"^\s*{re.escape(key)}\s*=") if key else None
+    inside = False
+    for number, line in enumerate(text.splitlines(), 1):
+        if re.match(r"^\s*\[", line):
+            if inside and assignment is not None:
+                return None
+            inside = bool(header.match(line))
+            if inside and assignment is None:
+                return number
+        elif inside and assignment is not None and assignment.match(line):
+            return number
+    return None

@@ -166,10 +166,23 @@ class Localization(Skill):
         how long); before the first report, within its grace, the base is starting, not down."""
         if not fresh and not self._down and not self._awaiting_first_report(now):
             self._down, self._down_since = True, now
+            self._device_fault(state, now)
             self.events.emit(now, "link", state="down", reason=self._why_stale(state, now))
         elif fresh and self._down:
             self._down = False
             self.events.emit(now, "link", state="up", after=round(now - self._down_since, 3))
+
+    def _device_fault(self, state: BaseState, now: float) -> None:
+        """A `fault` event when the base names a faulty device (a drive's EMCY, its lost
+        heartbeat): which device, the code and what it means, before the `link` event."""
+        device = state.extra.get("fault_device")
+        if not device:
+            return
+        code = state.extra.get("fault_code")
+        self.events.emit(now, "fault", device=device,
+                         code=None if code is None else f"{code:#06x}",
+                         meaning=state.extra.get("fault_meaning", ""),
+                         reason=state.extra.get("fault", ""))
 
     def _dropped_readings(self, state: BaseState, now: float) -> None:
         count = int(state.extra.get("dropped_readings", 0) or 0)

@@ -15,7 +15,7 @@ import numpy as np
 from robots.exceptions import RobotError
 from robots.hardware import Hardware, open_hardware
 from robots.profile import available_robots as _available_robots
-from robots.profile import load_profile
+from robots.profile import is_profile_file, load_profile
 from skills.blackboard import SKILL_STATUS_PREFIX, Blackboard
 from skills.events import EventLog
 from skills.exceptions import SkillError, SkillUnavailableError
@@ -38,6 +38,11 @@ from skills.status import SkillStatus
 
 def available_robots() -> list[str]:
     return _available_robots()
+
+
+def is_robot_file(robot: str) -> bool:
+    """A robot given as a profile file (`./my_robot.toml`) rather than a bundled name."""
+    return is_profile_file(robot)
 
 
 def robot_capabilities(robot: str) -> frozenset[str]:
@@ -241,7 +246,7 @@ def open_skills(robot: str | Path, *, port: str | None = None, scenario: str | P
                 initial_pose: tuple[float, float, float] | None = None,
                 gui: str | None = None, speech_wav: str | Path | None = None,
                 language: str = "en", voice: str | None = None,
-                listen: bool = False, replay=None) -> SkillSet:
+                listen: bool = False, replay=None, reset_faults: bool = False) -> SkillSet:
     """Open the robot's hardware (real or simulated) and its skills.
 
     `map`: a bundled floor name, a floor .toml or a map_server .yaml, the map localization and
@@ -258,7 +263,7 @@ def open_skills(robot: str | Path, *, port: str | None = None, scenario: str | P
     try:
         hardware = open_hardware(robot, port=port, scenario=scenario, fast=fast, seed=seed,
                                  gui=gui, speech_wav=speech_wav, language=language, voice=voice,
-                                 listen=listen, replay=replay)
+                                 listen=listen, replay=replay, reset_faults=reset_faults)
     except RobotError as exc:
         raise SkillError(str(exc)) from exc
     try:

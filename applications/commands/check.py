@@ -23,7 +23,11 @@ class CheckCommand:
 
     def run(self, args) -> int:
         catalog = load_catalog(args.robot) if args.robot else None
-        if catalog is not None and catalog.robots is not None and args.robot not in catalog.robots:
+        if catalog is not None and catalog.robot_error is not None:
+            print(f"interbot: error: {catalog.robot_error}", file=sys.stderr)
+            return EXIT_UNKNOWN
+        if (catalog is not None and catalog.robots is not None and args.robot not in catalog.robots
+                and not catalog.robot_file):
             print(f"interbot: error: unknown robot '{args.robot}'; robots: "
                   f"{', '.join(catalog.robots)}", file=sys.stderr)
             return EXIT_UNKNOWN

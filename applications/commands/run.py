@@ -31,6 +31,9 @@ class RunCommand:
                                                "(e.g. complete) or a .toml file")
         parser.add_argument("--fast", action="store_true",
                             help="run on a simulated clock as fast as the CPU allows")
+        parser.add_argument("--reset-faults", action="store_true",
+                            help="clear a drive fault found at start-up (CAN base: the fault-reset "
+                                 "edge, only while no motion is commanded); find the cause first")
         parser.add_argument("--map", type=arguments.map_source, metavar="FILE",
                             help="the map to localize and navigate on: a bundled floor name "
                                  "(office), a floor .toml or a map_server .yaml (default: the "
@@ -64,7 +67,7 @@ class RunCommand:
         from applications.database import ApplicationDatabase
         from applications.runtime import Run, default_data_dir
         from applications.trace import TraceWriter
-        from behaviors import robot_capabilities
+        from behaviors import is_robot_file, robot_capabilities
         from behaviors.robot import open_robot
 
         arguments.refuse_simulation_options_on_a_port(args)
@@ -75,11 +78,14 @@ class RunCommand:
         loaded = load_folder(folder, robot=args.robot)     # refuses an application with errors
         app, dialog = loaded.app, loaded.dialog
         robot_name = args.robot or app.robot or DEFAULT_ROBOT
+        if is_robot_file(robot_name):               # a profile file: the same file from anywhere
+            robot_name = str(Path(robot_name).resolve())
         scenario = None if args.port else resolve_scenario(folder, args.scenario)
         robot = trace = database = run = watching = summary = None
         try:
             robot = open_robot(robot_name, port=args.port, scenario=scenario, fast=args.fast,
                                seed=args.seed, map=args.map, initial_pose=args.initial_pose,
+                               reset_faults=args.reset_faults,
                                **interaction_options(args))
             announce_interaction(robot)
             needed = {state.behavior for state in app.states.values()}
@@ -124,7 +130,7 @@ class RunCommand:
             print(f"interbot: warning: {line}", file=sys.stderr)
         if guard.pending is not None:        # a signal came while closing: say so, exit like it
             raise guard.pending
-        return 3 if summary.fault else 0
+        return 3 if summary.fault or summary.device_faults else 0
 
     @staticmethod
     def _end_badly(exc: BaseException, robot, trace, database, run, watching) -> int:

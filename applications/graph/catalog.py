@@ -13,6 +13,8 @@ class Catalog:
     robots: tuple[str, ...] | None             # known robot names, None when unavailable
     robot: str | None                          # the robot the check is for
     capabilities: frozenset[str] | None        # that robot's capabilities
+    robot_file: bool = False                   # the robot is a profile file, not a bundled name
+    robot_error: str | None = None             # why that file could not be read (file:line)
 
     @classmethod
     def empty(cls) -> "Catalog":
@@ -23,10 +25,16 @@ def load_catalog(robot: str | None) -> Catalog:
     """The registry and robot capabilities from L2, as far as L2 provides them."""
     behaviors = _behavior_specs()
     robots = _available_robots()
-    capabilities = None
-    if robot is not None and (robots is None or robot in robots):
-        capabilities = _robot_capabilities(robot)
-    return Catalog(behaviors, robots, robot, capabilities)
+    capabilities = error = None
+    is_file = robot is not None and _is_robot_file(robot)
+    if robot is not None and (robots is None or robot in robots or is_file):
+        try:
+            capabilities = _robot_capabilities(robot)
+        except Exception as exc:          # a profile file with an error: reported, file:line
+            if not is_file:
+                raise
+            error = str(exc)
+    return Catalog(behaviors, robots, robot, capabilities, is_file, error)
 
 
 def _behavior_specs() -> Mapping[str, Any] | None:
@@ -43,6 +51,14 @@ def _available_robots() -> tuple[str, ...] | None:
     except ImportError:
         return None
     return tuple(available_robots())
+
+
+def _is_robot_file(robot: str) -> bool:
+    try:
+        from behaviors import is_robot_file
+    except ImportError:
+        return False
+    return is_robot_file(robot)
 
 
 def _robot_capabilities(robot: str) -> frozenset[str] | None:

@@ -40,7 +40,10 @@ def check_targets(draft: Draft) -> list[Diagnostic]:
 
 
 def check_robot(draft: Draft, catalog: Catalog) -> list[Diagnostic]:
-    if catalog.robot is None or catalog.robots is None or catalog.robot in catalog.robots:
+    if catalog.robot_error is not None:
+        return [error(catalog.robot_error, draft.robot_location, "bad-robot-file")]
+    if (catalog.robot is None or catalog.robots is None or catalog.robot in catalog.robots
+            or catalog.robot_file):
         return []
     return [error(f"unknown robot '{catalog.robot}'{did_you_mean(catalog.robot, catalog.robots)}; "
                   f"robots: {', '.join(catalog.robots)}", draft.robot_location, "unknown-robot")]

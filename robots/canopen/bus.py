@@ -125,6 +125,10 @@ class DriverBus:
             self.counter.wrote(1)
         try:
             self.bus.send(msg, timeout)
+        except OSError as exc:                # a socketcand/TCP link gone: a CAN link fault,
+            if self.counter is not None:      # never a BrokenPipeError taken for our stdout
+                self.counter.got(1)
+            raise can.CanOperationError(f"CAN link lost ({type(exc).__name__}: {exc})") from exc
         except Exception:
             if self.counter is not None:
                 self.counter.got(1)           # never arrives: do not wait for it

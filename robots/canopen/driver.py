@@ -1,5 +1,8 @@
 """The CAN base driver: a differential drive with two CiA 402 drives, through python-can.
 
+(The start-up configuration and self-check are in `robots.canopen.startup`, the stop sequence
+in `robots.canopen.stopping`; both are mixins of `CanOpenBase`.)
+
 `CanOpenBase(limits, port)` opens any python-can interface (`socketcan:can0`,
 `pcan:PCAN_USBBUS1`, `virtual:NAME`, `socketcand:127.0.0.1:PORT`; see `robots.canopen.bus`).
 `open()` runs the start-up of ../shared/protocols/canopen-drive.md §2: NMT reset communication
@@ -45,10 +48,11 @@ from canopen.sdo import SdoAbortedError, SdoCommunicationError
 
 from robots.base import Base, BaseState, clamp_velocity
 from robots.canopen import protocol as p
+from robots.canopen.startup import DriveStartUp, StartupError
+from robots.canopen.stopping import DriveStopping
 from robots.canopen.bus import CandumpLog, Counted, DriverBus, open_bus, parse_port
 from robots.canopen.od import drive_dictionary
 from robots.canopen.wheels import DriveConfig, Odometry
-from robots.exceptions import HandshakeError
 from robots.link.lockstep import LockStep
 from robots.link.watchdog import CommandWatchdog
 from robots.profile import Limits
@@ -61,11 +65,7 @@ LOG_ENV = "INTERBOT_CAN_LOG"
 NOTIFIER_CYCLE = 0.05       # s, longest the receive thread blocks (canopen's default is 1 s)
 
 
-class StartupError(HandshakeError):
-    """A drive did not come up as CiA 301/402 say; the message names node, object and cause."""
-
-
-class CanOpenBase(Base):
+class CanOpenBase(DriveStartUp, DriveStopping, Base):
     """Two CiA 402 wheel drives on a CAN bus. Options: the `DriveConfig` fields, `can_log`
     (candump -l file), `reset_faults` (clear drive faults in `open`), `lockstep`."""
 
@@ -103,6 +103,8 @@ class CanOpenBase(Base):
         self._cmd = (0, 0)                      # target velocities (left, right), increments/s
         self._enabled = False                   # both drives in Operation Enabled, ours to drive
         self._fault: str | None = None
+        self._fault_info: dict = {}             # the first fault: device, code, meaning
+        self._requested = (0.0, 0.0, -math.inf)  # the last command() asked: v, w, when
         self._pending_faults: list[tuple[str, float]] = []
         self._boot_seen: dict[int, float] = {}
         self._boot_cond = threading.Condition()
@@ -111,8 +113,19 @@ class CanOpenBase(Base):
         self._vel = {n: 0 for n in self.nodes}
         self._pos = {n: 0 for n in self.nodes}
         self._pos_seen = {n: 0 for n in self.nodes}
+        self._vel_seen = {n: 0 for n in self.nodes}     # TPDO1s received per drive
         self._cycle_done = 0
+        self._streaming = False                 # SYNC and RPDOs go out (driving, or stopping)
+        self._powered = False                   # a drive was enabled by us (start-up got that far)
+        self._controlword = p.Cw.ENABLE_OPERATION   # what RPDO1 carries: enable, or quick stop
+        self._world_step = None                 # simulation: steps the world to a time (for_simulation)
+        self.present: dict[int, dict[tuple[int, int], bool]] = {}   # optional objects found
+        self.startup_notes: list[str] = []      # optional objects skipped, and why that is fine
+        self.identity: dict[int, dict[str, int]] = {}
+        self.self_check_result: dict[int, dict[str, float]] = {}
+        self.stop_log: list[dict] = []          # each stop sequence: steps and times
         self._sonar: tuple[float, ...] = tuple([math.inf] * c.sonars)
+        self._sonar_t = -math.inf               # when the sonar board last reported
         self.bus_state = "error-active"
         self._closing = threading.Event()
         self._cycle_thread: threading.Thread | None = None
@@ -122,13 +135,24 @@ class CanOpenBase(Base):
         self.last_error = ""
 
     # -- wiring ----------------------------------------------------------------------------------
+    PROFILE_OPTIONS = ("can_log", "reset_faults")       # besides the DriveConfig fields
+
+    @classmethod
+    def profile_problems(cls, options: dict) -> list[tuple[str, str]]:
+        known = DriveConfig.field_names() | set(cls.PROFILE_OPTIONS)
+        found = [(key, f"unknown canopen option {key!r}{_close(key, known)}; see docs/canopen.md")
+                 for key in options if key not in known]
+        if not isinstance(options.get("reset_faults", False), bool):
+            found.append(("reset_faults", f"reset_faults = {options['reset_faults']!r} must be true or false"))
+        return found + DriveConfig.problems(options)
+
     @classmethod
     def for_profile(cls, profile, port: str, clock=None) -> "CanOpenBase":
         """A driver for the real base on `port`, configured from the profile's [base] table."""
         options = dict(profile.base.options)
         config = DriveConfig.from_options(options, f"{profile.source} [base]")
         return cls(profile.limits, port, clock=clock, config=config,
-                   can_log=options.get("can_log"))
+                   can_log=options.get("can_log"), reset_faults=options.get("reset_faults", False))
 
     @classmethod
     def for_simulation(cls, profile, simulation, clock) -> "CanOpenBase":
@@ -142,8 +166,11 @@ class CanOpenBase(Base):
         body = simulation.world.body
         base = cls(profile.limits, f"virtual:{emulator.channel}", clock=clock,
                    config=emulator.config, lockstep=lockstep,
+                   reset_faults=profile.base.options.get("reset_faults", False),
+                   can_log=profile.base.options.get("can_log"),
                    initial_pose=(body.x, body.y, body.th))
         base.emulator = emulator
+        base._world_step = simulation.advance
         return base
 
     # -- time ----------------------------------------------------------------------------------
@@ -182,6 +209,7 @@ class CanOpenBase(Base):
         v, w = clamp_velocity(v, w, self.limits)
         target = self.config.command_counts(v, w)
         with self._lock:
+            self._requested = (v, w, self._time())
             self.watchdog.feed(self._time())
             if not self._enabled:
                 return
@@ -200,6 +228,10 @@ class CanOpenBase(Base):
     def close(self) -> None:
         if self._closing.is_set() and self.network is None:
             return
+        try:
+            self._stop_drives("close")
+        except Exception as exc:          # the heartbeat time-out remains the drives' backstop
+            log.warning("%s: stopping the drives failed: %s", self.port, exc)
         self._closing.set()
         self.watchdog.stop()
         if self._cycle_thread is not None and self._cycle_thread is not threading.current_thread():
@@ -208,13 +240,11 @@ class CanOpenBase(Base):
         with self._lock:
             if self.network is not None:
                 try:
-                    if self._enabled:
-                        for node in self.nodes:
-                            self._send(*p.rpdo1(node, p.Cw.SWITCH_ON, 0))   # stop, disable operation
                     self._send(*p.nmt(p.Nmt.PRE_OPERATIONAL))
                 except Exception:
                     pass
                 self._enabled = False
+                self._streaming = False
                 try:
                     self.network.disconnect()
                 except Exception:
@@ -232,25 +262,35 @@ class CanOpenBase(Base):
         """Lock-step: heartbeat and SYNC in sim time, handle every frame, supervise."""
         if not self.simulated or self.network is None:
             return
+        now = self._lockstep_cycle(timeout)
+        self.watchdog.check(now)
+
+    def _lockstep_cycle(self, timeout: float = 0.0) -> float:
         now = self._time()
         with self._lock:
             if now + 1e-9 >= self._next_heartbeat:
                 self._send_host_heartbeat()
                 self._next_heartbeat = now + self.config.host_heartbeat_ms / 1000.0
-            if self._enabled and now + 1e-9 >= self._next_sync:
+            if self._streaming and now + 1e-9 >= self._next_sync:
                 self._send_sync()
                 self._next_sync = now + self.config.sync_period
         self._drain(time.monotonic() + max(timeout, 2.0))
         self._supervise(now)
-        self.watchdog.check(now)
         with self._lock:
-            if self._enabled:
+            if self._streaming:
                 self._send_targets()
+        return now
 
     # -- explicit recovery -------------------------------------------------------------------------
     def reset_faults(self) -> list[int]:
         """Clear a Fault on each drive with the fault-reset edge (an explicit act; never automatic).
-        Returns the nodes that were in Fault. Motion stays off until `activate()`."""
+        Returns the nodes that were in Fault. Motion stays off until `activate()`. Refused while
+        motion is commanded (a non-zero command() within the watchdog time): a reset must never
+        meet a command that would drive off with it."""
+        v, w, when = self._requested
+        if (v or w) and self._time() - when <= self.watchdog.timeout:
+            raise StartupError(f"{self.port}: fault reset refused: motion is commanded (v {v:.2f} m/s, "
+                               f"w {w:.2f} rad/s); command zero first")
         reset = []
         for node in self.nodes:
             sw = self._sdo_read(node, p.STATUSWORD, 0, "statusword")
@@ -306,6 +346,9 @@ class CanOpenBase(Base):
                     S.FAULT, S.FAULT_REACTION_ACTIVE):
                 raise StartupError(f"{self._who(node)} is in Fault ({self._fault_text(node)}); "
                                    f"call reset_faults() first, after finding the cause")
+        with self._lock:
+            self._streaming = False
+            self._controlword = p.Cw.ENABLE_OPERATION
         with self._boot_cond:
             self._boot_seen.clear()
         times = self.startup_timings = {"reset": time.monotonic()}
@@ -316,18 +359,24 @@ class CanOpenBase(Base):
             self._configure(node)
         times["nmt_start"] = time.monotonic()
         self._send(*p.nmt(p.Nmt.START))
+        self._powered = True
         for node in self.nodes:
             self._enable(node)
         times["enabled"] = time.monotonic()
+        self._self_check()
+        times["checked"] = time.monotonic()
         with self._lock:
             self.odometry.reset()
             self._cmd = (0, 0)
             self._fault = None
+            self._fault_info = {}
             self._pending_faults.clear()
             now = self._time()
             for node in self.nodes:
                 self._heartbeat_t[node] = now
+            self._sonar_t = now
             self._enabled = True
+            self._streaming = True
             self._send_targets()
             self._next_sync = now
             self._set_link(True)
@@ -363,87 +412,6 @@ class CanOpenBase(Base):
                 f"(0x{0x700 + missing[0]:03X} data 00) within {self.config.boot_timeout:.1f} s after "
                 f"NMT reset communication (000#8200); check power, node ids, the bit rate "
                 f"({self.config.bitrate} bit/s) and the bus termination")
-
-    def _configure(self, node: int) -> None:
-        c, lim = self.config, self.limits
-        u32 = lambda value: struct.pack("<I", value)          # noqa: E731
-        max_wheel = lim.max_speed + lim.max_turn_rate * c.track_width / 2
-        steps = [
-            (p.MODES_OF_OPERATION, 0, struct.pack("<b", p.PROFILE_VELOCITY_MODE), "modes of operation"),
-            (p.TARGET_VELOCITY, 0, struct.pack("<i", 0), "target velocity"),
-            (p.PROFILE_ACCELERATION, 0, u32(c.accel_counts(lim.max_accel)), "profile acceleration"),
-            (p.PROFILE_DECELERATION, 0, u32(c.accel_counts(max(lim.max_accel, 1e-3))), "profile deceleration"),
-            (p.QUICK_STOP_DECELERATION, 0, u32(c.accel_counts(c.quick_stop_decel)), "quick-stop deceleration"),
-            (p.MAX_PROFILE_VELOCITY, 0, u32(abs(c.to_counts(max_wheel, c.left_node))), "max profile velocity"),
-            (p.QUICK_STOP_OPTION, 0, struct.pack("<h", 2), "quick stop option code"),
-            (p.ABORT_CONNECTION_OPTION, 0, struct.pack("<h", 3), "abort connection option code"),
-        ]
-        for index, sub, value, what in steps:
-            self._sdo_write(node, index, sub, value, what)
-        self._map_pdo(node, 0x1400, 0x1600, p.rpdo_id(1, node), 0xFF, p.RPDO1_MAP, "RPDO1")
-        self._sdo_write(node, 0x1401, 1, u32(p.PDO_INVALID | p.rpdo_id(2, node)), "RPDO2 COB-ID (off)",
-                        missing_ok=True)
-        self._map_pdo(node, 0x1800, 0x1A00, p.tpdo_id(1, node), p.SYNC_EVERY, p.TPDO1_MAP, "TPDO1")
-        self._map_pdo(node, 0x1801, 0x1A01, p.tpdo_id(2, node), p.SYNC_EVERY, p.TPDO2_MAP, "TPDO2")
-        self._sdo_write(node, p.PRODUCER_HEARTBEAT, 0, struct.pack("<H", c.heartbeat_ms),
-                        "producer heartbeat time")
-        self._sdo_write(node, p.CONSUMER_HEARTBEAT, 1, u32((p.HOST_NODE << 16) | c.host_timeout_ms),
-                        "consumer heartbeat time (the host)")
-        mode = self._sdo_read(node, p.MODES_DISPLAY, 0, "modes of operation display", signed=True)
-        if mode != p.PROFILE_VELOCITY_MODE:
-            raise StartupError(f"{self._who(node)}: modes of operation display 0x6061 shows {mode}, "
-                               f"not 3 (profile velocity) after writing 0x6060 = 3")
-
-    def _map_pdo(self, node: int, comm: int, mapping: int, cob_id: int, kind: int,
-                 entries: tuple[int, ...], what: str) -> None:
-        """The remap procedure: invalidate, clear, write entries, count, type, validate."""
-        u32 = lambda value: struct.pack("<I", value)          # noqa: E731
-        self._sdo_write(node, comm, 1, u32(p.PDO_INVALID | cob_id), f"{what} COB-ID (invalid)")
-        self._sdo_write(node, mapping, 0, b"\0", f"{what} mapping count (0)")
-        for sub, entry in enumerate(entries, start=1):
-            self._sdo_write(node, mapping, sub, u32(entry), f"{what} mapping entry {sub}")
-        self._sdo_write(node, mapping, 0, bytes((len(entries),)), f"{what} mapping count")
-        self._sdo_write(node, comm, 2, bytes((kind,)), f"{what} transmission type")
-        self._sdo_write(node, comm, 1, u32(cob_id), f"{what} COB-ID (valid)")
-
-    def _enable(self, node: int) -> None:
-        """Shutdown, switch on, enable operation, each confirmed by the statusword."""
-        sw = self._sdo_read(node, p.STATUSWORD, 0, "statusword")
-        for _ in range(5):
-            state = p.state_of(sw)
-            if state is S.OPERATION_ENABLED:
-                return
-            if state in (S.FAULT, S.FAULT_REACTION_ACTIVE):
-                if self.reset_faults_on_open:
-                    self.reset_faults()
-                    sw = self._sdo_read(node, p.STATUSWORD, 0, "statusword")
-                    continue
-                raise StartupError(f"{self._who(node)} is in Fault (statusword {sw:#06x}, "
-                                   f"{self._fault_text(node)}); a fault is cleared only on purpose: "
-                                   f"reset_faults(), or the driver option reset_faults = true")
-            if state not in p.ENABLE_STEPS:
-                raise StartupError(f"{self._who(node)}: statusword {sw:#06x} shows "
-                                   f"{state.value if state else 'no CiA 402 state'}; cannot enable")
-            command, expected = p.ENABLE_STEPS[state]
-            self._sdo_write(node, p.CONTROLWORD, 0, struct.pack("<H", command),
-                            f"controlword {command.name.lower().replace('_', ' ')}")
-            sw = self._expect_state(node, expected, f"controlword {int(command):#06x}")
-        raise StartupError(f"{self._who(node)}: not in operation enabled after 5 steps "
-                           f"(statusword {sw:#06x})")
-
-    def _expect_state(self, node: int, expected, why: str) -> int:
-        deadline = time.monotonic() + self.config.state_timeout
-        while True:
-            sw = self._sdo_read(node, p.STATUSWORD, 0, "statusword")
-            if p.state_of(sw) is expected:
-                return sw
-            if time.monotonic() >= deadline:
-                shown = p.state_of(sw)
-                raise StartupError(f"{self._who(node)}: {why} should lead to '{expected.value}' but "
-                                   f"the statusword 0x6041 stayed {sw:#06x} "
-                                   f"({shown.value if shown else 'no CiA 402 state'}) for "
-                                   f"{self.config.state_timeout} s")
-            time.sleep(0.01)
 
     # -- SDO through canopen, with errors that name node, object and cause ----------------------
     def _sdo_write(self, node: int, index: int, sub: int, value: bytes, what: str,
@@ -484,26 +452,26 @@ class CanOpenBase(Base):
         """RPDO1 to both drives with the current command (caller holds the lock)."""
         try:
             for node, target in zip(self.nodes, self._cmd):
-                self._send(*p.rpdo1(node, p.Cw.ENABLE_OPERATION, target))
+                self._send(*p.rpdo1(node, self._controlword, target))
                 self.stats["rpdos"] += 1
                 self.rpdo_times.append((time.monotonic(), node, target))
             if len(self.rpdo_times) > 20_000:
                 del self.rpdo_times[:10_000]
         except can.CanError as exc:
-            self._raise_fault(f"CAN send failed: {exc} (bus-off or adapter unplugged?)")
+            self._raise_fault(f"CAN send failed: {exc} (bus-off or adapter unplugged?)", self._link_info(exc))
 
     def _send_sync(self) -> None:
         try:
             self._send(*p.sync())
             self.stats["syncs"] += 1
         except can.CanError as exc:
-            self._raise_fault(f"CAN send failed (SYNC): {exc}")
+            self._raise_fault(f"CAN send failed (SYNC): {exc}", self._link_info(exc))
 
     def _send_host_heartbeat(self) -> None:
         try:
             self._send(*p.heartbeat(p.HOST_NODE, p.NodeState.OPERATIONAL))
         except can.CanError as exc:
-            self._raise_fault(f"CAN send failed (heartbeat): {exc}")
+            self._raise_fault(f"CAN send failed (heartbeat): {exc}", self._link_info(exc))
 
     def _on_stale(self) -> None:
         """Watchdog: no fresh command for WATCHDOG s -> zero, once."""
@@ -547,7 +515,8 @@ class CanOpenBase(Base):
         if emcy.code == 0:
             return
         self._raise_fault(f"{self._who(node)}: EMCY {emcy.code:#06x} {emcy.meaning} "
-                          f"(error register {emcy.register:#04x})")
+                          f"(error register {emcy.register:#04x})",
+                          {"device": self._who(node), "code": emcy.code, "meaning": emcy.meaning})
 
     def _on_tpdo1(self, can_id: int, data: bytes, timestamp: float) -> None:
         node = can_id - p.TPDO_BASE[0]
@@ -558,6 +527,7 @@ class CanOpenBase(Base):
             return
         self.stats["tpdos"] += 1
         self._sw[node], self._vel[node] = sw, vel
+        self._vel_seen[node] += 1
         if self._enabled:
             state = p.state_of(sw)
             if sw & p.SW_FAULT:
@@ -584,7 +554,7 @@ class CanOpenBase(Base):
             self._cycle_done = cycle
             self.stats["cycles"] += 1
             self._publish()
-            if not self.simulated and self._enabled:
+            if not self.simulated and self._streaming:
                 self._send_targets()          # the control cycle: TPDOs in, RPDOs out
 
     def _on_sonar(self, can_id: int, data: bytes, timestamp: float) -> None:
@@ -594,12 +564,13 @@ class CanOpenBase(Base):
             if first + k < len(ranges):
                 ranges[first + k] = math.inf if mm in (0, 0xFFFF) else mm / 1000.0
         self._sonar = tuple(ranges)
+        self._sonar_t = self._time()
 
     def _publish(self) -> None:
         c = self.config
         left, right = c.left_node, c.right_node
         x, y, th = self.odometry.update(self._pos[left], self._pos[right])
-        v, w = c.body_speeds(c.to_metres(self._vel[left], left), c.to_metres(self._vel[right], right))
+        v, w = c.body_speeds(c.velocity_mps(self._vel[left], left), c.velocity_mps(self._vel[right], right))
         enabled = all(p.state_of(self._sw[n]) is S.OPERATION_ENABLED for n in self.nodes)
         up = self._fault is None and self._enabled
         state = BaseState(t=self._now(), x=x, y=y, th=th, v=v, w=w, sonar=self._sonar,
@@ -609,7 +580,10 @@ class CanOpenBase(Base):
             self._state_cond.notify_all()
 
     def _extra(self) -> dict:
-        return {"fault": self._fault or "", "bus": self.bus_state,
+        info = self._fault_info
+        return {"fault": self._fault or "", "fault_device": info.get("device", ""),
+                "fault_code": info.get("code"), "fault_meaning": info.get("meaning", ""),
+                "bus": self.bus_state,
                 "statusword": {n: self._sw[n] for n in self.nodes},
                 "watchdog_stops": self.stats["watchdog_stops"], "cycles": self.stats["cycles"]}
 
@@ -621,22 +595,29 @@ class CanOpenBase(Base):
     def on_bus_error(self, state: str) -> None:
         self.bus_state = state
         if state in ("error-passive", "bus-off"):
-            self._raise_fault(f"CAN bus {state} (reported by the CAN controller)")
+            self._raise_fault(f"CAN bus {state} (reported by the CAN controller)",
+                              {"device": f"CAN bus {self.port.split('?')[0]}", "code": None,
+                               "meaning": f"the CAN controller is {state}"})
 
     # -- faults --------------------------------------------------------------------------------------
-    def _raise_fault(self, reason: str) -> None:
-        """Record a fault; act at once in real time, in the next poll() in lock-step."""
+    def _link_info(self, exc: Exception) -> dict:
+        return {"device": f"CAN link {self.port.split('?')[0]}", "code": None, "meaning": f"sending failed: {exc}"}
+
+    def _raise_fault(self, reason: str, info: dict | None = None) -> None:
+        """Record a fault (`info`: device, code, meaning, where known); act at once in real
+        time, in the next poll() in lock-step."""
         with self._lock:
-            self._pending_faults.append((reason, time.monotonic()))
+            self._pending_faults.append((reason, time.monotonic(), info))
             if not self.simulated:
                 self._act_on_faults()
 
     def _act_on_faults(self) -> None:
         with self._lock:
             pending, self._pending_faults = self._pending_faults, []
-            for reason, t_event in pending:
+            for reason, t_event, info in pending:
                 if self._fault is None:
                     self._fault = reason
+                    self._fault_info = info or {"device": "CAN base", "meaning": reason}
                     log.warning("%s: fault: %s", self.port, reason)
                 else:
                     log.info("%s: further fault: %s", self.port, reason)
@@ -646,8 +627,10 @@ class CanOpenBase(Base):
                 self._cmd = (0, 0)
                 self.watchdog.disarm()
                 t_zero = None
+                self._controlword = p.Cw.QUICK_STOP   # from now on every RPDO1: quick stop, target 0
+                self._streaming = self._streaming or was_enabled   # SYNC, odometry go on
                 try:
-                    for node in self.nodes:           # stop both wheels: quick stop, target 0
+                    for node in self.nodes:           # stop both wheels at once
                         self._send(*p.rpdo1(node, p.Cw.QUICK_STOP, 0))
                     t_zero = time.monotonic()
                 except can.CanError as exc:
@@ -669,7 +652,16 @@ class CanOpenBase(Base):
                         self._pending_faults.append((
                             f"{self._who(node)}: no heartbeat for {age:.2f} s (time-out "
                             f"{limit:.2f} s); link down, stopped the {', '.join(other)}",
-                            time.monotonic()))
+                            time.monotonic(),
+                            {"device": self._who(node), "code": None,
+                             "meaning": f"heartbeat lost (none for {age:.2f} s, time-out {limit:.2f} s)"}))
+                silent = now - self._sonar_t
+                if self.config.sonar_node and self.config.sonars and silent > limit:
+                    who = f"node {self.config.sonar_node} (sonar board)"
+                    self._pending_faults.append((
+                        f"{who}: no ranges for {silent:.2f} s; its silence would read as free "
+                        f"space ahead", time.monotonic(),
+                        {"device": who, "code": None, "meaning": f"sonar board silent for {silent:.2f} s"}))
             if self._pending_faults:
                 self._act_on_faults()
 
@@ -690,7 +682,7 @@ class CanOpenBase(Base):
                 if next_heartbeat < now:
                     next_heartbeat = now + c.host_heartbeat_ms / 1000.0
             if now >= next_sync:
-                if self._enabled:
+                if self._streaming:
                     self._send_sync()
                 next_sync += c.sync_period
                 if next_sync < now:
@@ -728,6 +720,12 @@ class CanOpenBase(Base):
     @property
     def fault(self) -> str | None:
         return self._fault
+
+
+def _close(word: str, known) -> str:
+    import difflib
+    close = difflib.get_close_matches(word, sorted(known), n=1)
+    return f" (did you mean {close[0]!r}?)" if close else ""
 
 
 class _Raw(can.Listener):

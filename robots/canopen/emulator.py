@@ -1,10 +1,8 @@
 """Two emulated CiA 402 wheel drives (and a sonar board) on a CAN bus, around the simulated body.
 
-Each `Drive` is a `canopen.LocalNode` (the package gives the object store and the SDO server,
-which checks existence, access and length against `od.drive_dictionary`). What the local node
-lacks we do here: NMT (boot-up, reset, start/stop), the heartbeat producer and consumer on
-robot time, PDOs taken from the mapping objects the host wrote (TPDOs on SYNC, RPDOs written
-into the store), and the CiA 402 power state machine with profile-velocity ramps.
+Each `Drive` (robots.canopen.drive) is a CiA 402 device on this emulator's python-can bus;
+here: the bus, the wheels following the simulated body, the sonar board, and the faults a
+test injects.
 
 Faults it produces: EMCY 0x2310 over-current when the wheels push against an obstacle that
 holds the body (0.5 s), EMCY 0x8611 on following error (a wheel lags its demand by more than
@@ -28,329 +26,19 @@ import time
 
 import can
 import canopen
-from canopen.sdo import SdoAbortedError
 
 from robots.canopen import protocol as p
 from robots.canopen.bus import Counted, DriverBus
-from robots.canopen.od import drive_dictionary
-from robots.canopen.wheels import I32, DriveConfig
+from robots.canopen.drive import Drive
+from robots.canopen.wheels import DriveConfig
 from robots.link.lockstep import LockStep
 
 log = logging.getLogger(__name__)
 S = p.State402
-FOLLOWING_WINDOW = 0.25      # m/s between demand and actual ...
-FOLLOWING_TIME = 1.0         # ... for this long: following error
 SONAR_CYCLE = 0.05           # s between the sonar board's readings
 STALL_TIME = 0.5             # s pushing against an obstacle before the current limit trips
 STALL_DEMAND = 0.05          # m/s of demand that counts as pushing
 _channels = itertools.count(1)
-
-
-class Drive:
-    """One CiA 402 drive in profile velocity mode on `emulator`'s network."""
-
-    def __init__(self, emulator: "CanOpenEmulator", node: int, boot_delay: float | None = 0.0) -> None:
-        self.emulator = emulator
-        self.id = node
-        self.node = canopen.LocalNode(node, drive_dictionary(node))
-        self.node._write_callbacks.remove(self.node.nmt.on_write)     # heartbeat timing is ours
-        self.node.add_write_callback(self._on_write)
-        self.node.add_read_callback(self._on_read)
-        self.sdo_delay = 0.0
-        self.refuse: dict[tuple[int, int], int] = {}
-        self.boot_delay = boot_delay
-        self.powered = True
-        self.booted = False
-        self.injected: list[int] = []           # EMCY codes sent (tests read them)
-        self.rpdo_log: list[tuple[float, int, int]] = []   # (monotonic, controlword, target) received
-        self._reset_application()
-        self.nmt_state = p.NodeState.BOOT_UP
-
-    # -- wiring ----------------------------------------------------------------------------------
-    def attach(self, network: canopen.Network) -> None:
-        network.add_node(self.node)
-        network.unsubscribe(self.node.sdo.rx_cobid, self.node.sdo.on_request)
-        network.unsubscribe(0, self.node.nmt.on_command)
-        network.subscribe(self.node.sdo.rx_cobid, self._on_sdo)
-        network.subscribe(p.NMT_ID, self._on_nmt)
-        network.subscribe(p.SYNC_ID, self._on_sync)
-        network.subscribe(p.heartbeat_id(p.HOST_NODE), self._on_host_heartbeat)
-        for number in (1, 2):
-            network.subscribe(p.rpdo_id(number, self.id), self._on_rpdo)
-
-    def send(self, frame: tuple[int, bytes]) -> None:
-        if self.powered:
-            self.emulator.send(*frame)
-
-    # -- state ---------------------------------------------------------------------------------
-    def _reset_application(self) -> None:
-        self.state = S.SWITCH_ON_DISABLED
-        self.controlword = 0
-        self.target = 0                 # increments/s
-        self.demand = 0.0
-        self.actual = 0.0
-        self.position = 0.0
-        self.error_code = 0
-        self.error_register = 0
-        self.mode = 0
-        self.following_since: float | None = None
-        self.host_seen: float | None = None
-        self.host_lost = False
-        self.next_heartbeat: float | None = None
-        self.sync_counts = {1: 0, 2: 0}
-
-    def _reset_communication(self) -> None:
-        for index in list(self.node.data_store):
-            if 0x1000 <= index < 0x2000:
-                del self.node.data_store[index]
-        self.host_seen = None
-        self.host_lost = False
-        self.next_heartbeat = None
-
-    def statusword(self) -> int:
-        word = p.STATUS_BITS[self.state]
-        if self.state is S.OPERATION_ENABLED:
-            if abs(self.actual) < 1.0:
-                word |= p.SW_SPEED_ZERO
-            if abs(self.actual - self.target) < max(1.0, 0.01 * abs(self.target)):
-                word |= p.SW_TARGET_REACHED
-        return word
-
-    def _u(self, index: int, sub: int = 0) -> int:
-        data = self.node.get_data(index, sub)
-        var = self.node.object_dictionary.get_variable(index, sub)
-        return var.decode_raw(data)
-
-    # -- object access (SDO and RPDO) -----------------------------------------------------------
-    def _on_read(self, index: int, subindex: int, od, **_):
-        live = {p.STATUSWORD: self.statusword, p.MODES_DISPLAY: lambda: self.mode,
-                p.POSITION_ACTUAL: lambda: _i32(self.position),
-                p.VELOCITY_ACTUAL: lambda: _clamp32(round(self.actual)),
-                p.VELOCITY_DEMAND: lambda: _clamp32(round(self.demand)),
-                p.ERROR_CODE: lambda: self.error_code, p.ERROR_REGISTER: lambda: self.error_register,
-                p.CONTROLWORD: lambda: self.controlword, p.TARGET_VELOCITY: lambda: self.target}
-        if index in live and subindex == 0:
-            return live[index]()
-        return None
-
-    def _on_write(self, index: int, subindex: int, od, data: bytes) -> None:
-        code = self.refuse.get((index, subindex))
-        if code is not None:
-            raise SdoAbortedError(code)
-        if index == p.CONTROLWORD:
-            self.controlword_written(struct.unpack("<H", data)[0])
-        elif index == p.TARGET_VELOCITY:
-            self.target = struct.unpack("<i", data)[0]
-        elif index == p.MODES_OF_OPERATION:
-            if self.state is S.OPERATION_ENABLED and self.controlword & 0x100:
-                raise SdoAbortedError(0x08000022)      # no mode change while halted (pitfall)
-            self.mode = struct.unpack("<b", data)[0]
-
-    def controlword_written(self, word: int) -> None:
-        """The CiA 402 transitions of ../shared/protocols/canopen-drive.md §3."""
-        rising_reset = word & 0x80 and not self.controlword & 0x80
-        self.controlword = word
-        state = self.state
-        if state is S.FAULT:
-            if rising_reset:
-                self.state = S.SWITCH_ON_DISABLED
-                self.error_code = self.error_register = 0
-                self.send(p.emcy(self.id, 0x0000, 0))
-            return
-        if state is S.FAULT_REACTION_ACTIVE:
-            return
-        low = word & 0x8F
-        if low & 0x02 == 0:                                 # disable voltage
-            self.state = S.SWITCH_ON_DISABLED
-        elif low & 0x06 == 0x02:                            # quick stop (bit 2 low)
-            if state is S.OPERATION_ENABLED:
-                self.state = S.QUICK_STOP_ACTIVE
-            elif state is not S.QUICK_STOP_ACTIVE:
-                self.state = S.SWITCH_ON_DISABLED
-        elif low & 0x0F == 0x06:                            # shutdown
-            if state in (S.SWITCH_ON_DISABLED, S.SWITCHED_ON, S.OPERATION_ENABLED):
-                self.state = S.READY_TO_SWITCH_ON
-        elif low & 0x0F == 0x07:                            # switch on / disable operation
-            if state in (S.READY_TO_SWITCH_ON, S.OPERATION_ENABLED):
-                self.state = S.SWITCHED_ON
-        elif low & 0x0F == 0x0F:                            # enable operation
-            if state in (S.SWITCHED_ON, S.READY_TO_SWITCH_ON):
-                self.state = S.OPERATION_ENABLED
-                self.following_since = None
-        if self.state is not S.OPERATION_ENABLED and state is S.OPERATION_ENABLED \
-                and self.state is not S.QUICK_STOP_ACTIVE:
-            self.demand = 0.0
-
-    # -- frames in ------------------------------------------------------------------------------
-    def _on_sdo(self, can_id: int, data: bytes, timestamp: float) -> None:
-        if not (self.powered and self.booted):
-            return
-        if self.sdo_delay:
-            time.sleep(self.sdo_delay)
-        with self.emulator.lock:
-            self.node.sdo.on_request(can_id, data, timestamp)
-
-    def _on_nmt(self, can_id: int, data: bytes, timestamp: float) -> None:
-        if not (self.powered and self.booted) or len(data) != 2 or data[1] not in (0, self.id):
-            return
-        with self.emulator.lock:
-            command = data[0]
-            if command == p.Nmt.START:
-                self.nmt_state = p.NodeState.OPERATIONAL
-            elif command == p.Nmt.STOP:
-                self.nmt_state = p.NodeState.STOPPED
-            elif command == p.Nmt.PRE_OPERATIONAL:
-                self.nmt_state = p.NodeState.PRE_OPERATIONAL
-            elif command in (p.Nmt.RESET_NODE, p.Nmt.RESET_COMMUNICATION):
-                if command == p.Nmt.RESET_NODE:
-                    self._reset_application()
-                    self.node.data_store.clear()
-                self._reset_communication()
-                self._boot()
-
-    def _boot(self) -> None:
-        self.booted = True
-        self.nmt_state = p.NodeState.PRE_OPERATIONAL
-        self.send(p.heartbeat(self.id, p.NodeState.BOOT_UP))
-
-    def _on_host_heartbeat(self, can_id: int, data: bytes, timestamp: float) -> None:
-        with self.emulator.lock:
-            self.host_seen = self.emulator.now()
-            self.host_lost = False
-
-    def _on_sync(self, can_id: int, data: bytes, timestamp: float) -> None:
-        if not (self.powered and self.nmt_state is p.NodeState.OPERATIONAL):
-            return
-        with self.emulator.lock:
-            for number in (1, 2):
-                cob_id = self._u(0x1800 + number - 1, 1)
-                kind = self._u(0x1800 + number - 1, 2)
-                if cob_id & p.PDO_INVALID or not 1 <= kind <= 240:
-                    continue
-                self.sync_counts[number] += 1
-                if self.sync_counts[number] >= kind:
-                    self.sync_counts[number] = 0
-                    self.send((cob_id & 0x7FF, self._pdo_data(0x1A00 + number - 1)))
-
-    def _pdo_data(self, map_index: int) -> bytes:
-        """The mapped objects' current values, packed as the mapping says (the gap we fill)."""
-        out = b""
-        for sub in range(1, self._u(map_index, 0) + 1):
-            index, subindex, bits = p.split_mapping(self._u(map_index, sub))
-            out += self.node.get_data(index, subindex)[: bits // 8]
-        return out
-
-    def _on_rpdo(self, can_id: int, data: bytes, timestamp: float) -> None:
-        if not (self.powered and self.nmt_state is p.NodeState.OPERATIONAL):
-            return
-        with self.emulator.lock:
-            if len(data) == 6:
-                self.rpdo_log.append((time.monotonic(), *struct.unpack("<Hi", bytes(data))))
-                if len(self.rpdo_log) > 20_000:
-                    del self.rpdo_log[:10_000]
-            for number in (1, 2):
-                cob_id = self._u(0x1400 + number - 1, 1)
-                if cob_id & p.PDO_INVALID or cob_id & 0x7FF != can_id:
-                    continue
-                offset = 0
-                map_index = 0x1600 + number - 1
-                for sub in range(1, self._u(map_index, 0) + 1):
-                    index, subindex, bits = p.split_mapping(self._u(map_index, sub))
-                    chunk = bytes(data[offset: offset + bits // 8])
-                    offset += bits // 8
-                    if len(chunk) == bits // 8:
-                        try:
-                            self.node.set_data(index, subindex, chunk)
-                        except SdoAbortedError:
-                            pass
-
-    # -- time ----------------------------------------------------------------------------------
-    def timers(self, now: float) -> None:
-        """Boot, heartbeat producer, host heartbeat consumer."""
-        if not self.powered:
-            return
-        if not self.booted:
-            if self.boot_delay is not None and now >= self.boot_delay:
-                self._boot()
-            return
-        period = self._u(p.PRODUCER_HEARTBEAT) / 1000.0
-        if period > 0:
-            if self.next_heartbeat is None:
-                self.next_heartbeat = now
-            if now + 1e-9 >= self.next_heartbeat:
-                self.send(p.heartbeat(self.id, self.nmt_state))
-                self.next_heartbeat = max(self.next_heartbeat + period, now + period / 2)
-        consumer = self._u(p.CONSUMER_HEARTBEAT, 1)
-        timeout = (consumer & 0xFFFF) / 1000.0
-        if (timeout > 0 and self.host_seen is not None and not self.host_lost
-                and now - self.host_seen > timeout):
-            self.host_lost = True
-            self.fault(0x8130, reaction=self._u(p.ABORT_CONNECTION_OPTION))
-
-    def fault(self, code: int, reaction: int = 1) -> None:
-        """Raise EMCY `code`; `reaction` as 0x6007: 1 fault, 2 disable voltage, 3 quick stop."""
-        self.error_code = code
-        self.error_register |= 0x01 | (0x02 if 0x2000 <= code < 0x3000 else 0) | \
-            (0x10 if 0x8100 <= code < 0x8200 else 0)
-        self.injected.append(code)
-        self.send(p.emcy(self.id, code, self.error_register))
-        if reaction == 3 and self.state is S.OPERATION_ENABLED:
-            self.state = S.QUICK_STOP_ACTIVE
-        elif reaction == 2:
-            self.state = S.SWITCH_ON_DISABLED
-            self.demand = 0.0
-        elif reaction == 1 or reaction not in (0, 2, 3):
-            if self.state in (S.OPERATION_ENABLED, S.QUICK_STOP_ACTIVE):
-                self.state = S.FAULT_REACTION_ACTIVE
-            else:
-                self.state = S.FAULT
-                self.demand = 0.0
-
-    def ramp(self, dt: float, config: DriveConfig, actual: float) -> None:
-        """Move the demand towards the target on the profile's ramps; check following error."""
-        self.actual = actual
-        if self.state is S.OPERATION_ENABLED:
-            target = max(-self._u(p.MAX_PROFILE_VELOCITY), min(self._u(p.MAX_PROFILE_VELOCITY), self.target)) \
-                if self._u(p.MAX_PROFILE_VELOCITY) else self.target
-            if self.controlword & 0x100:
-                target = 0
-            speeding_up = abs(target) > abs(self.demand) and target * self.demand >= 0
-            rate = self._u(p.PROFILE_ACCELERATION if speeding_up else p.PROFILE_DECELERATION)
-            self.demand = _approach(self.demand, target, (rate or 1e12) * dt)
-            slip = abs(self.demand - actual) / config.counts_per_metre
-            if slip > FOLLOWING_WINDOW:
-                self.following_since = self.following_since if self.following_since is not None \
-                    else self.emulator.now()
-                if self.emulator.now() - self.following_since >= FOLLOWING_TIME:
-                    self.fault(0x8611)
-            else:
-                self.following_since = None
-        elif self.state in (S.QUICK_STOP_ACTIVE, S.FAULT_REACTION_ACTIVE):
-            self.demand = _approach(self.demand, 0.0, (self._u(p.QUICK_STOP_DECELERATION) or 1e12) * dt)
-            if self.demand == 0.0:
-                if self.state is S.FAULT_REACTION_ACTIVE:
-                    self.state = S.FAULT
-                elif self._u(p.QUICK_STOP_OPTION) in (1, 2, 3, 4):
-                    self.state = S.SWITCH_ON_DISABLED
-        else:
-            self.demand = 0.0
-        self.position += actual * dt
-
-
-def _approach(current: float, target: float, step: float) -> float:
-    if target > current:
-        return min(target, current + step)
-    return max(target, current - step)
-
-
-def _i32(value: float) -> int:
-    return (round(value) + 2**31) % I32 - 2**31
-
-
-def _clamp32(value: int) -> int:
-    return max(-2**31, min(2**31 - 1, value))
-
-
 class CanOpenEmulator:
     """The drives (and sonar board) on a python-can bus, moving `world.body`."""
 
@@ -367,6 +55,8 @@ class CanOpenEmulator:
         self.lock = threading.RLock()
         boot = boot_delays or {}
         self.drives = {n: Drive(self, n, boot.get(n, 0.0)) for n in (config.left_node, config.right_node)}
+        self.sonar_powered = True                # tests: False = the sonar board goes silent
+        self.mirrored: dict[int, bool] = {}      # tests: how a motor is really mounted, if not as profiled
         self.sent = 0
         self.network = canopen.Network()
         self.network.NOTIFIER_CYCLE = 0.05                # close() returns promptly
@@ -430,15 +120,20 @@ class CanOpenEmulator:
         left, right = c.wheel_speeds(body.v, body.w)
         with self.lock:
             lf, rt = self.drives[c.left_node], self.drives[c.right_node]
-            lf.ramp(dt, c, left * c.counts_per_metre * c.sign(c.left_node))
-            rt.ramp(dt, c, right * c.counts_per_metre * c.sign(c.right_node))
-            demand_l = lf.demand * c.sign(c.left_node) / c.counts_per_metre if lf.powered else 0.0
-            demand_r = rt.demand * c.sign(c.right_node) / c.counts_per_metre if rt.powered else 0.0
+            lf.ramp(dt, c, left, self.mount(c.left_node))
+            rt.ramp(dt, c, right, self.mount(c.right_node))
+            demand_l = lf.wheel_demand(c, self.mount(c.left_node))
+            demand_r = rt.wheel_demand(c, self.mount(c.right_node))
         body.set_command(*c.body_speeds(demand_l, demand_r))
         self._check_stall(body, demand_l, demand_r)
         if c.sonar_node and c.sonars and self.world.t + 1e-9 >= self._sonar_due:
             self._sonar = [float(r) for r in self.world.sonar_ranges()][:c.sonars]
             self._sonar_due = self.world.t + SONAR_CYCLE
+
+    def mount(self, node: int) -> int:
+        """-1 where the motor is mounted mirrored (the truth: `mirrored`, else the profile's)."""
+        mirrored = self.mirrored.get(node, node == self.config.right_node and self.config.right_mirrored)
+        return -1 if mirrored else 1
 
     def _check_stall(self, body, demand_l: float, demand_r: float) -> None:
         """A body held by an obstacle while the wheels push: over-current on the pushing drives."""
@@ -476,7 +171,7 @@ class CanOpenEmulator:
     # -- the sonar board ----------------------------------------------------------------------
     def _on_sync_sonar(self, can_id: int, data: bytes, timestamp: float) -> None:
         node, count = self.config.sonar_node, self.config.sonars
-        if not node or not count:
+        if not node or not count or not self.sonar_powered:
             return
         with self.lock:
             ranges = list(self._sonar)

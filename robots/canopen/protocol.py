@@ -116,6 +116,8 @@ EMCY_MEANINGS = {
     0x8120: "CAN in error-passive mode",
     0x8130: "heartbeat or life-guard error (host heartbeat lost)",
     0x8140: "recovered from bus-off",
+    0x8210: "PDO not processed due to length error",
+    0x8220: "PDO length exceeded",
     0x8250: "RPDO timeout (deadline monitoring)",
     0x8611: "following error (wheel cannot follow the demand)",
 }
@@ -268,6 +270,15 @@ PROFILE_ACCELERATION, PROFILE_DECELERATION, QUICK_STOP_DECELERATION = 0x6083, 0x
 TARGET_VELOCITY = 0x60FF
 ABORT_CONNECTION_OPTION = 0x6007
 QUICK_STOP_OPTION = 0x605A
+SHUTDOWN_OPTION = 0x605B
+DISABLE_OPERATION_OPTION = 0x605C
+FAULT_REACTION_OPTION = 0x605E
+POLARITY = 0x607E
+SUPPORTED_DRIVE_MODES = 0x6502
+IDENTITY = 0x1018
+PRE_DEFINED_ERROR_FIELD = 0x1003
+COB_ID_SYNC = 0x1005
+COB_ID_EMCY = 0x1014
 ERROR_CODE = 0x603F
 ERROR_REGISTER = 0x1001
 DEVICE_TYPE = 0x1000
@@ -369,6 +380,7 @@ STATUS_BITS = {
 SW_FAULT = 0x0008
 SW_WARNING = 0x0080
 SW_TARGET_REACHED = 0x0400
+SW_INTERNAL_LIMIT = 0x0800
 SW_SPEED_ZERO = 0x1000
 
 

@@ -137,6 +137,15 @@ class P2OSBase(Base):
 
     # -- wiring -------------------------------------------------------------------------------------
     @classmethod
+    def profile_problems(cls, options: dict) -> list[tuple[str, str]]:
+        """A profile sets only `subclass` (the others are the driver's own defaults)."""
+        found = [(key, f"unknown p2os option {key!r}; allowed: subclass") for key in options
+                 if key != "subclass"]
+        if "subclass" in options and not isinstance(options["subclass"], str):
+            found.append(("subclass", f"subclass = {options['subclass']!r} must be a name such as \"p2dx\""))
+        return found
+
+    @classmethod
     def for_profile(cls, profile, url: str, clock=None) -> "P2OSBase":
         """A driver for a real Pioneer at `url`, configured from the robot profile."""
         max_range = profile.sonar.max_range if profile.sonar is not None else None

@@ -106,6 +106,16 @@ class RFlexBase(Base):
 
     # -- construction from a profile -------------------------------------------------------------
     @classmethod
+    def profile_problems(cls, options: dict) -> list[tuple[str, str]]:
+        found = [(key, f"unknown rflex option {key!r}; allowed: {', '.join(OPTIONS)}")
+                 for key in options if key not in OPTIONS]
+        for key in ("dist_conv", "angle_conv"):
+            value = options.get(key, 1.0)
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not 1.0 <= value <= 1e7:
+                found.append((key, f"{key} = {value!r}; allowed 1 .. 1e7 units"))
+        return found
+
+    @classmethod
     def for_profile(cls, profile, url: str, clock=None) -> "RFlexBase":
         """A driver for a real B21r at `url`: baud and factors from the profile's [base] table."""
         return cls(profile.limits, url, clock=clock, baud=profile.base.baud, **profile.base.options)

@@ -86,3 +86,33 @@ def test_emulate_can_on_a_python_can_bus_instead_of_tcp(capsys):
     assert not thread.is_alive()
     with pytest.raises(SystemExit):
         parser.parse_args(["can", "--bus", "virtual:x", "--tcp", "0"])      # one or the other
+
+
+def test_losing_the_socketcand_link_is_a_link_fault_not_an_exception(server):
+    """The bus server dies while driving: the driver reports a fault, its threads raise
+    nothing (no BrokenPipeError for the CLI to take for a closed stdout), close() returns."""
+    import threading
+
+    proc, port = server
+    raised = []
+    previous = threading.excepthook
+    threading.excepthook = lambda args: raised.append(args.exc_value)
+    base = CanOpenBase.for_profile(ARGOS, port, clock=RealClock())
+    try:
+        base.open()
+        base.command(0.2, 0.0)
+        proc.kill()
+        proc.wait()
+        deadline = time.monotonic() + 2.0
+        while (base.fault is None or base.read_state().link_up) and time.monotonic() < deadline:
+            base.command(0.2, 0.0)
+            time.sleep(0.02)
+        print(f"\nfault after the socketcand server died: {base.fault}")
+        assert base.fault is not None and not base.read_state().link_up
+        assert base.read_state().extra["fault_device"].startswith("CAN link socketcand:127.0.0.1")
+        t0 = time.monotonic()
+    finally:
+        base.close()
+        threading.excepthook = previous
+    assert time.monotonic() - t0 < 3.0
+    assert not raised, raised
