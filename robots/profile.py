@@ -205,11 +205,11 @@ class _ProfileReader:
     def __init__(self, path: Path, data: dict, text: str = "") -> None:
         self.path = path
         self.data = data
-        self.text = text
+        self.source = text          # the file's text, for the line of a key
 
     def fail(self, table: str, why: str, key: str | None = None) -> ProfileError:
         """`file:line: [table] why`, the line of `key` (or of the table) where it is written."""
-        line = (key_line(self.text, table, key) if key else None) or key_line(self.text, table)
+        line = (key_line(self.source, table, key) if key else None) or key_line(self.source, table)
         return ProfileError(f"{self.path}{f':{line}' if line else ''}: [{table}] {why}")
 
     def table(self, key: str, required: bool = True) -> dict | None:
