@@ -98,3 +98,46 @@ def test_byte_counter_waits_until_drained():
     threading.Timer(0.02, counter.got, args=(10,)).start()
     assert counter.wait_drained(2.0)
     assert counter.backlog() == 0
+
+
+def test_lockstep_deliver_runs_the_emulators_pump_on_the_callers_thread():
+    from robots.link.lockstep import LockStep
+    step = LockStep()
+    threads = []
+
+    def pump(timeout: float) -> None:          # the emulator reads one byte per call
+        threads.append(threading.current_thread())
+        step.to_device.got(1)
+    step.pump = pump
+    step.to_device.wrote(3)
+    assert step.deliver(1.0)
+    assert threads == [threading.current_thread()] * 3
+
+
+def test_lockstep_deliver_falls_back_to_waiting_when_the_line_is_dropped():
+    from robots.link.lockstep import LockStep
+    step = LockStep()
+
+    def pump(timeout: float) -> None:          # hung up: the host takes its pump away
+        step.pump = None
+    step.pump = pump
+    step.to_device.wrote(2)
+    threading.Timer(0.05, lambda: step.to_device.got(2)).start()   # a reader thread, late
+    assert step.deliver(2.0)
+    step.to_device.wrote(1)
+    assert not step.deliver(0.05)              # nobody reads: times out, does not hang
+
+
+def test_an_in_process_emulator_on_a_simulated_clock_reads_on_no_thread_of_its_own():
+    from robots.hardware import open_hardware
+    hardware = open_hardware("horos", fast=True)
+    try:
+        for _ in range(5):
+            hardware.base.command(0.1, 0.0)
+            hardware.sense()
+            hardware.clock.advance(0.1)
+        names = [t.name for t in threading.enumerate()]
+        assert not any("reader" in name for name in names), names
+        assert hardware.base.read_state().v > 0.0          # the commands got through
+    finally:
+        hardware.close()
