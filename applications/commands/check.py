@@ -10,7 +10,7 @@ import sys
 from applications.appfolder import inspect_folder
 from applications.commands import arguments
 from applications.graph.catalog import load_catalog
-from applications.graph.diagnostics import ERROR, WARNING, Diagnostic
+from applications.graph.diagnostics import ERROR, WARNING, Diagnostic, sort_diagnostics
 from behaviors.exceptions import BehaviorError
 
 EXIT_CLEAN, EXIT_ERRORS, EXIT_UNKNOWN = 0, 1, 2
@@ -61,7 +61,7 @@ def place_diagnostics(args, draft, robot: str) -> list[Diagnostic]:
     catalog = load_catalog(robot)
     named = named_places(draft, DatabaseContent(folder), catalog.behaviors, folder)
     verdict = check_places(args.map, robot, [p.name for p in named], args.start)
-    return reach_diagnostics(named, verdict, robot)
+    return sort_diagnostics(reach_diagnostics(named, verdict, robot))
 
 
 def report(name: str, robot: str | None, diagnostics: list[Diagnostic], as_json: bool) -> None:

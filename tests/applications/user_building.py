@@ -53,13 +53,14 @@ def map_pixels() -> np.ndarray:
     return np.flipud(grid)
 
 
-def write_map(folder: Path) -> Path:
+def write_map(folder: Path, places: bool = True) -> Path:
+    """floor3.yaml and floor3.pgm in `folder`; `places=False`: as map_saver writes them."""
     pixels = map_pixels()
     height, width = pixels.shape
     (folder / "floor3.pgm").write_bytes(b"P5\n%d %d\n255\n" % (width, height) + pixels.tobytes())
     path = folder / "floor3.yaml"
     path.write_text("image: floor3.pgm\nresolution: 0.05\norigin: [-0.5, -0.5, 0.0]\nnegate: 0\n"
-                    "occupied_thresh: 0.65\nfree_thresh: 0.196\n" + PLACES)
+                    "occupied_thresh: 0.65\nfree_thresh: 0.196\n" + (PLACES if places else ""))
     return path
 
 
