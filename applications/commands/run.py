@@ -33,8 +33,9 @@ class RunCommand:
                             help="run on a simulated clock as fast as the CPU allows")
         parser.add_argument("--map", type=arguments.map_source, metavar="FILE",
                             help="the map to localize and navigate on: a bundled floor name "
-                                 "(office), a floor .toml or a map_server .yaml (default: the "
-                                 "simulated floor; none on a real base)")
+                                 "(office), a floor .toml or a map_server .yaml; in simulation "
+                                 "also the simulated building (default: the scenario's map or "
+                                 "floor, else the office; none on a real base)")
         parser.add_argument("--initial-pose", type=arguments.initial_pose,
                             metavar="X,Y,HEADING_DEG",
                             help="where the robot stands on the map, in metres and degrees "
