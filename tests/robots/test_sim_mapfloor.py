@@ -6,6 +6,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from robots.exceptions import FloorError, ScenarioError
 from robots.profile import load_profile
@@ -174,3 +176,41 @@ def test_a_scenario_map_that_is_missing_unreadable_or_another_is_refused(tmp_pat
     path = scenario_on_map(tmp_path, head='map = "maps/m.yaml"\nfloor = "office"')
     with pytest.raises(ScenarioError, match=r"visit.toml:4: scenario.map: .*not both"):
         Simulation(load_profile("horos"), path)
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1), resolution=st.sampled_from([0.05, 0.1, 0.25]),
+       origin=st.tuples(st.floats(-20, 20), st.floats(-20, 20)))
+def test_a_ray_stops_at_the_first_solid_cell_of_any_map(seed, resolution, origin):
+    """The outline hides nothing and invents nothing: from a free cell's centre, every ray
+    ends where fine steps through the cells first meet a solid one (or the map's edge)."""
+    rng = np.random.default_rng(seed)
+    solid = rng.random((12, 15)) < 0.3
+    solid[6, 7] = False
+    segments = outline_segments(solid, resolution, origin)
+    start = np.array([[origin[0] + 7.5 * resolution, origin[1] + 6.5 * resolution]])
+    angles = rng.uniform(-math.pi, math.pi, 24)
+    got = cast_rays(np.repeat(start, len(angles), axis=0), angles, segments, None, 100.0)
+    step = resolution / 200
+    for angle, distance in zip(angles, got):
+        t = np.arange(0.0, 20 * resolution, step)
+        col = np.floor((start[0, 0] + t * math.cos(angle) - origin[0]) / resolution).astype(int)
+        row = np.floor((start[0, 1] + t * math.sin(angle) - origin[1]) / resolution).astype(int)
+        outside = (row < 0) | (row >= 12) | (col < 0) | (col >= 15)
+        blocked = outside | solid[np.clip(row, 0, 11), np.clip(col, 0, 14)]
+        assert distance == pytest.approx(t[np.argmax(blocked)], abs=2 * step)
+
+
+def test_the_robot_localizes_on_the_file_it_is_simulated_in(tmp_path):
+    """A scenario on a map: L1's map is that same file, so the simulator's start pose is a
+    pose on it (the tight start cloud of the robot's own floor)."""
+    from skills.navigation.mcl import MCLParams
+    from skills.skillset import open_skills
+    skills = open_skills("horos", fast=True, scenario=scenario_on_map(tmp_path))
+    try:
+        assert skills.map.source == str((tmp_path / "maps/m.yaml").resolve())
+        assert skills.map.unknown.any()
+        spread = np.std(skills.localization.filter.particles, axis=0)
+    finally:
+        skills.close()
+    assert spread[:2] == pytest.approx(MCLParams().known_std[:2], rel=0.2)
