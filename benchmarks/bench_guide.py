@@ -273,13 +273,15 @@ def bench_buildings(args) -> None:
             grid = load_map(map_path)
             shortest = GlobalPlanner(cost_map(grid, load_profile(args.robot).radius), cost_weight=0.0)
             rooms = sorted(name for name in grid.places if name.startswith("room_"))
-            results = [run_tour(args.robot, folder, seed, shortest, plan_ms,
+            building_ms: list = []
+            results = [run_tour(args.robot, folder, seed, shortest, building_ms,
                                 building_tour(folder, map_path, rooms, shortest, seed))
                        for seed in range(args.tours)]
             print(f"\n== building {b} ({grid.shape[1] * grid.resolution:.0f} m × "
                   f"{grid.shape[0] * grid.resolution:.0f} m, {len(rooms)} rooms)")
-            report(results, plan_ms)
+            report(results, building_ms)
             pooled += results
+            plan_ms += building_ms
     print(f"\n== pooled: {args.buildings} buildings × {args.tours} tours, "
           f"{time.perf_counter() - started:.0f} s wall; load average {os.getloadavg()}")
     report(pooled, plan_ms)
