@@ -63,6 +63,17 @@ class Robot:
     def wait_until(self, t: float) -> None:
         self.skills.wait_until(t)
 
+    @property
+    def places(self) -> list[str] | None:
+        """The place names of the robot's map (None: the robot has no map)."""
+        grid = self.skills.map
+        return None if grid is None else sorted(grid.places)
+
+    @property
+    def map_name(self) -> str | None:
+        grid = self.skills.map
+        return None if grid is None else grid.name
+
     def cannot_run(self, behaviors: set[str]) -> dict[str, str]:
         """Of `behaviors`, those this robot as opened cannot realize, with the reason."""
         problems = {}

@@ -22,6 +22,13 @@ Then the cost of the robot's whole tick (sense + act: every skill, the behavior 
 simulated world stepped) while guiding with 10 people around.
 
     python benchmarks/bench_guide.py [--tours N] [--robot horos|perses] [--ticks N]
+    python benchmarks/bench_guide.py --buildings B [--tours N] [--robot R] [--clearance-beyond-path]
+
+With `--buildings B` the tours run in B generated office buildings (`benchmarks/buildings.py`,
+seeds 0 .. B-1; map_server maps simulated from their cells), N tours each: the robot at
+`robot_home`, the visitor standing 1 m along the hallway from it (on the side away from the
+room), a room drawn from the
+building's `room_NN` places, no other people; reported per building and pooled.
 
 Prints the load average beside the figures: the machine is shared.
 """
@@ -44,6 +51,30 @@ from skills.navigation.planner import GlobalPlanner
 ROOMS = [f"room_{side}{n}" for side in "ns" for n in range(1, 5)]
 WITH_USER = 2.5            # m: the visitor counts as arrived with the robot within this
 TOUR_LIMIT = 150.0         # s of robot time per tour
+CLEARANCE_BEYOND_PATH = False   # --clearance-beyond-path: the controller experiment of issue 22
+
+
+def building_tour(folder: Path, map_path: Path, rooms: list[str], shortest, seed: int
+                  ) -> tuple[Path, str]:
+    """The scenario of tour `seed` in a generated building: the visitor only, standing 1 m
+    from the robot along the hallway on the side away from the room (a hallway may be 1 m
+    wide, and the simulated visitor does not step aside)."""
+    rng = np.random.default_rng(seed)
+    room = str(rng.choice(rooms))
+    follow = rng.uniform(0.9, 1.5)
+    speed = rng.uniform(0.9, 1.3)
+    grid = shortest.costmap.grid
+    home = grid.places["robot_home"]
+    way = shortest.plan(home[:2], grid.places[room][:2]).waypoints
+    east = way[min(1, len(way) - 1)][0] >= home[0]
+    x, y = home[0] + (-1.0 if east else 1.0), home[1] + 0.3
+    lines = ['[scenario]', f'name = "tour{seed}"', f'duration = {TOUR_LIMIT}',
+             'robot = "robot_home"', f'map = "{map_path}"',
+             '[[person]]', 'id = "visitor"', f'at = [{x:.2f}, {y:.2f}]', f'speed = {speed:.2f}',
+             f'steps = [ {{ follow = {follow:.2f}, after_call = true, goal = "{room}" }} ]']
+    path = folder / f"{map_path.stem}_tour{seed}.toml"
+    path.write_text("\n".join(lines) + "\n")
+    return path, room
 
 
 def tour_scenario(folder: Path, seed: int) -> tuple[Path, str]:
@@ -84,14 +115,21 @@ class Timed:
             self.into.append(1e3 * (time.perf_counter() - a))
 
 
-def run_tour(robot_name: str, folder: Path, seed: int, shortest, plan_ms: list) -> dict:
-    path, room = tour_scenario(folder, seed)
+def run_tour(robot_name: str, folder: Path, seed: int, shortest, plan_ms: list,
+             scenario: tuple[Path, str] | None = None) -> dict:
+    path, room = scenario or tour_scenario(folder, seed)
     robot = open_robot(robot_name, fast=True, scenario=path, seed=seed)
     skills = robot.skills
+    if CLEARANCE_BEYOND_PATH:
+        from dataclasses import replace
+        nav = skills.navigation
+        nav.params = replace(nav.params, controller=replace(nav.params.controller,
+                                                            clearance_beyond_path=True))
     world = skills.hardware.simulation.world
     nav = skills.navigation
     nav.planner.plan = Timed(nav.planner.plan, plan_ms)
     errors, headings, outcome, duration, with_user = [], [], "timeout", None, False
+    reason = ""
     try:
         for _ in range(10):
             robot.sense(); robot.act(); robot.wait_until(robot.now() + 0.1)
@@ -104,6 +142,7 @@ def run_tour(robot_name: str, folder: Path, seed: int, shortest, plan_ms: list) 
             for event in robot.events():
                 if event["kind"] == "guide":
                     outcome, duration = event["outcome"], event["duration"]
+                    reason = event.get("reason", "")
                     visitor = next(p for p in world.people if p.id == "visitor")
                     with_user = math.hypot(visitor.x - body.x, visitor.y - body.y) <= WITH_USER
             if outcome != "timeout":
@@ -118,7 +157,8 @@ def run_tour(robot_name: str, folder: Path, seed: int, shortest, plan_ms: list) 
         robot.close()
     length = shortest.plan(shortest.costmap.grid.place("robot_home")[:2],
                            shortest.costmap.grid.place(room)[:2]).length
-    return {"seed": seed, "room": room, "outcome": outcome, "with_user": with_user,
+    return {"seed": seed, "room": room, "outcome": outcome, "reason": reason,
+            "with_user": with_user,
             "success": outcome == "arrived" and with_user, "duration": duration,
             "ratio": None if duration is None else duration / (length / limits.max_speed),
             "loc_errors": errors, "heading_errors": headings, **measures}
@@ -176,9 +216,10 @@ def report(results: list[dict], plan_ms: list) -> None:
     headings = np.degrees(np.concatenate([r["heading_errors"] for r in results]))
     print(f"tours: {n}; success {len(ok)}/{n} = {100 * len(ok) / n:.1f} % (target >= 95 %); "
           f"outcomes {outcomes}")
-    failed = [(r["seed"], r["room"], r["outcome"]) for r in results if not r["success"]]
+    failed = [(r["seed"], r["room"], r["outcome"], r["reason"][:90]) for r in results
+              if not r["success"]]
     if failed:
-        print(f"  not successful (seed, room, outcome): {failed}")
+        print(f"  not successful (seed, room, outcome, reason): {failed}")
     driving = sum(r["contacts_driving"] for r in results)
     print(f"contacts: with people {sum(r['contacts_person'] for r in results)} (the robot "
           f"driving: {driving}; people walking into the standing robot: "
@@ -213,13 +254,55 @@ def report(results: list[dict], plan_ms: list) -> None:
           f"{np.percentile(plan_ms, 99):.1f} ms, max {max(plan_ms):.1f} ms (target <= 100 ms)")
 
 
+def bench_buildings(args) -> None:
+    """N tours in each of B generated buildings, reported per building and pooled."""
+    import importlib.util
+    import sys
+    spec = importlib.util.spec_from_file_location(
+        "buildings", Path(__file__).resolve().parent / "buildings.py")
+    generator = importlib.util.module_from_spec(spec)
+    sys.modules["buildings"] = generator
+    spec.loader.exec_module(generator)
+    from robots.profile import load_profile
+    pooled, plan_ms = [], []
+    started = time.perf_counter()
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = Path(tmp)
+        for b in range(args.buildings):
+            map_path = generator.generate(b).save(folder)
+            grid = load_map(map_path)
+            shortest = GlobalPlanner(cost_map(grid, load_profile(args.robot).radius), cost_weight=0.0)
+            rooms = sorted(name for name in grid.places if name.startswith("room_"))
+            building_ms: list = []
+            results = [run_tour(args.robot, folder, seed, shortest, building_ms,
+                                building_tour(folder, map_path, rooms, shortest, seed))
+                       for seed in range(args.tours)]
+            print(f"\n== building {b} ({grid.shape[1] * grid.resolution:.0f} m × "
+                  f"{grid.shape[0] * grid.resolution:.0f} m, {len(rooms)} rooms)")
+            report(results, building_ms)
+            pooled += results
+            plan_ms += building_ms
+    print(f"\n== pooled: {args.buildings} buildings × {args.tours} tours, "
+          f"{time.perf_counter() - started:.0f} s wall; load average {os.getloadavg()}")
+    report(pooled, plan_ms)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--tours", type=int, default=100)
     parser.add_argument("--robot", default="horos")
     parser.add_argument("--ticks", type=int, default=300, help="ticks of the 10-people run")
+    parser.add_argument("--buildings", type=int, default=0,
+                        help="tour generated buildings instead of the office (N tours each)")
+    parser.add_argument("--clearance-beyond-path", action="store_true",
+                        help="turn on ControllerParams.clearance_beyond_path (off by default)")
     args = parser.parse_args()
+    global CLEARANCE_BEYOND_PATH
+    CLEARANCE_BEYOND_PATH = args.clearance_beyond_path
     print(f"load average before: {os.getloadavg()}")
+    if args.buildings:
+        bench_buildings(args)
+        return
     shortest = GlobalPlanner(cost_map(load_map("office"), 0.26), cost_weight=0.0)
     plan_ms: list = []
     results = []

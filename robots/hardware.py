@@ -229,8 +229,8 @@ def open_hardware(robot: str | Path, *, port: str | None = None, scenario: str |
     """Open `robot` (a profile name or path). `port` drives a real base; otherwise simulate.
 
     `emulate=False` forces the in-process simulated base even where an emulator exists;
-    `floor` is the simulated building (a bundled floor name or a floor .toml; default the
-    scenario's `floor`, else the office). The interaction
+    `floor` is the simulated building (a bundled floor name, a floor .toml or a map_server
+    .yaml; default the scenario's `map` or `floor`, else the office). The interaction
     options are those of `Interaction`. `replay` (an object with `devices`, the recorded
     robot's devices, and iterating over tap logs) opens a robot that plays a recording instead
     (`robots.replay`). `reset_faults` clears a drive fault at start-up, for a base that offers

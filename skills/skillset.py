@@ -250,20 +250,26 @@ def open_skills(robot: str | Path, *, port: str | None = None, scenario: str | P
     """Open the robot's hardware (real or simulated) and its skills.
 
     `map`: a bundled floor name, a floor .toml or a map_server .yaml, the map localization and
-    navigation use (default: the simulated floor in simulation, none on a real robot).
+    navigation use (default: the simulated floor in simulation, none on a real robot). In
+    simulation the simulated building is made from the same file (a scenario written for
+    another floor or map is refused); a `GridMap` object is a map for localization alone.
     `initial_pose` (x m, y m, heading rad) where localization starts (default: the start pose
     in simulation, else the map's robot_home). The interaction options (tablet page, speech,
     listening) are the hardware's, see `robots.hardware.open_hardware`; `replay` plays a
     recording instead of hardware. A map that cannot be read, or a start pose that is not a
     free place on the map, is refused before the hardware opens."""
+    floor = None
     if map is not None and not isinstance(map, GridMap):
+        if port is None and replay is None:
+            floor = map                   # in simulation the map is the simulated building too
         map = load_map(map)               # a MapError (a SkillError) names the file and field
     if initial_pose is not None and map is not None:    # else: checked on the simulated floor
         initial_pose = check_initial_pose(initial_pose, map)
     try:
         hardware = open_hardware(robot, port=port, scenario=scenario, fast=fast, seed=seed,
                                  gui=gui, speech_wav=speech_wav, language=language, voice=voice,
-                                 listen=listen, replay=replay, reset_faults=reset_faults)
+                                 listen=listen, replay=replay, reset_faults=reset_faults,
+                                 floor=floor)
     except RobotError as exc:
         raise SkillError(str(exc)) from exc
     try:
@@ -302,7 +308,15 @@ def _is_floor_map(hardware: Hardware, grid: GridMap | None) -> bool:
     floor_map = _robot_map(hardware, None)
     return grid is floor_map or (
         grid.resolution == floor_map.resolution and grid.origin == floor_map.origin
-        and grid.unknown is None and np.array_equal(grid.occupied, floor_map.occupied))
+        and np.array_equal(grid.occupied, floor_map.occupied)
+        and _same_unknown(grid.unknown, floor_map.unknown))
+
+
+def _same_unknown(a: np.ndarray | None, b: np.ndarray | None) -> bool:
+    """Unknown cells equal, no array counting as none unknown."""
+    if a is None or b is None:
+        return (a is None or not a.any()) and (b is None or not b.any())
+    return np.array_equal(a, b)
 
 
 def check_initial_pose(pose, grid: GridMap | None) -> tuple[float, float, float]:

@@ -3,6 +3,7 @@ where they bring a scenario); the plugin package of docs/plugins.md is built, in
 folder of its own and used by an application; the percept list names every declared percept."""
 from __future__ import annotations
 
+import json
 import os
 import re
 import subprocess
@@ -109,3 +110,80 @@ def test_the_percept_list_names_every_declared_percept():
     text = (DOCS / "percepts.md").read_text(encoding="utf-8")
     missing = [name for name in percept_specs() if f"`{name}`" not in text]
     assert missing == []
+
+
+COMMANDS = re.compile(r"<!-- commands: (?P<name>[\w-]+) -->\s*```sh\n(?P<body>.*?)```", re.DOTALL)
+
+
+def command_blocks(name: str) -> list[list[str]]:
+    """The shell lines of each `<!-- commands: name -->` block, in page order."""
+    blocks = []
+    for page in sorted(DOCS.glob("*.md")):
+        for match in COMMANDS.finditer(page.read_text(encoding="utf-8")):
+            if match["name"] == name:
+                blocks.append([line for line in match["body"].splitlines() if line.strip()])
+    return blocks
+
+
+def run_commands(lines: list[str], folder: Path) -> list[subprocess.CompletedProcess]:
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    done = []
+    for line in lines:
+        words = line.split()
+        assert words[0] == "interbot", line
+        done.append(cli(*words[1:], env=env, cwd=folder))
+        assert done[-1].returncode == 0, line + "\n" + done[-1].stdout + done[-1].stderr
+    return done
+
+
+def replace_inserts(sql: str, replacement: str) -> str:
+    """database.sql with its INSERT statements into rooms and staff replaced by those of
+    `replacement`, each where the old one stood."""
+    ours = {}
+    for table in ("rooms", "staff"):
+        start = replacement.index(f"INSERT OR REPLACE INTO {table}")
+        ours[table] = replacement[start:replacement.index(");\n", start) + 3]
+    for table in ("rooms", "staff"):
+        start = sql.index(f"INSERT OR REPLACE INTO {table}")
+        end = sql.index(");\n", sql.index("VALUES", start)) + 3
+        sql = sql[:start] + ours[table] + sql[end:]
+    return sql
+
+
+def test_the_walkthrough_from_a_slam_map_to_a_guide_run(tmp_path):
+    """docs/navigation.md, *From your SLAM map to a guide run*, step by step."""
+    from tests.applications.user_building import write_map
+    write_map(tmp_path, places=False)             # as map_saver writes it: no places
+    files = examples()["floor3"]
+    (tmp_path / "floor3.places.yaml").write_text(files["floor3.places.yaml"])
+    (tmp_path / "visit.toml").write_text(files["visit.toml"])
+    new, check, run = command_blocks("floor3")
+    run_commands(new, tmp_path)
+    database = tmp_path / "floor3-guide" / "database.sql"
+    database.write_text(replace_inserts(database.read_text(), files["rooms.sql"]))
+    (checked,) = run_commands(check, tmp_path)
+    assert "floor3-guide on robot horos: 0 errors, 0 warnings — OK" in checked.stdout
+    run_commands(run, tmp_path)
+    trace = (tmp_path / "visit.jsonl").read_text().splitlines()
+    states = [json.loads(line)["to"] for line in trace if '"transition"' in line]
+    assert states == ["Wait", "Attract", "AskWhat", "AskRoom", "GuideToRoom", "Goodbye",
+                      "GoHome", "Wait"]
+    import sqlite3
+    with sqlite3.connect(tmp_path / "interbot-data" / "floor3-guide.sqlite") as db:
+        assert db.execute("SELECT place, outcome FROM guide_runs").fetchall() == [
+            ("room_b", "arrived")]
+    # the page's two error lines, for the closed store room and a kitchen the map lacks
+    database.write_text(database.read_text().replace(
+        "    ('B', 'Room B', 'room_b');",
+        "    ('B', 'Room B', 'room_b'),\n    ('X', 'Store room', 'store_room'),\n"
+        "    ('K', 'Kitchen', 'kitchen');"))
+    refused = cli(*check[0].split()[1:], env={**os.environ, "PYTHONPATH": str(ROOT)},
+                  cwd=tmp_path)
+    assert refused.returncode == 1
+    page = (DOCS / "navigation.md").read_text(encoding="utf-8")
+    shown = [line for line in page.splitlines() if line.startswith("floor3-guide/database.sql")]
+    got = refused.stdout.splitlines()[:-1]
+    assert len(shown) == len(got) == 2, refused.stdout
+    for expected, line in zip(shown, got):
+        head, _, tail = expected.partition("…")
+        assert line.startswith(head) and line.endswith(tail), (expected, line)

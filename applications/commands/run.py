@@ -36,8 +36,9 @@ class RunCommand:
                                  "edge, only while no motion is commanded); find the cause first")
         parser.add_argument("--map", type=arguments.map_source, metavar="FILE",
                             help="the map to localize and navigate on: a bundled floor name "
-                                 "(office), a floor .toml or a map_server .yaml (default: the "
-                                 "simulated floor; none on a real base)")
+                                 "(office), a floor .toml or a map_server .yaml; in simulation "
+                                 "also the simulated building (default: the scenario's map or "
+                                 "floor, else the office; none on a real base)")
         parser.add_argument("--initial-pose", type=arguments.initial_pose,
                             metavar="X,Y,HEADING_DEG",
                             help="where the robot stands on the map, in metres and degrees "
@@ -96,6 +97,7 @@ class RunCommand:
                     f"'{app.name}' cannot run on {robot_name} as opened "
                     f"({'port ' + args.port if args.port else 'simulation'}): "
                     + "; ".join(missing.values()))
+            refuse_places_off_the_map(loaded, robot, robot_name)
             if robot.scenario_people == 0:
                 print(nobody_message(folder, scenario))
             data_dir = args.data or default_data_dir()
@@ -205,6 +207,22 @@ def map_meta(text: str | None) -> str | None:
         return None
     path = Path(text)
     return str(path.resolve()) if path.is_file() else text
+
+
+def refuse_places_off_the_map(loaded, robot, robot_name: str) -> None:
+    """ApplicationError, with the file and line of each, when the application names places
+    the robot's map lacks (a robot without a map has nothing to check against)."""
+    from applications.graph.catalog import load_catalog
+    from applications.places import missing_diagnostics, named_places
+
+    on_map = robot.places
+    if on_map is None:
+        return
+    named = named_places(loaded.app, loaded.content, load_catalog(robot_name).behaviors,
+                         loaded.folder)
+    problems = missing_diagnostics(named, robot.map_name, on_map)
+    if problems:
+        raise ApplicationError("\n".join(str(d) for d in problems), problems)
 
 
 def resolve_scenario(folder: Path, scenario: str | None) -> Path | None:

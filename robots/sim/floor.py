@@ -10,6 +10,10 @@ A floor file (`robots/floors/<name>.toml`) looks like::
     robot_home = [0.0, -0.75, 90.0]         # x m, y m, heading deg (heading optional, default 0)
 
 Places are stored with the heading in radians. Every error names the file and the field.
+
+A map_server map (`.yaml` + PGM/PNG, `robots.sim.mapserver`) is a floor too: its walls are the
+outline of its occupied and unknown cells (`robots.sim.cellwalls`), so nothing enters unknown
+space and the sensors see its edge, and its places are the map's.
 """
 from __future__ import annotations
 
@@ -20,9 +24,12 @@ from pathlib import Path
 import numpy as np
 
 from robots.exceptions import FloorError
+from robots.sim.cellwalls import outline_segments
+from robots.sim.mapserver import MapFile, read_map_server
 from robots.tomlfile import read_toml
 
 FLOOR_DIR = Path(__file__).resolve().parent.parent / "floors"
+MAP_SUFFIXES = (".yaml", ".yml")
 
 
 @dataclass(frozen=True)
@@ -33,6 +40,7 @@ class Floor:
     places: dict[str, tuple[float, float, float]]
     bounds: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)   # xmin, ymin, xmax, ymax
     description: str = ""
+    source: Path | None = None      # the map_server map the floor was made from, if any
 
     def place(self, name: str) -> tuple[float, float, float]:
         """A named place, or a FloorError that lists the places there are."""
@@ -49,8 +57,10 @@ def available_floors() -> list[str]:
 
 
 def load_floor(name_or_path: str | Path = "office") -> Floor:
-    """Load a bundled floor by name (`office`) or any floor file by path."""
+    """Load a bundled floor by name (`office`), a floor file or a map_server `.yaml` by path."""
     path = Path(name_or_path)
+    if path.suffix in MAP_SUFFIXES:
+        return floor_from_map(read_map_server(path))
     if path.suffix != ".toml":
         path = FLOOR_DIR / f"{name_or_path}.toml"
         if not path.exists():
@@ -58,6 +68,18 @@ def load_floor(name_or_path: str | Path = "office") -> Floor:
                              f"{', '.join(available_floors())}")
     data, _ = read_toml(path, FloorError, "floor file")
     return parse_floor(data, path)
+
+
+def floor_from_map(map_file: MapFile) -> Floor:
+    """The floor of a map_server map: walls around every occupied or unknown cell."""
+    solid = map_file.occupied | map_file.unknown
+    segments = outline_segments(solid, map_file.resolution, map_file.origin)
+    if not len(segments):
+        raise FloorError(f"{map_file.path}: the map has no free cell; check negate and the "
+                         "thresholds")
+    return Floor(name=map_file.name, segments=segments, places=dict(map_file.places),
+                 bounds=map_file.bounds, description=f"map_server map {map_file.path}",
+                 source=map_file.path.resolve())
 
 
 def parse_floor(data: dict, path: Path | str = "<floor>") -> Floor:

@@ -147,6 +147,8 @@ class Scenario:
     people: tuple[PersonPlan, ...]
     source: Path | None = None
     floor: str | None = None      # the floor the scenario is written for (None: any)
+    map: Path | None = None       # the map_server map it is written for (absolute path)
+    head_lines: dict[str, int] | None = None     # line of each [scenario] field, for messages
 
     def where(self, person_index: int | None = None) -> str:
         """'file:line' of the scenario or of one person's header, for messages."""
@@ -155,19 +157,40 @@ class Scenario:
             place += f":{self.people[person_index].line}"
         return place
 
+    def where_field(self, key: str) -> str:
+        """'file:line' of a field of the [scenario] table (the file alone if not written)."""
+        line = (self.head_lines or {}).get(key)
+        return f"{self.source or '<scenario>'}{':' + str(line) if line else ''}"
+
 
 def load_scenario(path: str | Path) -> Scenario:
     """Read and check a scenario file; a ScenarioError names the file, line and field."""
     path = Path(path)
     data, text = read_toml(path, ScenarioError, "scenario file")
-    return parse_scenario(data, path, _person_lines(text))
+    return parse_scenario(data, path, _person_lines(text), _head_lines(text))
 
 
 def parse_scenario(data: dict, path: Path | str = "<scenario>",
-                   person_lines: list[int] | None = None) -> Scenario:
-    """Build a Scenario from parsed TOML; `path` and `person_lines` only label errors."""
-    reader = _Reader(Path(path), person_lines or [])
+                   person_lines: list[int] | None = None,
+                   head_lines: dict[str, int] | None = None) -> Scenario:
+    """Build a Scenario from parsed TOML; `path` and the lines only label errors (and a
+    relative `map` is found beside `path`)."""
+    reader = _Reader(Path(path), person_lines or [], head_lines or {})
     return reader.scenario(data)
+
+
+def _head_lines(text: str) -> dict[str, int]:
+    """Line numbers (1-based) of the keys written in the `[scenario]` table."""
+    lines, inside = {}, False
+    for number, line in enumerate(text.splitlines(), 1):
+        header = re.match(r"\s*\[\s*\[?\s*([A-Za-z_.]+)", line)
+        if header:
+            inside = header.group(1) == "scenario"
+            continue
+        key = re.match(r"\s*([A-Za-z_][A-Za-z0-9_-]*)\s*=", line)
+        if inside and key:
+            lines.setdefault(key.group(1), number)
+    return lines
 
 
 def _person_lines(text: str) -> list[int]:
@@ -179,10 +202,18 @@ def _person_lines(text: str) -> list[int]:
 class _Reader:
     """Checks each field, naming file, line and field on the first error."""
 
-    def __init__(self, path: Path, person_lines: list[int]) -> None:
+    def __init__(self, path: Path, person_lines: list[int],
+                 head_lines: dict[str, int] | None = None) -> None:
         self.path = path
         self.person_lines = person_lines
+        self.head_lines = head_lines or {}
         self.where = str(path)
+
+    def fail_head(self, key: str, why: str) -> ScenarioError:
+        """An error in the [scenario] table, at the field's line where it was written."""
+        line = self.head_lines.get(key)
+        return ScenarioError(f"{self.path}{':' + str(line) if line else ''}: scenario.{key}: "
+                             f"{why}")
 
     def fail(self, field_name: str, why: str) -> ScenarioError:
         return ScenarioError(f"{self.where}: {field_name}: {why}")
@@ -194,11 +225,16 @@ class _Reader:
         head = data.get("scenario", {})
         if not isinstance(head, dict):
             raise self.fail("scenario", "must be a table")
-        self.check_keys(head, "scenario", {"name", "description", "duration", "robot", "floor"})
+        self.check_keys(head, "scenario", {"name", "description", "duration", "robot", "floor",
+                                           "map"})
         floor = head.get("floor")
         if floor is not None and (not isinstance(floor, str) or not floor):
-            raise self.fail("scenario.floor", f"= {floor!r} must be a floor name such as "
-                            "\"office\" or \"store\"")
+            raise self.fail_head("floor", f"= {floor!r} must be a floor name such as "
+                                 "\"office\" or \"store\"")
+        map_path = self.map_path(head.get("map"))
+        if floor is not None and map_path is not None:
+            raise self.fail_head("map", "a scenario is written for a floor or for a map, not "
+                                 "both; drop `floor` or `map`")
         duration = self.number(head, "duration", "scenario.duration", 1.0, 86400.0, 120.0)
         robot = self.pose(head.get("robot", "robot_home"), "scenario.robot")
         people_data = data.get("person", [])
@@ -214,7 +250,19 @@ class _Reader:
         return Scenario(name=str(head.get("name", self.path.stem)),
                         description=str(head.get("description", "")),
                         duration=duration, robot=robot, people=people, source=self.path,
-                        floor=floor)
+                        floor=floor, map=map_path, head_lines=dict(self.head_lines))
+
+    def map_path(self, value) -> Path | None:
+        """The scenario's `map`: a map_server .yaml, relative to the scenario file's folder."""
+        if value is None:
+            return None
+        if not isinstance(value, str) or not value.endswith((".yaml", ".yml")):
+            raise self.fail_head("map", f"= {value!r} must be the path of a map_server .yaml "
+                                 "(relative to this file)")
+        path = (self.path.parent / value).resolve()
+        if not path.is_file():
+            raise self.fail_head("map", f"= {value!r}: no such file {path}")
+        return path
 
     def person(self, entry, index: int) -> PersonPlan:
         line = self.person_lines[index] if index < len(self.person_lines) else None

@@ -1,5 +1,5 @@
-"""A simulation: the World built from a profile, a floor (the scenario's `floor`, else the
-office) and a scenario, kept in step with a clock. The tick loop calls `advance(clock.now())`;
+"""A simulation: the World built from a profile, a floor (given; else the scenario's `map` or
+`floor`, else the office) and a scenario, kept in step with a clock. The tick loop calls `advance(clock.now())`;
 in --fast runs the clock is simulated.
 """
 from __future__ import annotations
@@ -7,11 +7,25 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Callable
 
+from robots.exceptions import FloorError, ScenarioError
 from robots.profile import RobotProfile
 from robots.sim.devices import SimLaser, SimPanTilt, SimPersonDetector, SimSpeaker, SimTouchScreen
 from robots.sim.floor import Floor, load_floor
-from robots.sim.scenario import load_scenario
+from robots.sim.scenario import Scenario, load_scenario
 from robots.sim.world import World
+
+
+def scenario_floor(scenario: Scenario | None) -> Floor:
+    """The floor a scenario is written for: its `map`, its `floor`, else the office. A map
+    that cannot be read is the scenario's error, at its `map` line."""
+    if scenario is None:
+        return load_floor("office")
+    if scenario.map is not None:
+        try:
+            return load_floor(scenario.map)
+        except FloorError as exc:
+            raise ScenarioError(f"{scenario.where_field('map')}: scenario.map: {exc}") from None
+    return load_floor(scenario.floor or "office")
 
 
 class Simulation:
@@ -22,10 +36,10 @@ class Simulation:
         self.profile = profile
         self.clock = clock
         self.scenario = load_scenario(scenario_path) if scenario_path is not None else None
-        if floor is None:       # the scenario's own floor, else the office
-            floor = (self.scenario.floor if self.scenario is not None
-                     and self.scenario.floor else "office")
-        plan = floor if isinstance(floor, Floor) else load_floor(floor)
+        if floor is None:       # the scenario's own map or floor, else the office
+            plan = scenario_floor(self.scenario)
+        else:
+            plan = floor if isinstance(floor, Floor) else load_floor(floor)
         self.world = World(plan, profile, self.scenario, seed)
         body = self.world.body
         self.start_pose = (body.x, body.y, body.th)    # the scenario's robot pose

@@ -84,15 +84,13 @@ class World:
         self.rng = np.random.default_rng(seed)
         self.appearance_rng = np.random.default_rng([seed, 0xA99])   # its own stream
         self.t = 0.0
+        if scenario is not None:
+            _check_floor(scenario, floor)
         x, y, th = self._start_pose()
         self.body = UnicycleBody(x, y, th, profile.limits, profile.radius)
         self.odometry = WheelOdometry((x, y, th), profile.odometry, odometry_rng(seed))
         self.people: list[SimPerson] = []
         if scenario is not None:
-            if scenario.floor is not None and scenario.floor != floor.name:
-                raise ScenarioError(f"{scenario.where()}: scenario.floor: the scenario is written "
-                                    f"for floor '{scenario.floor}', not '{floor.name}'; run it "
-                                    f"on '{scenario.floor}' or drop the field")
             _check_places(scenario, floor)
             self.people = [SimPerson(plan, self.resolve, np.random.default_rng([seed, index]))
                            for index, plan in enumerate(scenario.people)]
@@ -133,7 +131,8 @@ class World:
             try:
                 return self.floor.place(robot)
             except FloorError as exc:
-                raise ScenarioError(f"{self.scenario.where()}: scenario.robot: {exc}") from None
+                raise ScenarioError(f"{self.scenario.where_field('robot')}: scenario.robot: "
+                                    f"{exc}") from None
         return robot
 
     # -- stepping --------------------------------------------------------------------------
@@ -369,6 +368,19 @@ class World:
     def ground_truth(self) -> list[tuple[str, float, float]]:
         """(id, x, y) in the world frame of the people in the world now."""
         return [(p.id, p.x, p.y) for p in self.people if p.in_world]
+
+
+def _check_floor(scenario: Scenario, floor: Floor) -> None:
+    """Refuse a scenario written for another floor or map, naming its file and line."""
+    if scenario.floor is not None and scenario.floor != floor.name:
+        raise ScenarioError(f"{scenario.where_field('floor')}: scenario.floor: the scenario is "
+                            f"written for floor '{scenario.floor}', not '{floor.name}'; run it "
+                            f"on '{scenario.floor}' or drop the field")
+    if scenario.map is not None and scenario.map != floor.source:
+        raise ScenarioError(f"{scenario.where_field('map')}: scenario.map: the scenario is "
+                            f"written for the map {scenario.map}, not "
+                            f"{floor.source or 'floor ' + repr(floor.name)}; run it there "
+                            f"(drop --map) or drop the field")
 
 
 def _check_places(scenario: Scenario, floor: Floor) -> None:

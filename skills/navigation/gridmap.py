@@ -3,9 +3,11 @@
 A map comes from one of two sources:
 - a floor file of the simulator (`office`, or a `.toml` path): its wall segments are drawn into
   cells of `resolution` metres, so the simulated robot and its map agree exactly;
-- a map_server pair (`.yaml` + `.pgm`), the format SLAM tools (gmapping, slam_toolbox, cartographer
-  via map_saver) write, so a team can bring the map of its own building. Places go under a
-  `places:` key of the YAML (`name: [x, y, heading_deg]`), which map_server itself ignores.
+- a map_server pair (`.yaml` + `.pgm`/`.png`), the format SLAM tools (gmapping, slam_toolbox,
+  cartographer via map_saver) write, so a team can bring the map of its own building. Places go
+  under a `places:` key of the YAML (`name: [x, y, heading_deg]`), which map_server itself
+  ignores, or in `<stem>.places.yaml` beside it. The reader is L0's (`robots.sim.mapserver`):
+  a simulated floor made from the same file has exactly these cells.
 
 Cell (row, col) covers x in [origin_x + col·res, +res) and y in [origin_y + row·res, +res): row 0
 is the bottom of the map (the PGM's last line), as in map_server.
@@ -21,7 +23,9 @@ import numpy as np
 from scipy import ndimage
 
 from robots.exceptions import FloorError
+from robots.sim import mapserver
 from robots.sim.floor import Floor, load_floor
+from robots.sim.mapserver import read_map_server
 from skills.exceptions import SkillError
 
 DEFAULT_RESOLUTION = 0.05     # m per cell
@@ -118,7 +122,10 @@ def load_map(name_or_path: str | Path, resolution: float = DEFAULT_RESOLUTION) -
 
 def map_from_floor(floor: Floor, resolution: float = DEFAULT_RESOLUTION,
                    margin: float = FLOOR_MARGIN) -> GridMap:
-    """Draw the floor's wall segments into a grid (every cell a segment passes through)."""
+    """Draw the floor's wall segments into a grid (every cell a segment passes through); a
+    floor made from a map_server map is that map itself, cell for cell."""
+    if floor.source is not None:
+        return load_map_server(floor.source)
     if not (math.isfinite(resolution) and 0.005 <= resolution <= 1.0):
         raise MapError(f"map resolution {resolution!r} m is outside 0.005 … 1.0 m")
     xmin, ymin, xmax, ymax = floor.bounds
@@ -139,35 +146,17 @@ def map_from_floor(floor: Floor, resolution: float = DEFAULT_RESOLUTION,
     return grid
 
 
-# -- map_server (.yaml + .pgm) --------------------------------------------------------------
+# -- map_server (.yaml + .pgm/.png) ---------------------------------------------------------
 
 def load_map_server(path: Path) -> GridMap:
-    """Read a map_server map: the YAML's image, resolution, origin, thresholds and places."""
-    meta = _read_yaml(path)
-    image = _required(meta, "image", path, str)
-    resolution = float(_required(meta, "resolution", path, (int, float)))
-    if not (math.isfinite(resolution) and resolution > 0):
-        raise MapError(f"{path}: resolution: {resolution!r} must be a positive number of metres")
-    origin = _required(meta, "origin", path, list)
-    if len(origin) != 3 or not all(_is_number(v) for v in origin):
-        raise MapError(f"{path}: origin: {origin!r} must be [x, y, yaw]")
-    if abs(float(origin[2])) > 1e-9:
-        raise MapError(f"{path}: origin: a rotated map (yaw {origin[2]}) is not supported; "
-                       "rotate the image instead and set yaw to 0")
-    negate = int(meta.get("negate", 0))
-    occupied_thresh = float(meta.get("occupied_thresh", 0.65))
-    free_thresh = float(meta.get("free_thresh", 0.196))
-    if not 0.0 <= free_thresh < occupied_thresh <= 1.0:
-        raise MapError(f"{path}: free_thresh {free_thresh} and occupied_thresh {occupied_thresh} "
-                       "must satisfy 0 <= free_thresh < occupied_thresh <= 1")
-    pixels, maxval = read_pgm(path.parent / image)
-    value = pixels.astype(float) / maxval
-    p = value if negate else 1.0 - value          # probability of occupied (dark = occupied)
-    occupied = np.flipud(p > occupied_thresh)
-    unknown = np.flipud((p >= free_thresh) & (p <= occupied_thresh))
-    places = _places(meta.get("places", {}), path)
-    return GridMap(occupied, resolution, (float(origin[0]), float(origin[1])), places, unknown,
-                   path.stem, str(path))
+    """Read a map_server map (`robots.sim.mapserver`, the reader the simulator uses too):
+    the YAML's image, resolution, origin, thresholds and places."""
+    try:
+        found = read_map_server(path)
+    except FloorError as exc:
+        raise MapError(str(exc)) from None
+    return GridMap(found.occupied, found.resolution, found.origin, found.places, found.unknown,
+                   found.name, str(path))
 
 
 def save_map_server(grid: GridMap, path: str | Path) -> Path:
@@ -197,96 +186,6 @@ def save_map_server(grid: GridMap, path: str | Path) -> Path:
 def read_pgm(path: Path) -> tuple[np.ndarray, int]:
     """The pixels (rows top to bottom) and maximum value of a binary (P5) or text (P2) PGM."""
     try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise MapError(f"{path}: cannot read the map image: {exc.strerror or exc}") from None
-    tokens, offset = _pgm_header(data, path)
-    magic, width, height, maxval = tokens
-    if magic == b"P5":
-        dtype = np.dtype(">u2") if maxval > 255 else np.dtype("u1")
-        body = data[offset:offset + width * height * dtype.itemsize]
-        if len(body) < width * height * dtype.itemsize:
-            raise MapError(f"{path}: image data is short: {len(body)} bytes after the header at "
-                           f"byte {offset}, expected {width * height * dtype.itemsize}")
-        pixels = np.frombuffer(body, dtype=dtype).reshape(height, width)
-    else:
-        values = data[offset:].split()
-        if len(values) < width * height:
-            raise MapError(f"{path}: image has {len(values)} values, expected {width * height}")
-        pixels = np.array([int(v) for v in values[:width * height]]).reshape(height, width)
-    return pixels, maxval
-
-
-def _pgm_header(data: bytes, path: Path) -> tuple[tuple, int]:
-    """(magic, width, height, maxval) and the offset of the first pixel byte."""
-    tokens: list[bytes] = []
-    i = 0
-    while len(tokens) < 4:
-        while i < len(data) and data[i:i + 1].isspace():
-            i += 1
-        if i < len(data) and data[i:i + 1] == b"#":
-            while i < len(data) and data[i:i + 1] not in (b"\n", b"\r"):
-                i += 1
-            continue
-        start = i
-        while i < len(data) and not data[i:i + 1].isspace() and data[i:i + 1] != b"#":
-            i += 1
-        if start == i:
-            raise MapError(f"{path}: not a PGM image: header ends at byte {i} "
-                           "(expected magic, width, height, maxval)")
-        tokens.append(data[start:i])
-    if tokens[0] not in (b"P5", b"P2"):
-        raise MapError(f"{path}: not a PGM image (magic {tokens[0][:8]!r} at byte 0, expected P5 "
-                       "or P2); save the map as PGM")
-    try:
-        width, height, maxval = (int(t) for t in tokens[1:])
-    except ValueError:
-        raise MapError(f"{path}: PGM header has a non-number in {tokens[1:]!r}") from None
-    if width <= 0 or height <= 0 or not 0 < maxval < 65536:
-        raise MapError(f"{path}: PGM header width {width}, height {height}, maxval {maxval} out "
-                       "of range")
-    return (tokens[0], width, height, maxval), i + 1
-
-
-def _read_yaml(path: Path) -> dict:
-    import yaml
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise MapError(f"{path}: cannot read the map file: {exc.strerror or exc}") from None
-    try:
-        meta = yaml.safe_load(text)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f":{mark.line + 1}" if mark is not None else ""
-        raise MapError(f"{path}{where}: not valid YAML: {getattr(exc, 'problem', exc)}") from None
-    if not isinstance(meta, dict):
-        raise MapError(f"{path}: a map file must be a YAML mapping (image, resolution, origin, …)")
-    return meta
-
-
-def _required(meta: dict, key: str, path: Path, kind):
-    if key not in meta:
-        raise MapError(f"{path}: {key}: missing (a map_server map needs image, resolution, origin)")
-    value = meta[key]
-    if not isinstance(value, kind) or isinstance(value, bool):
-        raise MapError(f"{path}: {key}: {value!r} has the wrong type")
-    return value
-
-
-def _places(table, path: Path) -> dict[str, tuple[float, float, float]]:
-    if not isinstance(table, dict):
-        raise MapError(f"{path}: places: must be a mapping of name: [x, y, heading_deg]")
-    places = {}
-    for name, value in table.items():
-        if (not isinstance(value, list) or len(value) not in (2, 3)
-                or not all(_is_number(v) for v in value)):
-            raise MapError(f"{path}: places: {name}: {value!r} must be [x_m, y_m] or "
-                           "[x_m, y_m, heading_deg]")
-        heading = math.radians(value[2]) if len(value) == 3 else 0.0
-        places[str(name)] = (float(value[0]), float(value[1]), heading)
-    return places
-
-
-def _is_number(value) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+        return mapserver.read_pgm(path)
+    except FloorError as exc:
+        raise MapError(str(exc)) from None

@@ -140,6 +140,18 @@ def test_interbot_new_makes_a_folder_that_checks_and_runs(tmp_path, capsys):
     assert main(["new", str(tmp_path / "9lives")]) == 2    # not a name
 
 
+def test_interbot_new_from_copies_an_application_under_its_new_name(tmp_path, capsys):
+    target = tmp_path / "floor3-guide"
+    assert main(["new", str(target), "--from", "guide"]) == 0
+    assert main(["check", str(target)]) == 0
+    assert '<application name="floor3-guide"' in (target / "graph.xml").read_text()
+    bundled = load_folder("guide").folder
+    for name in ("dialog.xml", "database.sql"):
+        assert (target / name).read_bytes() == (bundled / name).read_bytes()
+    assert main(["new", str(target), "--from", "guide"]) == 2       # never overwrites
+    assert main(["new", str(tmp_path / "other"), "--from", "atlantis"]) == 2
+
+
 def test_listing_commands_show_parameters_percepts_and_version(capsys):
     assert main(["behaviors"]) == 0
     out = capsys.readouterr().out

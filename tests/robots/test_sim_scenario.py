@@ -274,6 +274,6 @@ def test_simulation_takes_the_scenarios_floor(tmp_path):
 
 def test_a_scenario_for_another_floor_is_refused_by_name(tmp_path):
     path = write(tmp_path, '[scenario]\nfloor = "store"\n')
-    with pytest.raises(ScenarioError, match=r"s.toml: scenario.floor: the scenario is written "
+    with pytest.raises(ScenarioError, match=r"s.toml:2: scenario.floor: the scenario is written "
                                             r"for floor 'store', not 'office'"):
         Simulation(load_profile("perses"), path, floor="office")

@@ -8,7 +8,7 @@ import pytest
 from robots.hardware import open_hardware
 from robots.profile import PROFILE_DIR as ROBOTS
 from skills.localization import pose_error
-from skills.navigation.gridmap import GridMap, MapError
+from skills.navigation.gridmap import GridMap, MapError, load_map
 from skills.navigation.mcl import (BeamModel, MCLParams, beam_endpoints, beam_log_likelihood,
                                    expected_ranges, likelihood_field, low_variance_resample,
                                    outside_log_likelihood, sample_motion, weighted_estimate)
@@ -248,7 +248,8 @@ def test_a_given_start_or_another_map_is_a_guess_the_filter_searches_around(tmp_
     assert spread[:2] == pytest.approx(MCLParams().initial_std[:2], rel=0.1)
     floor = tmp_path / "lab.toml"
     floor.write_text(ASYMMETRIC_FLOOR)
-    skills = open_skills("horos", fast=True, seed=0, map=floor)   # not the simulated floor
+    # a map object is a map for localization alone (a path would be the simulated floor too)
+    skills = open_skills("horos", fast=True, seed=0, map=load_map(floor))   # not the sim's floor
     try:
         spread = np.std(skills.localization.filter.particles, axis=0)
     finally:
