@@ -19,6 +19,7 @@ the same work deterministically, waiting (real-time timeout) for the emulator's 
 """
 from __future__ import annotations
 
+import logging
 import math
 import threading
 import time
@@ -42,6 +43,8 @@ STATUS_EVERY = 50             # resend cycles between SYS_STATUS requests (ROS: 
 FRAME_GAP = 0.001             # s after each frame in real time ("not recognised if too rapid")
 LOCKSTEP_TIMEOUT = 1.0        # s (real) to wait for the emulator's reports in lock-step
 OPTIONS = ("dist_conv", "angle_conv", "baud", "accel")
+
+log = logging.getLogger(__name__)
 
 
 class RFlexBase(Base):
@@ -365,7 +368,11 @@ class RFlexBase(Base):
             if data:
                 counter.got(len(data))
                 self._handle_bytes(data)
-            elif counter.backlog() <= 0 or time.monotonic() > deadline:
+            elif counter.backlog() <= 0:
+                return
+            elif time.monotonic() > deadline:       # lost on the line: one late tick, not all
+                log.warning("%s: %d emulator bytes did not arrive in time", self.url,
+                            counter.give_up())
                 return
             else:
                 time.sleep(0.0002)
