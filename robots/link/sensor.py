@@ -39,6 +39,8 @@ class SensorPort:
         except (serial.SerialException, OSError, ValueError) as exc:
             raise LinkError(f"{url}: cannot open the port: {exc}") from exc
         self.url = url
+        # a raw socket (socket://, e.g. a serial-to-Ethernet converter) has no line speed to set
+        self.has_line_speed = not url.startswith("socket://")
 
     @property
     def baud(self) -> int:

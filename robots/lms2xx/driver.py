@@ -87,7 +87,8 @@ class LMS2xxLaser(StreamingSensor, Laser):
     # -- handshake (robots.link.sensor) ---------------------------------------------------------------
     def _handshake(self, port: SensorPort) -> None:
         self.found_baud = self._find(port)
-        if self.found_baud != self.baud:
+        # Behind a socket every speed "answers": tell the LMS ours (harmless when it has it)
+        if self.found_baud != self.baud or not port.has_line_speed:
             self._expect_mode_done(port, p.baud_rate(self.baud), f"switch to {self.baud} baud")
             port.set_baud(self.baud)
             time.sleep(0.01)
