@@ -208,5 +208,7 @@ class LMS2xxLaser(StreamingSensor, Laser):
         dropped = stats.dropped_bytes - self._dropped_mark
         if dropped <= 0:
             return ""
-        last = f" (last: {stats.last_error})" if stats.last_error else ""
-        return f"{dropped} bytes formed no telegram{last}"
+        last = f"; last: {stats.last_error}" if stats.last_error else ""
+        crc = self.parser.last_crc_error
+        crc = f"; last bad CRC: {crc}" if crc and crc != stats.last_error else ""
+        return f"{dropped} bytes formed no telegram{last}{crc}"

@@ -157,6 +157,17 @@ class LMSParser(FramedParser):
     and counted, and a telegram with a bad length or CRC costs its first byte (resync)."""
     header = bytes([STX])
     max_frame = MAX_LENGTH + 6
+
+    def __init__(self, gap_timeout: float | None = 0.1) -> None:
+        super().__init__(gap_timeout)
+        # the newest CRC failure (resyncing inside a bad telegram overwrites last_error with
+        # the lengths of bogus starts; this keeps what went wrong in the first place)
+        self.last_crc_error = ""
+
+    def _reject(self, exc: Reject, pos: int) -> int:
+        if exc.kind == "checksum":
+            self.last_crc_error = f"byte {self._base + pos}: {exc.reason}"
+        return super()._reject(exc, pos)
     _starts = re.compile(b"[\x02\x06\x15]")
 
     def frame_length(self, buf, start):
