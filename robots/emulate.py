@@ -30,6 +30,7 @@ class EmulatorEntry:
     about: str = ""
     address: str = "socket://{host}:{port}"     # how a client names the TCP server
     tcp_only: bool = False                      # no pty (a bus, not a serial line)
+    device: str | None = None                   # a device, not a base: its [section] and kind
 
 
 EMULATORS: dict[str, EmulatorEntry] = {
@@ -39,6 +40,8 @@ EMULATORS: dict[str, EmulatorEntry] = {
     "can": EmulatorEntry("argos", "robots.canopen.emulator:CanOpenEmulator.for_profile",
                          "two CiA 402 drives on CAN, served as socketcand",
                          address="socketcand:{host}:{port}", tcp_only=True),
+    "lms200": EmulatorEntry("horos", "robots.lms2xx.emulator:LMS2xxEmulator.for_profile",
+                            "SICK LMS 200 laser, telegrams over RS-232", device="laser:lms200"),
 }
 
 
@@ -105,7 +108,7 @@ class EmulateCommand:
             emulator.start_clock(simulation)
             print(f"{args.base} emulator ({entry.about}, robot {profile.name}) ready; connect to: "
                   f"{address}", flush=True)
-            print(f"  e.g. interbot run APP --robot {profile.name} --port {address}", flush=True)
+            print(f"  e.g. {_usage_hint(entry, profile.name, address)}", flush=True)
             _wait_for_interrupt(stop)
         finally:
             emulator.close()
@@ -130,6 +133,14 @@ class EmulateCommand:
             raise OSError(f"argument --link: cannot make the link {args.link}: "
                           f"{exc.strerror or exc}; allowed a path in an existing folder "
                           f"you can write") from None
+
+
+def _usage_hint(entry: EmulatorEntry, robot: str, address: str) -> str:
+    """How a client would use the emulator: a base's --port, or a device's profile entry."""
+    if entry.device is None:
+        return f"interbot run APP --robot {robot} --port {address}"
+    section, kind = entry.device.split(":")
+    return f'device = "{kind}:{address}" in the [{section}] of a robot profile'
 
 
 def tcp_port(text: str) -> int:
