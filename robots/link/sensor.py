@@ -16,6 +16,7 @@ can, `_garbage()` (what its parser threw away, for the fault's reason) and `_goo
 from __future__ import annotations
 
 import logging
+import select
 import threading
 import time
 
@@ -56,9 +57,25 @@ class SensorPort:
     def read(self, timeout: float) -> bytes:
         """What is there, or wait up to `timeout` s for at least one byte."""
         port = self.serial
+        sock = getattr(port, "_socket", None)
+        if sock is not None:
+            return self._read_socket(sock, timeout)
         if port.timeout != timeout:       # setting it reconfigures the tty: only on change
             port.timeout = timeout
         return port.read(max(1, port.in_waiting))
+
+    @staticmethod
+    def _read_socket(sock, timeout: float) -> bytes:
+        """pyserial's socket:// reports 1 byte waiting whatever is there, and its read waits
+        out the timeout for more: a 100 kB/s laser stream would fall behind. So read the
+        socket itself (pyserial keeps it in `_socket`)."""
+        ready, _, _ = select.select([sock], [], [], timeout)
+        if not ready:
+            return b""
+        data = sock.recv(65536)
+        if not data:
+            raise serial.SerialException("the other end closed the connection")
+        return data
 
     def discard_input(self) -> None:
         self.serial.reset_input_buffer()
