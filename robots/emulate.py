@@ -42,6 +42,9 @@ EMULATORS: dict[str, EmulatorEntry] = {
                          address="socketcand:{host}:{port}", tcp_only=True),
     "lms200": EmulatorEntry("horos", "robots.lms2xx.emulator:LMS2xxEmulator.for_profile",
                             "SICK LMS 200 laser, telegrams over RS-232", device="laser:lms200"),
+    "urg": EmulatorEntry("argos", "robots.hokuyo.emulator:HokuyoEmulator.for_profile",
+                         "Hokuyo laser speaking SCIP 2.0 (URG-04LX up to 240 deg, else UST-10LX)",
+                         device="laser:urg"),
 }
 
 

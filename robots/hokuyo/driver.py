@@ -88,8 +88,8 @@ class HokuyoLaser(StreamingSensor, Laser):
 
     def _set_geometry(self, params: dict[str, int]) -> None:
         first, last, cluster = params["AMIN"], params["AMAX"], self.cluster
-        count = math.ceil((last - first + 1) / cluster)
-        middle = first + np.arange(count) * cluster + (min(cluster, last - first + 1) - 1) / 2
+        starts = first + np.arange(math.ceil((last - first + 1) / cluster)) * cluster
+        middle = (starts + np.minimum(starts + cluster - 1, last)) / 2     # a cluster's centre
         self.angles = (middle - params["AFRT"]) * 2 * math.pi / params["ARES"] + self.mount[2]
         if not self.fixed_stale:
             period = 60.0 / max(1, params["SCAN"]) * (self.interval + 1)

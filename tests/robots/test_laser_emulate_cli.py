@@ -10,11 +10,14 @@ import numpy as np
 import pytest
 
 from robots.emulate import EMULATORS, load_factory
+from robots.hokuyo.driver import HokuyoLaser
+from robots.hokuyo.emulator import HokuyoEmulator
 from robots.lms2xx.driver import LMS2xxLaser
 from robots.lms2xx.emulator import LMS2xxEmulator
 from robots.profile import load_profile
 
-DRIVERS = {"lms200": lambda url: LMS2xxLaser.for_profile(load_profile("horos"), url)}
+DRIVERS = {"lms200": lambda url: LMS2xxLaser.for_profile(load_profile("horos"), url),
+           "urg": lambda url: HokuyoLaser.for_profile(load_profile("argos"), url)}
 
 
 def start(name: str, *extra: str) -> tuple[subprocess.Popen, str, str]:
@@ -54,3 +57,5 @@ def test_emulate_serves_the_laser_driver_and_stops_on_a_signal(name, where):
 def test_registry_names_the_laser_factories():
     assert load_factory(EMULATORS["lms200"].factory).__func__ is \
         LMS2xxEmulator.for_profile.__func__
+    assert load_factory(EMULATORS["urg"].factory).__func__ is \
+        HokuyoEmulator.for_profile.__func__
