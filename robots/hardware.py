@@ -177,8 +177,8 @@ class Hardware:
             self.base.stop()
         finally:
             self.base.close()
-            for device in (self.recognizer, self.speaker, self.screen):
-                if device is not None:
+            for device in (self.recognizer, self.speaker, self.screen, self.laser):
+                if device is not None and hasattr(device, "close"):
                     try:
                         device.close()
                     except Exception as exc:   # the base is stopped; report and go on closing
@@ -267,11 +267,21 @@ def _open_real(profile: RobotProfile, clock, port: str) -> Hardware:
         base = driver(profile.limits, port, clock=clock, **profile.base.options)
     try:
         base.open()
+        laser = _open_real_laser(profile, clock)
     except BaseException:         # a link error, or a signal in the middle of the handshake
         base.close()
         raise
-    # On a real robot only the base is wired up here; the interaction devices follow the options.
-    return Hardware(profile=profile, clock=clock, base=base)
+    # On a real robot the base and the profile's laser device are wired up here; the
+    # interaction devices follow the options.
+    return Hardware(profile=profile, clock=clock, base=base, laser=laser)
+
+
+def _open_real_laser(profile: RobotProfile, clock) -> Laser | None:
+    """The laser its [laser] device names (robots.lasers), or None when it names none."""
+    if profile.laser is None or profile.laser.device is None:
+        return None
+    from robots.lasers import open_laser
+    return open_laser(profile, clock)
 
 
 def _open_simulated(profile: RobotProfile, clock, scenario, seed: int, emulate: bool,
