@@ -44,13 +44,21 @@ class RunSummary:
     link_downs: int = 0             # `link` events with state "down"
     link_ups: int = 0               # ... and "up" again (re-connected, data fresh)
     link_down_seconds: float = 0.0  # summed over the episodes that ended
+    device_links: dict = field(default_factory=dict)   # device -> [downs, ups, seconds down]
     dropped_readings: int = 0       # readings the profile does not describe (`dropped` events)
     ended_by: str | None = None     # why the loop ended early: "SIGTERM", "an error", ...
 
     def count(self, event: dict[str, Any]) -> None:
         """Keep the link and dropped-reading counters from the events that pass by."""
         kind = event.get("kind")
-        if kind == "link":
+        if kind == "link" and event.get("device"):          # a device's episode (a laser)
+            counts = self.device_links.setdefault(event["device"], [0, 0, 0.0])
+            if event.get("state") == "down":
+                counts[0] += 1
+            else:
+                counts[1] += 1
+                counts[2] += float(event.get("after", 0.0))
+        elif kind == "link":
             if event.get("state") == "down":
                 self.link_downs += 1
             else:
@@ -71,6 +79,9 @@ class RunSummary:
             out.append(f"link to the base: down {self.link_downs} time(s), re-connected "
                        f"{self.link_ups} time(s), {self.link_down_seconds:.1f} s down in all"
                        + ("; down at the end" if self.link_downs > self.link_ups else ""))
+        for device, (downs, ups, seconds) in sorted(self.device_links.items()):
+            out.append(f"link to the {device}: down {downs} time(s), back {ups} time(s), "
+                       f"{seconds:.1f} s down in all" + ("; down at the end" if downs > ups else ""))
         if self.dropped_readings:
             out.append(f"readings dropped (not described by the robot profile): "
                        f"{self.dropped_readings}")

@@ -22,7 +22,8 @@ It also reports link episodes and dropped readings, so a user looking at a run a
 every link-down and re-connect with its time and reason, and every reading the driver threw
 away, without reading the driver's log. Events (for the trace, through `robot.events()`):
 - `link` with `state` "down" and `reason`, when the base data stops being fresh (or the
-  laser's link goes down: the reason then starts with "laser link is down");
+  laser's link goes down: the reason then starts with "laser link is down", and the down and
+  up events of that episode carry `device` "laser");
 - `link` with `state` "up" and `after` (s the episode lasted), when it is fresh again;
 - `dropped` with `count` (how many since the last one), `total` and the newest `reason`, on a
   tick in which the driver dropped readings the profile does not describe.
@@ -96,6 +97,7 @@ class Localization(Skill):
         self._started: float | None = None    # the first tick's time
         self._ever_up = False                 # the base has reported at least once
         self._down_since = 0.0
+        self._down_device: dict = {}          # {"device": "laser"} in a laser's episode
         self._dropped = 0
 
     @property
@@ -158,10 +160,14 @@ class Localization(Skill):
         how long); before the first report, within its grace, the base is starting, not down."""
         if not fresh and not self._down and not self._awaiting_first_report(now):
             self._down, self._down_since = True, now
-            self.events.emit(now, "link", state="down", reason=self._why_stale(state, now))
+            reason = self._why_stale(state, now)
+            # a laser's episode says so (`device`), so a summary can count each device's
+            self._down_device = {"device": "laser"} if reason.startswith("laser") else {}
+            self.events.emit(now, "link", state="down", reason=reason, **self._down_device)
         elif fresh and self._down:
             self._down = False
-            self.events.emit(now, "link", state="up", after=round(now - self._down_since, 3))
+            self.events.emit(now, "link", state="up", after=round(now - self._down_since, 3),
+                             **self._down_device)
 
     def _dropped_readings(self, state: BaseState, now: float) -> None:
         count = int(state.extra.get("dropped_readings", 0) or 0)
