@@ -233,3 +233,19 @@ def test_close_stops_the_stream(urg):
     laser.close()
     assert wait_until(lambda: emulator.firmware.stream is None and not emulator.firmware.laser,
                       timeout=1.0)
+
+
+def test_a_dropped_tcp_connection_is_a_link_fault_and_the_driver_connects_again():
+    emulator, url, _, clock = start(ARGOS, tcp=True)
+    laser = HokuyoLaser.for_profile(ARGOS, url, clock=clock, reply_timeout=0.3)
+    try:
+        laser.open()
+        assert laser.wait_for_reading(0, timeout=2.0)
+        emulator.unplug()                        # the switch port goes dark
+        assert wait_until(lambda: not laser.link_up, timeout=2.0)
+        assert laser.read() is None
+        assert wait_until(lambda: laser.link_up and laser.read() is not None, timeout=8.0)
+        assert emulator.connections == 2 and laser.stats["reconnects"] == 1
+    finally:
+        laser.close()
+        emulator.close()

@@ -257,3 +257,19 @@ def test_close_stops_the_stream(on_pty):
     assert emulator.firmware.streaming
     laser.close()
     assert wait_until(lambda: not emulator.firmware.streaming, timeout=1.0)
+
+
+def test_a_dropped_tcp_connection_is_a_link_fault_and_the_driver_connects_again(world):
+    emulator, url = start_emulator(world, tcp=True)
+    laser = LMS2xxLaser.for_profile(HOROS, url, clock=world[0], reply_timeout=0.3)
+    try:
+        laser.open()
+        assert laser.wait_for_reading(0, timeout=2.0)
+        emulator.unplug()
+        assert wait_until(lambda: not laser.link_up, timeout=2.0)
+        assert laser.read() is None
+        assert wait_until(lambda: laser.link_up and laser.read() is not None, timeout=8.0)
+        assert emulator.connections == 2
+    finally:
+        laser.close()
+        emulator.close()
