@@ -53,7 +53,7 @@ class HokuyoLaser(StreamingSensor, Laser):
         self.angles = np.zeros(0)
         self.stats.update(bad_scans=0)
         self._scan: LaserScan | None = None
-        self._dropped_mark = 0
+        self._bytes_mark = 0
 
     @classmethod
     def for_profile(cls, profile, url: str, clock=None, **options) -> "HokuyoLaser":
@@ -121,7 +121,7 @@ class HokuyoLaser(StreamingSensor, Laser):
     # -- the stream (robots.link.sensor) ----------------------------------------------------------------
     def _reset_decoder(self) -> None:
         self.parser.reset()
-        self._dropped_mark = self.parser.stats.dropped_bytes
+        self._bytes_mark = self.parser.stats.bytes_in
 
     def _feed(self, data: bytes) -> None:
         for reply in self.parser.feed(data):
@@ -145,7 +145,7 @@ class HokuyoLaser(StreamingSensor, Laser):
             ranges[ranges > self.max_range] = np.inf
         self._scan = LaserScan(t=self.now(), angles=self.angles, ranges=ranges,
                                origin=self.mount)
-        self._dropped_mark = self.parser.stats.dropped_bytes
+        self._bytes_mark = self.parser.stats.bytes_in
         self._fresh()
 
     def _bad_scan(self, why: str) -> None:
@@ -154,7 +154,7 @@ class HokuyoLaser(StreamingSensor, Laser):
 
     def _garbage(self) -> str:
         stats = self.parser.stats
-        dropped = stats.dropped_bytes - self._dropped_mark
+        dropped = stats.bytes_in - self._bytes_mark     # dropped, or held in an unfinished frame
         if dropped <= 0:
             return ""
         last = f"; last: {stats.last_error}" if stats.last_error else ""

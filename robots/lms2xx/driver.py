@@ -60,7 +60,7 @@ class LMS2xxLaser(StreamingSensor, Laser):
         self.found_baud: int | None = None     # where the LMS answered at the last handshake
         self.stats.update(bad_scans=0)
         self._scan: LaserScan | None = None
-        self._dropped_mark = 0                 # parser's dropped bytes at the newest good scan
+        self._bytes_mark = 0                 # parser's bytes in at the newest good scan
 
     @classmethod
     def for_profile(cls, profile, url: str, clock=None, **options) -> "LMS2xxLaser":
@@ -173,7 +173,7 @@ class LMS2xxLaser(StreamingSensor, Laser):
     # -- the stream (robots.link.sensor) ----------------------------------------------------------------
     def _reset_decoder(self) -> None:
         self.parser.reset()
-        self._dropped_mark = self.parser.stats.dropped_bytes
+        self._bytes_mark = self.parser.stats.bytes_in
 
     def _feed(self, data: bytes) -> None:
         for packet in self.parser.feed(data, time.monotonic()):
@@ -195,7 +195,7 @@ class LMS2xxLaser(StreamingSensor, Laser):
             ranges[ranges > self.max_range] = np.inf
         self._scan = LaserScan(t=self.now(), angles=self.angles, ranges=ranges,
                                origin=self.mount)
-        self._dropped_mark = self.parser.stats.dropped_bytes
+        self._bytes_mark = self.parser.stats.bytes_in
         self._fresh()
 
     def _bad_scan(self, why: str) -> None:
@@ -205,7 +205,7 @@ class LMS2xxLaser(StreamingSensor, Laser):
     def _garbage(self) -> str:
         """Since the newest good scan: the bytes that formed no telegram, and the last cause."""
         stats = self.parser.stats
-        dropped = stats.dropped_bytes - self._dropped_mark
+        dropped = stats.bytes_in - self._bytes_mark     # dropped, or held in an unfinished frame
         if dropped <= 0:
             return ""
         last = f"; last: {stats.last_error}" if stats.last_error else ""
