@@ -2,11 +2,11 @@
 from __future__ import annotations
 
 import math
-import threading
 import time
 
 import numpy as np
 import pytest
+import serial
 
 from robots.clock import RealClock
 from robots.exceptions import CommandError, HandshakeError
@@ -170,7 +170,6 @@ def test_a_nak_is_reported(world):
 
 def test_emulator_naks_a_telegram_with_a_bad_crc(on_pty):
     _, emulator, url = on_pty
-    import serial
     port = serial.serial_for_url(url, baudrate=9600, timeout=0.5)
     try:
         bad = bytearray(p.request_status())
