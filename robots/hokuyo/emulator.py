@@ -251,17 +251,8 @@ class HokuyoEmulator(EmulatorHost):
                     self._send(block)
                     self.scans_sent += 1
 
-    def _scanner(self):
-        """The firmware's view of the newest scan: values per step range, and the clock."""
-        emulator = self
-
-        class Scanner:
-            def __call__(self, start: int, end: int, cluster: int) -> np.ndarray:
-                return emulator._values(start, end, cluster)
-
-            def timestamp(self) -> int:
-                return int((time.monotonic() - emulator._started) * 1000) & 0xFFFFFF
-        return Scanner()
+    def _scanner(self) -> "_Scanner":
+        return _Scanner(self)
 
     def _values(self, start: int, end: int, cluster: int) -> np.ndarray:
         """mm per cluster of steps: the nearest range in it; 0 (no echo, as the URG reports
@@ -305,3 +296,17 @@ class HokuyoEmulator(EmulatorHost):
                 self._send(self.firmware.receive(line, self._scanner()))
             if len(self._line) > 64:             # no command is this long: drop it
                 self._line.clear()
+
+
+class _Scanner:
+    """The firmware's view of the world: range values per step range, and its clock."""
+
+    def __init__(self, emulator: HokuyoEmulator) -> None:
+        self.emulator = emulator
+
+    def __call__(self, start: int, end: int, cluster: int) -> np.ndarray:
+        return self.emulator._values(start, end, cluster)
+
+    def timestamp(self) -> int:
+        """ms since the sensor started, 24 bits."""
+        return int((time.monotonic() - self.emulator._started) * 1000) & 0xFFFFFF

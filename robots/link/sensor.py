@@ -112,6 +112,7 @@ class StreamingSensor:
         self._closing = threading.Event()
         self._reader: threading.Thread | None = None
         self._last_fresh = -float("inf")      # monotonic time of the newest good reading
+        self._connected_at = -float("inf")    # ... and of the newest (re)connection
         self._next_attempt = 0.0
 
     # -- what a protocol supplies ---------------------------------------------------------------
@@ -168,7 +169,8 @@ class StreamingSensor:
         return self._link_up
 
     def fresh(self) -> bool:
-        """Whether the link is up and the newest reading is younger than `stale_after`."""
+        """Whether the link is up and the newest reading is younger than `stale_after` (a
+        reading from before a fault never counts, even right after reconnecting)."""
         return self._link_up and time.monotonic() - self._last_fresh <= self.stale_after
 
     def wait_for_reading(self, after: int, timeout: float) -> bool:
@@ -190,9 +192,12 @@ class StreamingSensor:
             port.close()
             raise
         with self._lock:
+            if self._closing.is_set():            # close() came during the handshake
+                port.close()
+                raise LinkError(f"{self.url}: closed during the handshake")
             self._port = port
             self._reset_decoder()
-            self._last_fresh = time.monotonic()   # the stream gets its full grace to start
+            self._connected_at = time.monotonic()  # the stream gets its full grace to start
             self._link_up = True
             self.link_error = ""
         log.info("%s: %s connected", self.url, self.name)
@@ -233,7 +238,7 @@ class StreamingSensor:
             self._fresh_cond.notify_all()
 
     def _check_liveness(self) -> None:
-        silent = time.monotonic() - self._last_fresh
+        silent = time.monotonic() - max(self._last_fresh, self._connected_at)
         if self._link_up and silent > self.stale_after:
             garbage = self._garbage()
             why = f"no reading for {silent:.2f} s (allowed {self.stale_after:.2f} s)"
@@ -244,6 +249,7 @@ class StreamingSensor:
             if not self._link_up:
                 return
             self._link_up = False
+            self._last_fresh = -float("inf")      # nothing from before the fault is passed on
             self.link_error = why
             self.last_error = f"{self.url}: link down: {why}"
             self.stats["link_downs"] += 1

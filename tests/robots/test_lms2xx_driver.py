@@ -272,3 +272,16 @@ def test_a_dropped_tcp_connection_is_a_link_fault_and_the_driver_connects_again(
     finally:
         laser.close()
         emulator.close()
+
+
+def test_close_while_reconnecting_leaves_nothing_open(on_pty):
+    laser, emulator, _ = on_pty
+    laser.open()
+    assert laser.wait_for_reading(0, timeout=2.0)
+    emulator.muted = True                        # the handshake will probe every speed
+    assert wait_until(lambda: not laser.link_up, timeout=2.0)
+    time.sleep(0.3)                              # the reader is inside a reconnect by now
+    laser.close()
+    emulator.muted = False
+    time.sleep(2.5)                              # longer than the probing could take
+    assert not laser.link_up and laser._port is None and laser.read() is None
