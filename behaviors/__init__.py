@@ -19,3 +19,15 @@ def robot_capabilities(robot: str) -> frozenset[str]:
         return capabilities(robot)
     except SkillError as exc:
         raise RobotOpenError(str(exc)) from exc
+
+
+def check_devices(robot: str) -> list:
+    """Which of the robot profile's devices answer: objects with `device`, `address`, `ok` and
+    `detail` (raises RobotOpenError for an unknown robot or a bad profile)."""
+    from behaviors.exceptions import RobotOpenError
+    from skills.exceptions import SkillError
+    from skills.skillset import check_devices as check
+    try:
+        return check(robot)
+    except SkillError as exc:
+        raise RobotOpenError(str(exc)) from exc

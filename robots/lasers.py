@@ -8,6 +8,7 @@ loaded, before anything is opened; the drivers are imported only when a laser is
 from __future__ import annotations
 
 import importlib
+import time
 from dataclasses import dataclass, field
 from urllib.parse import parse_qsl
 
@@ -93,3 +94,26 @@ def open_laser(profile, clock=None):
         laser.close()
         raise
     return laser
+
+
+def check_laser(profile, timeout: float = 3.0):
+    """Open the profile's laser, wait for one scan, close it: a `DeviceCheck`."""
+    from robots.device_check import DeviceCheck
+    device = profile.laser.device
+    started = time.monotonic()
+    try:
+        laser = open_laser(profile)
+    except LinkError as exc:
+        return DeviceCheck("laser", device, False, str(exc))
+    try:
+        if not laser.wait_for_reading(0, timeout):
+            return DeviceCheck("laser", device, False,
+                               f"it answered the handshake but sent no scan within {timeout:g} s"
+                               + (f" ({laser.link_error})" if laser.link_error else ""))
+        scan = laser.read()
+        beams = len(scan.ranges) if scan is not None else 0
+        return DeviceCheck("laser", device, True,
+                           f"{LASER_KINDS[parse_laser_device(device).kind].about}, "
+                           f"{beams} beams, first scan after {time.monotonic() - started:.2f} s")
+    finally:
+        laser.close()

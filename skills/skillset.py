@@ -47,6 +47,15 @@ def robot_capabilities(robot: str) -> frozenset[str]:
         raise SkillError(str(exc)) from exc
 
 
+def check_devices(robot: str | Path) -> list:
+    """Which of the robot profile's devices answer (`robots.device_check`)."""
+    from robots.device_check import check_devices as check
+    try:
+        return check(robot)
+    except RobotError as exc:
+        raise SkillError(str(exc)) from exc
+
+
 class SkillSet:
     def __init__(self, hardware: Hardware, *, map: str | Path | GridMap | None = None,
                  initial_pose: tuple[float, float, float] | None = None, seed: int = 0) -> None:
