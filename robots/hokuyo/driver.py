@@ -1,8 +1,8 @@
 """The Hokuyo SCIP 2.0 driver: a `Laser` over any pyserial URL (a URG's USB serial port, a pty,
 or socket://host:10940 for a UST).
 
-`open()` stops any stream an earlier client left running (QT), reads the version (VV: it must
-speak SCIP 2.0) and the parameters (PP: ranges, steps, front step, rotation speed), and
+`open()` asks the sensor to speak SCIP 2.0 (an old URG starts in SCIP 1.1), stops any stream an
+earlier client left running (QT), reads the version (VV: it must say SCIP 2.0) and the parameters (PP: ranges, steps, front step, rotation speed), and
 orders a stream of every step (MD, 3-character ranges, until QT). A reader thread decodes the
 scans; `read()` returns the newest one. Ranges below DMIN (the sensor's error codes) or above
 DMAX read as nothing hit.
@@ -70,11 +70,12 @@ class HokuyoLaser(StreamingSensor, Laser):
 
     # -- handshake (robots.link.sensor) ---------------------------------------------------------------
     def _handshake(self, port: SensorPort) -> None:
+        self._switch_to_scip2(port)
         self._ask(port, p.stop(), "QT", "stop an earlier stream")
         version = self._ask(port, p.version(), "VV", "report its version").info()
         if "SCIP 2.0" not in version.get("PROT", ""):
             raise HandshakeError(f"{self.url}: the sensor speaks {version.get('PROT')!r}, not "
-                                 f"SCIP 2.0 (an old URG starts in SCIP 1.1: send it 'SCIP2.0')")
+                                 f"SCIP 2.0, and did not switch when asked ('SCIP2.0')")
         info = self._ask(port, p.parameters(), "PP", "report its parameters").info()
         try:
             params = {key: int(info[key]) for key in PP_KEYS}
@@ -94,6 +95,18 @@ class HokuyoLaser(StreamingSensor, Laser):
         if not self.fixed_stale:
             period = 60.0 / max(1, params["SCAN"]) * (self.interval + 1)
             self.stale_after = max(MIN_STALE, STALE_SCANS * period)
+
+    def _switch_to_scip2(self, port: SensorPort) -> None:
+        """Send `SCIP2.0`: an old URG in SCIP 1.1 switches; a SCIP 2.0 sensor answers with an
+        error status. Either answer (or none) is fine: VV says what the sensor speaks."""
+        port.write(p.command("SCIP2.0"))
+        deadline = time.monotonic() + self.reply_timeout
+        rejected = self.parser.stats.rejected
+        while time.monotonic() < deadline:
+            replies = self.parser.feed(port.read(READ_QUANTUM))
+            if any(r.echo == "SCIP2.0" for r in replies) or \
+                    self.parser.stats.rejected > rejected:   # a SCIP 1.1 answer: "0", no check
+                return
 
     def _ask(self, port: SensorPort, line: bytes, symbol: str, what: str) -> p.Reply:
         """Send a command; its reply block with status 00 (or 02 for BM), else HandshakeError."""

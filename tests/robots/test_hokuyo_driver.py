@@ -155,7 +155,7 @@ def test_emulator_answers_errors_with_status_codes(urg):
 def test_nothing_answering_is_a_handshake_error():
     with PtyPair() as pty:
         laser = HokuyoLaser(pty.path, reply_timeout=0.05, reconnect=False)
-        with pytest.raises(HandshakeError, match="no reply to QT"):
+        with pytest.raises(HandshakeError, match="no reply to QT"):   # after SCIP2.0
             laser.open()
         laser.close()
 
@@ -170,7 +170,8 @@ def test_a_sensor_not_speaking_scip2_is_refused(tmp_path):
     emulator, url, _, clock = start(HOROS, Old)
     laser = HokuyoLaser(url, reply_timeout=0.3, reconnect=False)
     try:
-        with pytest.raises(HandshakeError, match="speaks 'SCIP 1.1', not SCIP 2.0"):
+        with pytest.raises(HandshakeError, match="speaks 'SCIP 1.1', not SCIP 2.0, and did "
+                                                 "not switch"):
             laser.open()
     finally:
         laser.close()
@@ -246,6 +247,29 @@ def test_a_dropped_tcp_connection_is_a_link_fault_and_the_driver_connects_again(
         assert laser.read() is None
         assert wait_until(lambda: laser.link_up and laser.read() is not None, timeout=8.0)
         assert emulator.connections == 2 and laser.stats["reconnects"] == 1
+    finally:
+        laser.close()
+        emulator.close()
+
+
+def test_an_old_urg_is_switched_to_scip2_first():
+    class OldFirmware(HokuyoEmulator):
+        switched = False
+
+        def receive(self, data):
+            if data.startswith(b"SCIP2.0"):
+                self.switched = True
+                self._send(b"SCIP2.0\n0\n\n")      # the SCIP 1.1 answer: status 0, no check
+                return
+            super().receive(data)
+    emulator, url, _, clock = start(HOROS, OldFirmware)
+    laser = HokuyoLaser(url, reply_timeout=1.0, reconnect=False)
+    try:
+        began = time.monotonic()
+        laser.open()
+        assert emulator.switched and emulator.received[0] == "QT"
+        assert time.monotonic() - began < 0.8              # did not wait out the timeout
+        assert laser.wait_for_reading(0, timeout=2.0)
     finally:
         laser.close()
         emulator.close()
