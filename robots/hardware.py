@@ -72,6 +72,9 @@ class Hardware:
         if self.simulation is not None:
             self.simulation.advance(now)
         self.base.poll()
+        poll_laser = getattr(self.laser, "poll", None)   # a laser on a wire, in lock-step
+        if poll_laser is not None:
+            poll_laser()
         return now
 
     @property
@@ -276,6 +279,15 @@ def _open_real(profile: RobotProfile, clock, port: str) -> Hardware:
     return Hardware(profile=profile, clock=clock, base=base, laser=laser)
 
 
+def _open_simulated_laser(profile: RobotProfile, simulation, clock) -> Laser | None:
+    """The laser's driver talking to its emulator in the world, when [laser] device = "KIND:sim"
+    (robots.lasers); None otherwise: the in-process simulated laser stays."""
+    if profile.laser is None or profile.laser.device is None:
+        return None
+    from robots.lasers import open_simulated_laser
+    return open_simulated_laser(profile, simulation, clock)
+
+
 def _open_real_laser(profile: RobotProfile, clock) -> Laser | None:
     """The laser its [laser] device names (robots.lasers), or None when it names none."""
     if profile.laser is None or profile.laser.device is None:
@@ -297,8 +309,13 @@ def _open_simulated(profile: RobotProfile, clock, scenario, seed: int, emulate: 
         base = SimulatedBase(profile.limits, world=simulation.world)
     base.open()
     devices = simulation.devices()
+    try:
+        laser = _open_simulated_laser(profile, simulation, clock) or devices.get("laser")
+    except BaseException:
+        base.close()
+        raise
     return Hardware(profile=profile, clock=clock, base=base, simulation=simulation,
-                    laser=devices.get("laser"), people_detector=devices.get("people_detector"),
+                    laser=laser, people_detector=devices.get("people_detector"),
                     head=devices.get("head"), screen=devices.get("screen"),
                     speaker=devices.get("speaker"))
 

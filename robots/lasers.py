@@ -2,6 +2,9 @@
 
 A device address is a kind, a colon, where the device is (any pyserial URL: a serial port, a
 pty, `socket://host:port`) and optionally `?key=value&...` with the driver's options. The
+address `sim` is the laser's emulator in the simulated world: in simulation the real driver then
+reads the laser over its wire protocol (in lock-step on a simulated clock) instead of the
+in-process simulated laser; any other address is for a real robot and simulation ignores it. The
 kinds and their options are listed here (`LASER_KINDS`), so a profile is checked when it is
 loaded, before anything is opened; the drivers are imported only when a laser is opened.
 """
@@ -18,6 +21,9 @@ _LMS_OPTIONS = {"baud": int, "angle": int, "resolution": float, "units": str,
                 "reply_timeout": float, "stale_after": float}
 _SCIP_OPTIONS = {"baud": int, "cluster": int, "interval": int, "reply_timeout": float,
                  "stale_after": float}
+
+
+SIMULATED = "sim"            # the address of the laser's emulator in the simulated world
 
 
 @dataclass(frozen=True)
@@ -79,6 +85,9 @@ def open_laser(profile, clock=None):
     if spec is None or spec.device is None:
         return None
     address = parse_laser_device(spec.device)
+    if address.url == SIMULATED:
+        raise LinkError(f"[laser] device = {spec.device!r}: '{SIMULATED}' is the simulated "
+                        f"world's emulator; on a real robot name the laser's port")
     try:
         laser = laser_driver(address.kind).for_profile(profile, address.url, clock=clock,
                                                        **address.options)
@@ -117,3 +126,22 @@ def check_laser(profile, timeout: float = 3.0):
                            f"{beams} beams, first scan after {time.monotonic() - started:.2f} s")
     finally:
         laser.close()
+
+
+def open_simulated_laser(profile, simulation, clock):
+    """In simulation, the profile's laser over its wire protocol to its emulator in the world
+    when its [laser] device address is `sim`; None otherwise (the simulated laser stays)."""
+    spec = profile.laser
+    if spec is None or spec.device is None:
+        return None
+    address = parse_laser_device(spec.device)
+    if address.url != SIMULATED:
+        return None
+    laser = laser_driver(address.kind).for_simulation(profile, simulation, clock,
+                                                      **address.options)
+    try:
+        laser.open()
+    except BaseException:
+        laser.close()
+        raise
+    return laser

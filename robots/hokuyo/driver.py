@@ -36,12 +36,13 @@ class HokuyoLaser(StreamingSensor, Laser):
     def __init__(self, url: str, *, baud: int = 115200, cluster: int = 1, interval: int = 0,
                  mount: tuple[float, float, float] = (0.0, 0.0, 0.0),
                  max_range: float | None = None, clock=None, reply_timeout: float = 0.5,
-                 stale_after: float | None = None, reconnect: bool = True) -> None:
+                 stale_after: float | None = None, reconnect: bool = True,
+                 lockstep=None) -> None:
         if not 1 <= int(cluster) <= 99:
             raise CommandError(f"SCIP cluster count {cluster}: allowed 1..99")
         if not 0 <= int(interval) <= 9:
             raise CommandError(f"SCIP scan interval {interval}: allowed 0..9")
-        super().__init__(url, int(baud), clock, stale_after or 1.0, reconnect)
+        super().__init__(url, int(baud), clock, stale_after or 1.0, reconnect, lockstep)
         self.fixed_stale = stale_after is not None
         self.cluster, self.interval = int(cluster), int(interval)
         self.mount = tuple(float(v) for v in mount)
@@ -62,6 +63,21 @@ class HokuyoLaser(StreamingSensor, Laser):
             options.setdefault("max_range", spec.max_range)
             options.setdefault("mount", (spec.x, spec.y, spec.heading))
         return cls(url, clock=clock, **options)
+
+    @classmethod
+    def for_simulation(cls, profile, simulation, clock, **options) -> "HokuyoLaser":
+        """The driver and a Hokuyo emulator in `simulation`'s world, on a pty; in lock-step on
+        a simulated clock."""
+        from robots.hokuyo.emulator import HokuyoEmulator   # emulator only when simulating
+        from robots.link.lockstep import LockStep
+        lockstep = LockStep() if getattr(clock, "simulated", False) else None
+        emulator = HokuyoEmulator.for_profile(profile, simulation.world, clock=clock,
+                                              lockstep=lockstep)
+        emulator.attach(simulation)
+        laser = cls.for_profile(profile, emulator.serve_pty(), clock=clock, lockstep=lockstep,
+                                **options)
+        laser.emulator = emulator
+        return laser
 
     # -- Laser --------------------------------------------------------------------------------------
     def read(self) -> LaserScan | None:

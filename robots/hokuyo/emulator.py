@@ -194,8 +194,9 @@ class HokuyoEmulator(EmulatorHost):
 
     name = "hokuyo-emulator"
 
-    def __init__(self, world, rangefinder: WorldRangefinder, model: Model, clock=None) -> None:
-        super().__init__()
+    def __init__(self, world, rangefinder: WorldRangefinder, model: Model, clock=None,
+                 lockstep=None) -> None:
+        super().__init__(lockstep)
         self.world = world
         self.clock = clock
         self.model = model
@@ -213,14 +214,14 @@ class HokuyoEmulator(EmulatorHost):
 
     @classmethod
     def for_profile(cls, profile, world, clock=None, seed: int = 0,
-                    model: str | None = None) -> "HokuyoEmulator":
+                    model: str | None = None, lockstep=None) -> "HokuyoEmulator":
         """A Hokuyo where the profile mounts its laser: a URG-04LX for a field of view up to
         240 deg, else a UST-10LX (or the named `model`)."""
         if model is None:
             fov = math.degrees(profile.laser.fov) if profile.laser is not None else 240.0
             model = "URG-04LX" if fov <= 240.5 else "UST-10LX"
         return cls(world, WorldRangefinder.for_profile(profile, world, seed), MODELS[model],
-                   clock)
+                   clock, lockstep)
 
     # -- the world ------------------------------------------------------------------------------
     def attach(self, simulation) -> None:
@@ -296,6 +297,8 @@ class HokuyoEmulator(EmulatorHost):
                 self._send(self.firmware.receive(line, self._scanner()))
             if len(self._line) > 64:             # no command is this long: drop it
                 self._line.clear()
+        if self.lockstep is not None:
+            self.lockstep.to_device.got(len(data))
 
 
 class _Scanner:

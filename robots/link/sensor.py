@@ -7,6 +7,11 @@ the robot can see (`link_up`, `link_error`), never a stale reading passed on as 
 once the device is back the driver must find it again by itself, with back-off, going through
 the whole handshake (the device may have been power-cycled meanwhile).
 
+On a simulated clock, with an in-process emulator (`lockstep` given), there is no reader
+thread: `poll()`, called by the tick loop right after the world stepped, reads every byte the
+emulator wrote, and liveness runs on the simulated clock, so a `--fast` run stays
+deterministic (as for the P2OS driver). There the driver does not reconnect.
+
 `StreamingSensor` is that plumbing. A protocol's driver subclasses it and supplies
 `_handshake(port)` (configure the device and start its stream; raise `LinkError` when it does
 not answer), `_feed(data)` (decode bytes; call `_fresh()` for every good reading) and, where it
@@ -24,6 +29,7 @@ import serial
 
 from robots.exceptions import LinkError
 from robots.link.backoff import Backoff
+from robots.link.lockstep import LockStep
 
 log = logging.getLogger(__name__)
 
@@ -33,13 +39,15 @@ READ_QUANTUM = 0.02        # s, longest a read blocks (so close() and liveness s
 class SensorPort:
     """A pyserial port (a device, a pty path or socket://host:port) with timed reads."""
 
-    def __init__(self, url: str, baud: int, write_timeout: float = 1.0) -> None:
+    def __init__(self, url: str, baud: int, write_timeout: float = 1.0,
+                 lockstep: LockStep | None = None) -> None:
         try:
             self.serial = serial.serial_for_url(url, baudrate=baud, timeout=READ_QUANTUM,
                                                 write_timeout=write_timeout)
         except (serial.SerialException, OSError, ValueError) as exc:
             raise LinkError(f"{url}: cannot open the port: {exc}") from exc
         self.url = url
+        self.lockstep = lockstep
         # a raw socket (socket://, e.g. a serial-to-Ethernet converter) has no line speed to set
         self.has_line_speed = not url.startswith("socket://")
 
@@ -52,10 +60,21 @@ class SensorPort:
         self.serial.baudrate = baud
 
     def write(self, data: bytes) -> None:
+        """Write; in lock-step, return once the emulator has acted on it."""
+        if self.lockstep is not None:
+            self.lockstep.to_device.wrote(len(data))
         self.serial.write(data)
+        if self.lockstep is not None:
+            self.lockstep.to_device.wait_drained(2.0)
 
     def read(self, timeout: float) -> bytes:
         """What is there, or wait up to `timeout` s for at least one byte."""
+        data = self._read(timeout)
+        if data and self.lockstep is not None:
+            self.lockstep.to_host.got(len(data))
+        return data
+
+    def _read(self, timeout: float) -> bytes:
         port = self.serial
         sock = getattr(port, "_socket", None)
         if sock is not None:
@@ -93,14 +112,16 @@ class StreamingSensor:
     name = "sensor"
 
     def __init__(self, url: str, baud: int, clock=None, stale_after: float = 0.5,
-                 reconnect: bool = True) -> None:
+                 reconnect: bool = True, lockstep: LockStep | None = None) -> None:
         if stale_after <= 0:
             raise ValueError(f"stale_after must be > 0 s, got {stale_after}")
         self.url = url
         self.baud = int(baud)
         self.clock = clock
         self.stale_after = float(stale_after)
-        self.reconnect = reconnect
+        self.reconnect = reconnect and lockstep is None
+        self.lockstep = lockstep
+        self.emulator = None                  # an in-process emulator this driver closes
         self.backoff = Backoff(initial=0.1, factor=2.0, maximum=2.0)
         self.stats = {"readings": 0, "link_downs": 0, "reconnects": 0}
         self.link_error = ""                  # why the link is down ("" while up)
@@ -139,11 +160,17 @@ class StreamingSensor:
         """Robot time for reading stamps (the clock the hardware was opened with)."""
         return self.clock.now() if self.clock is not None else time.monotonic()
 
+    def _time(self) -> float:
+        """Time for liveness: the simulated clock in lock-step, else monotonic."""
+        return self.clock.now() if self.lockstep is not None else time.monotonic()
+
     # -- life cycle -------------------------------------------------------------------------------
     def open(self) -> None:
         """Connect (handshake) and start the reader thread. Raises LinkError/HandshakeError."""
         self._closing.clear()
         self._connect()
+        if self.lockstep is not None:
+            return                                # poll() reads, on the tick thread
         self._reader = threading.Thread(target=self._read_loop, name=f"{self.name}-reader",
                                         daemon=True)
         self._reader.start()
@@ -163,6 +190,21 @@ class StreamingSensor:
             self._drop_port()
             self._link_up = False
             self.link_error = "closed"
+        if self.emulator is not None:
+            self.emulator.close()
+            self.emulator = None
+
+    def poll(self) -> None:
+        """Lock-step: decode everything the emulator wrote; check liveness in sim time."""
+        if self.lockstep is None or not self._link_up:
+            return
+        deadline = time.monotonic() + 2.0
+        while self._port is not None and self.lockstep.to_host.backlog() > 0:
+            if time.monotonic() > deadline:
+                self.last_error = f"{self.url}: emulator bytes did not arrive in time"
+                break
+            self._read_once()
+        self._check_liveness()
 
     @property
     def link_up(self) -> bool:
@@ -171,7 +213,7 @@ class StreamingSensor:
     def fresh(self) -> bool:
         """Whether the link is up and the newest reading is younger than `stale_after` (a
         reading from before a fault never counts, even right after reconnecting)."""
-        return self._link_up and time.monotonic() - self._last_fresh <= self.stale_after
+        return self._link_up and self._time() - self._last_fresh <= self.stale_after
 
     def wait_for_reading(self, after: int, timeout: float) -> bool:
         """Block until more than `after` readings were decoded (tests and tools)."""
@@ -181,7 +223,9 @@ class StreamingSensor:
     # -- connecting -------------------------------------------------------------------------------
     def _connect(self) -> None:
         self._drop_port()
-        port = SensorPort(self.url, self.baud)
+        port = SensorPort(self.url, self.baud, lockstep=self.lockstep)
+        if self.lockstep is not None:
+            self.lockstep.reset()
         try:
             self._reset_decoder()
             self._handshake(port)
@@ -197,7 +241,7 @@ class StreamingSensor:
                 raise LinkError(f"{self.url}: closed during the handshake")
             self._port = port
             self._reset_decoder()
-            self._connected_at = time.monotonic()  # the stream gets its full grace to start
+            self._connected_at = self._time()   # the stream gets its full grace to start
             self._link_up = True
             self.link_error = ""
         log.info("%s: %s connected", self.url, self.name)
@@ -232,13 +276,13 @@ class StreamingSensor:
 
     def _fresh(self) -> None:
         """A protocol decoded one good reading."""
-        self._last_fresh = time.monotonic()
+        self._last_fresh = self._time()
         with self._fresh_cond:
             self.stats["readings"] += 1
             self._fresh_cond.notify_all()
 
     def _check_liveness(self) -> None:
-        silent = time.monotonic() - max(self._last_fresh, self._connected_at)
+        silent = self._time() - max(self._last_fresh, self._connected_at)
         if self._link_up and silent > self.stale_after:
             garbage = self._garbage()
             why = f"no reading for {silent:.2f} s (allowed {self.stale_after:.2f} s)"

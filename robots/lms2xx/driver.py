@@ -40,7 +40,8 @@ class LMS2xxLaser(StreamingSensor, Laser):
                  resolution: float = 0.5, units: str = "mm",
                  mount: tuple[float, float, float] = (0.0, 0.0, 0.0),
                  max_range: float | None = None, clock=None, reply_timeout: float = 0.5,
-                 stale_after: float | None = None, reconnect: bool = True) -> None:
+                 stale_after: float | None = None, reconnect: bool = True,
+                 lockstep=None) -> None:
         resolution_cdeg = round(float(resolution) * 100)
         p.check_variant(int(angle), resolution_cdeg)
         if int(baud) not in p.BAUD_MODES:
@@ -50,7 +51,8 @@ class LMS2xxLaser(StreamingSensor, Laser):
             raise CommandError(f"LMS range unit {units!r}: allowed {', '.join(p.UNITS)}")
         period = p.scan_period(int(angle), resolution_cdeg, int(baud))
         super().__init__(url, int(baud), clock,
-                         stale_after or max(MIN_STALE, STALE_SCANS * period), reconnect)
+                         stale_after or max(MIN_STALE, STALE_SCANS * period), reconnect,
+                         lockstep)
         self.angle, self.resolution, self.units = int(angle), resolution_cdeg, units
         self.mount = tuple(float(v) for v in mount)
         self.max_range = max_range
@@ -78,6 +80,23 @@ class LMS2xxLaser(StreamingSensor, Laser):
         else:
             mount = (0.0, 0.0, 0.0)
         return cls(url, mount=mount, clock=clock, **options)
+
+    @classmethod
+    def for_simulation(cls, profile, simulation, clock, **options) -> "LMS2xxLaser":
+        """The driver and an LMS emulator in `simulation`'s world, on a pty; in lock-step on
+        a simulated clock. The emulated LMS is already at the driver's baud rate (as if an
+        earlier session had switched it), so no handshake time goes to probing speeds."""
+        from robots.lms2xx.emulator import LMS2xxEmulator   # emulator only when simulating
+        from robots.link.lockstep import LockStep
+        lockstep = LockStep() if getattr(clock, "simulated", False) else None
+        emulator = LMS2xxEmulator.for_profile(profile, simulation.world, clock=clock,
+                                              lockstep=lockstep)
+        emulator.attach(simulation)
+        laser = cls.for_profile(profile, emulator.serve_pty(), clock=clock, lockstep=lockstep,
+                                **options)
+        emulator.firmware.baud = laser.baud
+        laser.emulator = emulator
+        return laser
 
     # -- Laser --------------------------------------------------------------------------------------
     def read(self) -> LaserScan | None:

@@ -149,8 +149,9 @@ class LMS2xxEmulator(EmulatorHost):
 
     name = "lms2xx-emulator"
 
-    def __init__(self, world, rangefinder: WorldRangefinder, clock=None) -> None:
-        super().__init__()
+    def __init__(self, world, rangefinder: WorldRangefinder, clock=None,
+                 lockstep=None) -> None:
+        super().__init__(lockstep)
         self.world = world
         self.clock = clock
         self.firmware = Firmware()
@@ -165,9 +166,10 @@ class LMS2xxEmulator(EmulatorHost):
         self._apply_variant()
 
     @classmethod
-    def for_profile(cls, profile, world, clock=None, seed: int = 0) -> "LMS2xxEmulator":
+    def for_profile(cls, profile, world, clock=None, seed: int = 0,
+                    lockstep=None) -> "LMS2xxEmulator":
         """An LMS where the profile mounts its laser."""
-        return cls(world, WorldRangefinder.for_profile(profile, world, seed), clock)
+        return cls(world, WorldRangefinder.for_profile(profile, world, seed), clock, lockstep)
 
     # -- the world ------------------------------------------------------------------------------
     def attach(self, simulation) -> None:
@@ -227,6 +229,8 @@ class LMS2xxEmulator(EmulatorHost):
             if self.parser.stats.rejected > before:        # a bad CRC or length: NAK
                 self._send(bytes([p.NAK]))
                 self.naks_sent += 1
+        if self.lockstep is not None:
+            self.lockstep.to_device.got(len(data))
 
     def _answer(self, telegram: p.Telegram) -> None:
         self.received.append(telegram)

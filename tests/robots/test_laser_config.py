@@ -5,10 +5,11 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from robots.clock import RealClock
-from robots.exceptions import HandshakeError, ProfileError
+from robots.exceptions import HandshakeError, LinkError, ProfileError
 from robots.hardware import open_hardware
 from robots.hokuyo.driver import HokuyoLaser
 from robots.hokuyo.emulator import HokuyoEmulator
@@ -143,3 +144,66 @@ def test_simulation_keeps_its_in_process_laser(tmp_path):
         assert isinstance(hardware.laser, SimLaser)
     finally:
         hardware.close()
+
+
+# -- the laser on its wire in simulation ("KIND:sim") -------------------------------------------------
+def run_ticks(hardware, ticks: int) -> list:
+    scans = []
+    for _ in range(ticks):
+        hardware.sense()
+        scans.append(hardware.laser.read())
+        hardware.clock.advance(0.1)
+    return scans
+
+
+@pytest.mark.parametrize("kind, driver", [("lms200", LMS2xxLaser), ("urg", HokuyoLaser)])
+def test_sim_address_puts_the_laser_on_its_wire_deterministically(tmp_path, kind, driver):
+    profile = profile_with_device(tmp_path, f"{kind}:sim")
+    runs = []
+    for _ in range(2):
+        hardware = open_hardware(profile, fast=True)
+        try:
+            assert isinstance(hardware.laser, driver) and hardware.laser.lockstep is not None
+            runs.append(run_ticks(hardware, 20))
+        finally:
+            hardware.close()
+    first, second = runs
+    assert sum(scan is not None for scan in first) >= 18       # a scan about every tick
+    for a, b in zip(first, second):                             # lock-step: the same run twice
+        assert (a is None) == (b is None)
+        if a is not None:
+            assert a.t == b.t and np.array_equal(a.ranges, b.ranges)
+
+
+def test_the_wire_laser_sees_what_the_simulated_laser_sees(tmp_path):
+    wired = open_hardware(profile_with_device(tmp_path, "lms200:sim"), fast=True)
+    plain = open_hardware("horos", fast=True)
+    try:
+        scan = run_ticks(wired, 3)[-1]
+        run_ticks(plain, 3)
+        reference = plain.laser.read()
+        assert np.allclose(scan.angles, reference.angles)
+        both = np.isfinite(scan.ranges) & np.isfinite(reference.ranges)
+        assert both.sum() > 150
+        assert np.abs(scan.ranges[both] - reference.ranges[both]).max() < 0.08   # 1 cm noise each
+    finally:
+        wired.close()
+        plain.close()
+
+
+def test_a_silent_wire_laser_in_lockstep_is_a_link_fault_in_sim_time(tmp_path):
+    hardware = open_hardware(profile_with_device(tmp_path, "lms200:sim"), fast=True)
+    try:
+        run_ticks(hardware, 3)
+        hardware.laser.emulator.muted = True
+        scans = run_ticks(hardware, 6)                   # 0.6 s of sim time, no wall waiting
+        assert not hardware.laser.link_up and scans[-1] is None
+        assert "the device is silent" in hardware.laser.link_error
+    finally:
+        hardware.close()
+
+
+def test_the_sim_address_is_refused_on_a_real_robot(tmp_path, base_emulator):
+    base_port, _ = base_emulator
+    with pytest.raises(LinkError, match="'sim' is the simulated world's emulator"):
+        open_hardware(profile_with_device(tmp_path, "lms200:sim"), port=base_port)
