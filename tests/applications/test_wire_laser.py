@@ -60,3 +60,30 @@ def test_the_laser_on_its_wire_reaches_the_same_states(app_runs, tmp_path, robot
     assert len(states(reference.trace)) > 1
     assert states(trace) == states(reference.trace)
     assert not [e for e in trace if e["kind"] in ("link", "fault")]
+
+
+def compare_every_scenario(robot: str) -> None:
+    """`python -m tests.applications.test_wire_laser ROBOT`: every bundled scenario of the
+    survey, the guide and the receptionist, in-process laser against the laser on its wire."""
+    import tempfile
+
+    from tests.applications.app_runs import AppRuns
+    root = Path(tempfile.mkdtemp())
+    (root / "reference").mkdir()
+    runs, same, total = AppRuns(root / "reference"), 0, 0
+    for app in ("survey", "guide", "receptionist"):
+        scenarios = sorted(p.stem for p in (find_application(app) / "scenarios").glob("*.toml"))
+        for scenario in scenarios:
+            folder = root / f"{app}-{scenario}"
+            folder.mkdir()
+            reference = states(runs.run(app, robot, scenario).trace)
+            wired = states(run_wired(app, robot, scenario, folder))
+            same, total = same + (wired == reference), total + 1
+            print(f"{app} {scenario}: {'same states' if wired == reference else 'DIFFERENT'}",
+                  flush=True)
+    print(f"{robot}: {same}/{total} scenarios reach the same states with the laser on its wire")
+
+
+if __name__ == "__main__":
+    import sys
+    compare_every_scenario(sys.argv[1] if len(sys.argv) > 1 else "horos")
