@@ -44,6 +44,7 @@ class RunSummary:
     link_downs: int = 0             # `link` events with state "down"
     link_ups: int = 0               # ... and "up" again (re-connected, data fresh)
     link_down_seconds: float = 0.0  # summed over the episodes that ended
+    device_links: dict = field(default_factory=dict)   # device -> [downs, ups, seconds down]
     dropped_readings: int = 0       # readings the profile does not describe (`dropped` events)
     device_links: dict[str, list] = field(default_factory=dict)  # device -> [downs, ups, s down]
     ended_by: str | None = None     # why the loop ended early: "SIGTERM", "an error", ...

@@ -1,5 +1,5 @@
 """Which of a robot's devices answer where its profile (and `--port`) says they are: the base at
-its port, the head and camera at the `device` their tables name. Each is opened with its own
+its port, the laser, head and camera at the `device` their tables name. Each is opened with its own
 driver, asked for something, and closed; a device that does not answer is reported with the
 driver's reason, and the others are still tried. (`interbot robots --check PROFILE`.)"""
 from __future__ import annotations
@@ -18,7 +18,7 @@ FIRST_FRAME_WITHIN = 3.0     # s a camera may take to deliver its first frame
 
 @dataclass(frozen=True)
 class DeviceCheck:
-    device: str              # base, head, camera
+    device: str              # base, laser, head, camera
     address: str
     answers: bool | None     # None: the profile names no address for it
     detail: str
@@ -27,8 +27,8 @@ class DeviceCheck:
 def check_devices(robot, port: str | None = None) -> list[DeviceCheck]:
     """One check per device of `robot` (a profile name or file); `port` overrides the base's."""
     profile = load_profile(robot)
-    return [_check_base(profile, port or profile.base.port), _check_head(profile),
-            _check_camera(profile)]
+    return [_check_base(profile, port or profile.base.port), _check_laser(profile),
+            _check_head(profile), _check_camera(profile)]
 
 
 def _attempt(device: str, address: str, probe) -> DeviceCheck:
@@ -54,6 +54,15 @@ def _check_base(profile, address: str) -> DeviceCheck:
         finally:
             base.close()
     return _attempt("base", address or "(no port)", probe)
+
+
+def _check_laser(profile) -> DeviceCheck:
+    spec = profile.laser
+    if spec is None or not spec.device:
+        return DeviceCheck("laser", "", None, "no [laser] device in the profile"
+                           + ("" if spec is None else ' (e.g. device = "lms200:/dev/ttyUSB0")'))
+    from robots.lasers import check_laser
+    return check_laser(profile)
 
 
 def _check_head(profile) -> DeviceCheck:

@@ -34,9 +34,16 @@ class Detection:
 
 
 class Laser(ABC):
+    # A laser on a wire (robots.lms2xx, robots.hokuyo) reports its link: False while it is
+    # silent, sends garbage or is unplugged, with the reason in `link_error`. A simulated or
+    # replayed laser is always up.
+    link_up: bool = True
+    link_error: str = ""
+
     @abstractmethod
     def read(self) -> LaserScan | None:
-        """The newest scan, or None before the first one."""
+        """The newest scan, or None before the first one (and, on a wire, while the link is
+        down: never a stale scan)."""
 
 
 class PersonDetector(ABC):

@@ -48,6 +48,12 @@ EMULATORS: dict[str, EmulatorEntry] = {
                             "a camera looking at the simulated people, as an MJPEG stream",
                             address="http://{host}:{port}/video.mjpg", tcp_only=True,
                             hint='[camera] device = "{address}" in the robot profile'),
+    "lms200": EmulatorEntry("horos", "robots.lms2xx.emulator:LMS2xxEmulator.for_profile",
+                            "SICK LMS 200 laser, telegrams over RS-232",
+                            hint='[laser] device = "lms200:{address}" in the robot profile'),
+    "urg": EmulatorEntry("argos", "robots.hokuyo.emulator:HokuyoEmulator.for_profile",
+                         "Hokuyo laser speaking SCIP 2.0 (URG-04LX up to 240 deg, else UST-10LX)",
+                         hint='[laser] device = "urg:{address}" in the robot profile'),
 }
 
 

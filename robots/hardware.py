@@ -74,6 +74,9 @@ class Hardware:
         self.base.poll()
         if hasattr(self.head, "poll"):        # a head on a wire, on a simulated clock
             self.head.poll()
+        poll_laser = getattr(self.laser, "poll", None)   # a laser on a wire, in lock-step
+        if poll_laser is not None:
+            poll_laser()
         return now
 
     @property
@@ -180,7 +183,7 @@ class Hardware:
         finally:
             self.base.close()
             for device in (self.recognizer, self.speaker, self.screen, self.people_detector,
-                           self.head):
+                           self.head, self.laser):
                 if device is not None and hasattr(device, "close"):
                     try:
                         device.close()
@@ -282,12 +285,13 @@ def _open_real(profile: RobotProfile, clock, port: str) -> Hardware:
         base = driver(profile.limits, port, clock=clock, **profile.base.options)
     try:
         base.open()
+        laser = _open_real_laser(profile, clock)
     except BaseException:         # a link error, or a signal in the middle of the handshake
         base.close()
         raise
-    # The base, and the head and camera where the profile names them; the interaction devices
-    # follow the options.
-    hardware = Hardware(profile=profile, clock=clock, base=base)
+    # The base, its laser, and the head and camera where the profile names them; the
+    # interaction devices follow the options.
+    hardware = Hardware(profile=profile, clock=clock, base=base, laser=laser)
     try:
         _open_head_and_camera(hardware)
     except BaseException:
@@ -303,6 +307,23 @@ def _open_head_and_camera(hardware: Hardware) -> None:
     hardware.people_detector = open_camera(hardware.profile, hardware.clock, hardware.head)
 
 
+def _open_simulated_laser(profile: RobotProfile, simulation, clock) -> Laser | None:
+    """The laser's driver talking to its emulator in the world, when [laser] device = "KIND:sim"
+    (robots.lasers); None otherwise: the in-process simulated laser stays."""
+    if profile.laser is None or profile.laser.device is None:
+        return None
+    from robots.lasers import open_simulated_laser
+    return open_simulated_laser(profile, simulation, clock)
+
+
+def _open_real_laser(profile: RobotProfile, clock) -> Laser | None:
+    """The laser its [laser] device names (robots.lasers), or None when it names none."""
+    if profile.laser is None or profile.laser.device is None:
+        return None
+    from robots.lasers import open_laser
+    return open_laser(profile, clock)
+
+
 def _open_simulated(profile: RobotProfile, clock, scenario, seed: int, emulate: bool,
                     floor: str | Path | None = None) -> Hardware:
     from robots.sim.base import SimulatedBase
@@ -316,8 +337,13 @@ def _open_simulated(profile: RobotProfile, clock, scenario, seed: int, emulate: 
         base = SimulatedBase(profile.limits, world=simulation.world)
     base.open()
     devices = simulation.devices()
+    try:
+        laser = _open_simulated_laser(profile, simulation, clock) or devices.get("laser")
+    except BaseException:
+        base.close()
+        raise
     hardware = Hardware(profile=profile, clock=clock, base=base, simulation=simulation,
-                        laser=devices.get("laser"), people_detector=devices.get("people_detector"),
+                        laser=laser, people_detector=devices.get("people_detector"),
                         head=devices.get("head"), screen=devices.get("screen"),
                         speaker=devices.get("speaker"))
     try:

@@ -54,6 +54,7 @@ class LaserSpec:
     beams: int
     max_range: float     # m
     noise: float         # m, standard deviation
+    device: str | None = None   # the real laser: "kind:address[?options]" (robots.lasers)
 
 
 @dataclass(frozen=True)
@@ -322,7 +323,23 @@ class _ProfileReader:
                          fov=self.angle("laser", "fov_deg", 1.0, 360.0),
                          beams=int(self.number("laser", "beams", 2, 4000)),
                          max_range=self.number("laser", "max_range", 0.5, 80.0),
-                         noise=self.number("laser", "noise", 0.0, 1.0, 0.01))
+                         noise=self.number("laser", "noise", 0.0, 1.0, 0.01),
+                         device=self.laser_device())
+
+    def laser_device(self) -> str | None:
+        """[laser] device, checked (kind, address, options) before anything is opened."""
+        value = self.data["laser"].get("device")
+        if value is None:
+            return None
+        from robots.lasers import parse_laser_device
+        if not isinstance(value, str):
+            raise self.fail("laser", f"device = {value!r} must be a string like "
+                                     f"\"lms200:/dev/ttyUSB0?baud=38400\"")
+        try:
+            parse_laser_device(value)
+        except ValueError as exc:
+            raise self.fail("laser", f"device = {value!r}: {exc}") from None
+        return value
 
     def head(self) -> HeadSpec | None:
         if self.table("head", required=False) is None:

@@ -42,7 +42,8 @@ SCHEMA: dict[str, KeySpec] = {spec.key: spec for spec in (
          "pose estimate (x, y, heading) in the map frame (odometry alone without a map)"),
     _key("robot/velocity", "tuple[float, float]", "m/s, rad/s", "localization",
          "measured translational and rotational velocity"),
-    _key("robot/link", "bool", "-", "localization", "the base link is up and its state is fresh"),
+    _key("robot/link", "bool", "-", "localization",
+         "the base link is up and its state is fresh (and a wired laser's link is up)"),
     # -- localization (skills.localization, skills.navigation.mcl) --
     _key("robot/odometry", "tuple[float, float, float]", "m, m, rad", "localization",
          "the base's odometry pose (x, y, heading) in its own frame; drifts"),

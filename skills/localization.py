@@ -12,14 +12,18 @@ scenario's robot pose) in simulation, and on a real robot an explicit pose or th
 `robot_home` place; with none of these it starts spread over the whole free map (global
 localization). `initial_std` (m, m, rad) is how far the start may be off: by default
 `MCLParams.initial_std` (a pose someone guessed or a robot parked by hand); the skill set
-passes `MCLParams.known_std` for the simulator's exact start on its own floor. A pose older than `STALE_AFTER` seconds, or a base that reports its link down,
-makes `robot/link` false (the safety arbiter then refuses to move); while the filter is lost
+passes `MCLParams.known_std` for the simulator's exact start on its own floor. A pose older than `STALE_AFTER` seconds, a base that reports its link down,
+or a laser on a wire that reports its link down (silent, garbage, unplugged), makes
+`robot/link` false (the safety arbiter then refuses to move, and behaviors see
+`robot.fault`: navigation and following stop rather than drive blind); while the filter is lost
 the skill's status is `failed("localization lost: ...")`.
 
 It also reports link episodes and dropped readings, so a user looking at a run afterwards sees
 every link-down and re-connect with its time and reason, and every reading the driver threw
 away, without reading the driver's log. Events (for the trace, through `robot.events()`):
-- `link` with `state` "down" and `reason`, when the base data stops being fresh;
+- `link` with `state` "down" and `reason`, when the base data stops being fresh (or the
+  laser's link goes down: the reason then starts with "laser link is down", and the down and
+  up events of that episode carry `device` "laser");
 - `link` with `state` "up" and `after` (s the episode lasted), when it is fresh again;
 - `dropped` with `count` (how many since the last one), `total` and the newest `reason`, on a
   tick in which the driver dropped readings the profile does not describe.
@@ -78,6 +82,7 @@ class Localization(Skill):
         self.odometry: BaseState | None = None
         self.grid = grid
         self.laser = laser if grid is not None else None
+        self.wired_laser = laser              # its link counts for robot/link, map or not
         self.sonar = sonar if grid is not None and laser is None else None
         self.mode = "laser" if self.laser else "sonar" if self.sonar is not None else "odometry"
         self.initial_pose = initial_pose
@@ -105,6 +110,7 @@ class Localization(Skill):
         self._started: float | None = None    # the first tick's time
         self._ever_up = False                 # the base has reported at least once
         self._down_since = 0.0
+        self._down_device: dict = {}          # {"device": "laser"} in a laser's episode
         self._dropped = 0
 
     @property
@@ -117,7 +123,8 @@ class Localization(Skill):
         odometry = (state.x, state.y, state.th)
         pose = self._localize(state, odometry, now)
         self.state = replace(state, x=pose[0], y=pose[1], th=pose[2])
-        fresh = state.link_up and now - state.t <= self.STALE_AFTER
+        fresh = (state.link_up and now - state.t <= self.STALE_AFTER
+                 and self._laser_link_up())
         self.write("robot/pose", pose, state.t)
         self.write("robot/odometry", odometry, state.t)
         self.write("robot/velocity", (state.v, state.w), state.t)
@@ -167,10 +174,14 @@ class Localization(Skill):
         if not fresh and not self._down and not self._awaiting_first_report(now):
             self._down, self._down_since = True, now
             self._device_fault(state, now)
-            self.events.emit(now, "link", state="down", reason=self._why_stale(state, now))
+            reason = self._why_stale(state, now)
+            # a laser's episode says so (`device`), so a summary can count each device's
+            self._down_device = {"device": "laser"} if reason.startswith("laser") else {}
+            self.events.emit(now, "link", state="down", reason=reason, **self._down_device)
         elif fresh and self._down:
             self._down = False
-            self.events.emit(now, "link", state="up", after=round(now - self._down_since, 3))
+            self.events.emit(now, "link", state="up", after=round(now - self._down_since, 3),
+                             **self._down_device)
 
     def _device_fault(self, state: BaseState, now: float) -> None:
         """A `fault` event when the base names a faulty device (a drive's EMCY, its lost
@@ -300,8 +311,13 @@ class Localization(Skill):
         self.write("localization/lost", self.filter.lost, t)
         self.write("localization/fit", self.filter.fit, t)
 
-    @staticmethod
-    def _why_stale(state: BaseState, now: float) -> str:
+    def _laser_link_up(self) -> bool:
+        return self.wired_laser is None or bool(getattr(self.wired_laser, "link_up", True))
+
+    def _why_stale(self, state: BaseState, now: float) -> str:
+        if state.link_up and now - state.t <= self.STALE_AFTER and not self._laser_link_up():
+            why = getattr(self.wired_laser, "link_error", "")
+            return f"laser link is down: {why}" if why else "laser link is down"
         if not state.link_up:
             why = state.extra.get("link_error") or state.extra.get("fault") if state.extra else None
             return f"base link is down: {why}" if why else "base link is down"

@@ -18,7 +18,7 @@ SPECS = (
          doc="the user selected during the active macro-behavior is no longer tracked"),
     spec("speech.busy", "bool", doc="the robot is still speaking"),
     spec("motion.failed", "bool", doc="the motion skill reported failure"),
-    spec("robot.fault", "bool", doc="the base reported a fault (link down, stale sensors, stall)"),
+    spec("robot.fault", "bool", doc="the base or a wired laser reported a fault (link down, stale sensors, stall)"),
     spec("behavior.done", "bool",
          doc="the active macro-behavior has finished its work (e.g. Say has said its text)"),
     spec("behavior.failed", "bool", doc="the active macro-behavior gave up"),
