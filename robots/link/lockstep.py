@@ -53,15 +53,6 @@ class ByteCounter:
                 self._cond.wait(remaining)
             return True
 
-    def give_up(self) -> int:
-        """Count every byte written so far as read (they did not arrive within the wait):
-        returns how many. Bytes lost on the line must cost one late tick, not make every later
-        tick wait its whole timeout for them."""
-        with self._cond:
-            lost, self.read = self.written - self.read, self.written
-            self._cond.notify_all()
-            return lost
-
     def reset(self) -> None:
         """A new connection: nothing is in flight any more."""
         with self._cond:

@@ -391,9 +391,7 @@ class P2OSBase(Base):
         port = self._port
         while port is not None and self.lockstep.to_host.backlog() > 0:
             if time.monotonic() > deadline:
-                lost = self.lockstep.to_host.give_up()
-                self.last_error = f"emulator bytes did not arrive in time ({lost} given up)"
-                log.warning("%s: %s", self.url, self.last_error)
+                self.last_error = "emulator bytes did not arrive in time"
                 return
             self._read_once(READ_QUANTUM)
             port = self._port

@@ -18,5 +18,5 @@ def test_base_and_laser_episodes_are_counted_apart():
     lines = summary.lines()
     assert any(line.startswith("link to the base: down 1 time(s), re-connected 1 time(s), 1.5 s")
                for line in lines)
-    assert ("link to the laser: down 2 time(s), back 1 time(s), 2.2 s down in all; "
+    assert ("link to the laser: down 2 time(s), re-connected 1 time(s), 2.2 s down in all; "
             "down at the end") in lines

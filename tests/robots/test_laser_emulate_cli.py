@@ -36,7 +36,7 @@ def start(name: str, *extra: str) -> tuple[subprocess.Popen, str, str]:
 def test_emulate_serves_the_laser_driver_and_stops_on_a_signal(name, where):
     proc, url, hint = start(name, *where)
     try:
-        assert f'device = "{name}:{url}" in the [laser]' in hint
+        assert f'[laser] device = "{name}:{url}" in the robot profile' in hint
         laser = DRIVERS[name](url)
         try:
             laser.open()

@@ -142,13 +142,3 @@ def test_an_in_process_emulator_on_a_simulated_clock_reads_on_no_thread_of_its_o
     finally:
         hardware.close()
 
-
-def test_bytes_given_up_are_counted_as_read_so_later_waits_do_not_wait_for_them():
-    counter = ByteCounter()
-    counter.wrote(5)
-    counter.got(2)
-    assert counter.give_up() == 3                  # never arrived: one late tick
-    assert counter.backlog() == 0
-    counter.wrote(1)
-    counter.got(1)
-    assert counter.wait_drained(0.01)
