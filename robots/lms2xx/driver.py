@@ -195,7 +195,9 @@ class LMS2xxLaser(StreamingSensor, Laser):
         self._bytes_mark = self.parser.stats.bytes_in
 
     def _feed(self, data: bytes) -> None:
-        for packet in self.parser.feed(data, time.monotonic()):
+        # the silent-gap rule is a real line's: in lock-step a late pty hand-over is not a gap
+        now = None if self.lockstep is not None else time.monotonic()
+        for packet in self.parser.feed(data, now):
             if isinstance(packet, p.Telegram) and packet.command == p.Reply.MEASURED_VALUES:
                 self._on_scan(packet)
 
