@@ -1,6 +1,8 @@
 """Shared test set-up."""
 from __future__ import annotations
 
+import os
+
 import pytest
 
 STANDING_PERSON = """
@@ -28,12 +30,13 @@ def standing_person(tmp_path):
 
 
 @pytest.fixture(scope="session")
-def app_runs(tmp_path_factory, worker_id):
+def app_runs(tmp_path_factory):
     """Bundled-application runs made once per test session, shared by the pytest-xdist
     workers through the session's own temporary folder (tests/applications/app_runs.py)."""
     from tests.applications.app_runs import AppRuns
     base = tmp_path_factory.getbasetemp()
-    shared = base.parent if worker_id != "master" else base   # xdist: one folder per worker
+    worker = os.environ.get("PYTEST_XDIST_WORKER")            # xdist: a folder per worker …
+    shared = base.parent if worker else base                   # … in the session's folder
     folder = shared / "app-runs"
     folder.mkdir(exist_ok=True)
     return AppRuns(folder)
