@@ -16,17 +16,17 @@ import time
 
 import numpy as np
 
-from robots.devices import Laser, LaserScan
+from robots.devices import Laser
 from robots.exceptions import CommandError, HandshakeError
 from robots.hokuyo import protocol as p
-from robots.link.sensor import READ_QUANTUM, SensorPort, StreamingSensor
+from robots.link.sensor import READ_QUANTUM, ScanningSensor, SensorPort
 
 MIN_STALE = 0.3                  # s, the shortest silence taken for a fault
 STALE_SCANS = 4                  # scans missed before the link counts as down
 PP_KEYS = ("DMIN", "DMAX", "ARES", "AMIN", "AMAX", "AFRT", "SCAN")
 
 
-class HokuyoLaser(StreamingSensor, Laser):
+class HokuyoLaser(ScanningSensor, Laser):
     """A Hokuyo URG/UST/UTM speaking SCIP 2.0. Options: baud (serial only), cluster (steps
     per range), interval (scans skipped between two sent), reply_timeout (s), stale_after
     (s), reconnect."""
@@ -45,16 +45,12 @@ class HokuyoLaser(StreamingSensor, Laser):
         super().__init__(url, int(baud), clock, stale_after or 1.0, reconnect, lockstep)
         self.fixed_stale = stale_after is not None
         self.cluster, self.interval = int(cluster), int(interval)
-        self.mount = tuple(float(v) for v in mount)
-        self.max_range = max_range
+        self._start_scans(mount, max_range)
         self.reply_timeout = float(reply_timeout)
         self.parser = p.ScipParser()
         self.version: dict[str, str] = {}
         self.params: dict[str, int] = {}
         self.angles = np.zeros(0)
-        self.stats.update(bad_scans=0)
-        self._scan: LaserScan | None = None
-        self._bytes_mark = 0
 
     @classmethod
     def for_profile(cls, profile, url: str, clock=None, **options) -> "HokuyoLaser":
@@ -80,10 +76,6 @@ class HokuyoLaser(StreamingSensor, Laser):
         return laser
 
     # -- Laser --------------------------------------------------------------------------------------
-    def read(self) -> LaserScan | None:
-        """The newest scan while the link is up and fresh; None otherwise (never a stale one)."""
-        return self._scan if self.fresh() else None
-
     # -- handshake (robots.link.sensor) ---------------------------------------------------------------
     def _handshake(self, port: SensorPort) -> None:
         self._switch_to_scip2(port)
@@ -148,10 +140,6 @@ class HokuyoLaser(StreamingSensor, Laser):
         port.write(p.stop())
 
     # -- the stream (robots.link.sensor) ----------------------------------------------------------------
-    def _reset_decoder(self) -> None:
-        self.parser.reset()
-        self._bytes_mark = self.parser.stats.bytes_in
-
     def _feed(self, data: bytes) -> None:
         for reply in self.parser.feed(data):
             if reply.symbol in ("MD", "MS") and reply.status == p.STATUS_STREAM:
@@ -170,21 +158,7 @@ class HokuyoLaser(StreamingSensor, Laser):
         values = scan.values
         ranges = values / 1000.0
         ranges[(values < self.params["DMIN"]) | (values > self.params["DMAX"])] = np.inf
-        if self.max_range is not None:
-            ranges[ranges > self.max_range] = np.inf
-        self._scan = LaserScan(t=self.now(), angles=self.angles, ranges=ranges,
-                               origin=self.mount)
-        self._bytes_mark = self.parser.stats.bytes_in
-        self._fresh()
-
-    def _bad_scan(self, why: str) -> None:
-        self.stats["bad_scans"] += 1
-        self.last_error = f"{self.url}: dropped a scan: {why}"
+        self._publish(ranges)
 
     def _garbage(self) -> str:
-        stats = self.parser.stats
-        dropped = stats.bytes_in - self._bytes_mark     # dropped, or held in an unfinished frame
-        if dropped <= 0:
-            return ""
-        last = f"; last: {stats.last_error}" if stats.last_error else ""
-        return f"{dropped} bytes formed no reply{last}"
+        return self._garbage_since_scan("reply")

@@ -25,8 +25,10 @@ import select
 import threading
 import time
 
+import numpy as np
 import serial
 
+from robots.devices import LaserScan
 from robots.exceptions import LinkError
 from robots.link.backoff import Backoff
 from robots.link.lockstep import LockStep
@@ -320,3 +322,46 @@ class StreamingSensor:
         port, self._port = self._port, None
         if port is not None:
             port.close()
+
+
+class ScanningSensor(StreamingSensor):
+    """A streaming range sensor (a laser): the newest good scan, bad scans dropped and
+    counted, and what the parser threw away since the newest good one. A driver sets `parser`
+    (with `stats`), `angles`, `mount` and `max_range`, and calls `_publish` or `_bad_scan`."""
+
+    def _start_scans(self, mount, max_range: float | None) -> None:
+        self.mount = tuple(float(v) for v in mount)
+        self.max_range = max_range
+        self.stats.update(bad_scans=0)
+        self._scan: LaserScan | None = None
+        self._bytes_mark = 0                 # parser's bytes in at the newest good scan
+
+    def read(self) -> LaserScan | None:
+        """The newest scan while the link is up and fresh; None otherwise (never a stale one)."""
+        return self._scan if self.fresh() else None
+
+    def _publish(self, ranges: np.ndarray) -> None:
+        """A good scan (ranges in m, inf without an echo), cut at max_range."""
+        if self.max_range is not None:
+            ranges[ranges > self.max_range] = np.inf
+        self._scan = LaserScan(t=self.now(), angles=self.angles, ranges=ranges,
+                               origin=self.mount)
+        self._bytes_mark = self.parser.stats.bytes_in
+        self._fresh()
+
+    def _bad_scan(self, why: str) -> None:
+        self.stats["bad_scans"] += 1
+        self.last_error = f"{self.url}: dropped a scan: {why}"
+
+    def _reset_decoder(self) -> None:
+        self.parser.reset()
+        self._bytes_mark = self.parser.stats.bytes_in
+
+    def _garbage_since_scan(self, unit: str) -> str:
+        """The bytes since the newest good scan that formed no `unit`, and the last cause."""
+        stats = self.parser.stats
+        dropped = stats.bytes_in - self._bytes_mark     # dropped, or held in an unfinished frame
+        if dropped <= 0:
+            return ""
+        last = f"; last: {stats.last_error}" if stats.last_error else ""
+        return f"{dropped} bytes formed no {unit}{last}"

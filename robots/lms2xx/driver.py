@@ -17,11 +17,10 @@ from __future__ import annotations
 import math
 import time
 
-import numpy as np
 
-from robots.devices import Laser, LaserScan
+from robots.devices import Laser
 from robots.exceptions import CommandError, HandshakeError
-from robots.link.sensor import READ_QUANTUM, SensorPort, StreamingSensor
+from robots.link.sensor import READ_QUANTUM, ScanningSensor, SensorPort
 from robots.lms2xx import protocol as p
 
 PROBE_BAUDS = (9600, 38400, 500000, 19200)   # power-up speed first, then the usual ones
@@ -29,7 +28,7 @@ MIN_STALE = 0.3                              # s, the shortest silence taken for
 STALE_SCANS = 4                              # scans missed before the link counts as down
 
 
-class LMS2xxLaser(StreamingSensor, Laser):
+class LMS2xxLaser(ScanningSensor, Laser):
     """A SICK LMS 200/291. Options: baud (9600, 19200, 38400, 500000), angle (180 or 100
     deg), resolution (deg: 1, 0.5, 0.25), units ("mm" or "cm"), reply_timeout (s),
     stale_after (s), reconnect."""
@@ -54,15 +53,11 @@ class LMS2xxLaser(StreamingSensor, Laser):
                          stale_after or max(MIN_STALE, STALE_SCANS * period), reconnect,
                          lockstep)
         self.angle, self.resolution, self.units = int(angle), resolution_cdeg, units
-        self.mount = tuple(float(v) for v in mount)
-        self.max_range = max_range
+        self._start_scans(mount, max_range)
         self.reply_timeout = float(reply_timeout)
         self.parser = p.LMSParser()
         self.angles = p.scan_angles(self.angle, self.resolution) + self.mount[2]
         self.found_baud: int | None = None     # where the LMS answered at the last handshake
-        self.stats.update(bad_scans=0)
-        self._scan: LaserScan | None = None
-        self._bytes_mark = 0                 # parser's bytes in at the newest good scan
 
     @classmethod
     def for_profile(cls, profile, url: str, clock=None, **options) -> "LMS2xxLaser":
@@ -99,10 +94,6 @@ class LMS2xxLaser(StreamingSensor, Laser):
         return laser
 
     # -- Laser --------------------------------------------------------------------------------------
-    def read(self) -> LaserScan | None:
-        """The newest scan while the link is up and fresh; None otherwise (never a stale one)."""
-        return self._scan if self.fresh() else None
-
     # -- handshake (robots.link.sensor) ---------------------------------------------------------------
     def _handshake(self, port: SensorPort) -> None:
         self.found_baud = self._find(port)
@@ -190,10 +181,6 @@ class LMS2xxLaser(StreamingSensor, Laser):
         port.write(p.set_mode(p.Mode.ON_REQUEST))      # stop the stream; no need to wait
 
     # -- the stream (robots.link.sensor) ----------------------------------------------------------------
-    def _reset_decoder(self) -> None:
-        self.parser.reset()
-        self._bytes_mark = self.parser.stats.bytes_in
-
     def _feed(self, data: bytes) -> None:
         # the silent-gap rule is a real line's: in lock-step a late pty hand-over is not a gap
         now = None if self.lockstep is not None else time.monotonic()
@@ -211,25 +198,13 @@ class LMS2xxLaser(StreamingSensor, Laser):
             self._bad_scan(f"a scan of {len(values.values)} values; the angular mode has "
                            f"{len(self.angles)}")
             return
-        ranges = values.metres()
-        if self.max_range is not None:
-            ranges[ranges > self.max_range] = np.inf
-        self._scan = LaserScan(t=self.now(), angles=self.angles, ranges=ranges,
-                               origin=self.mount)
-        self._bytes_mark = self.parser.stats.bytes_in
-        self._fresh()
-
-    def _bad_scan(self, why: str) -> None:
-        self.stats["bad_scans"] += 1
-        self.last_error = f"{self.url}: dropped a scan: {why}"
+        self._publish(values.metres())
 
     def _garbage(self) -> str:
-        """Since the newest good scan: the bytes that formed no telegram, and the last cause."""
-        stats = self.parser.stats
-        dropped = stats.bytes_in - self._bytes_mark     # dropped, or held in an unfinished frame
-        if dropped <= 0:
-            return ""
-        last = f"; last: {stats.last_error}" if stats.last_error else ""
+        """Since the newest good scan: the bytes that formed no telegram, the last cause and
+        the last bad CRC."""
+        garbage = self._garbage_since_scan("telegram")
         crc = self.parser.last_crc_error
-        crc = f"; last bad CRC: {crc}" if crc and crc != stats.last_error else ""
-        return f"{dropped} bytes formed no telegram{last}{crc}"
+        if garbage and crc and crc != self.parser.stats.last_error:
+            garbage += f"; last bad CRC: {crc}"
+        return garbage
