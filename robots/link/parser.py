@@ -101,22 +101,27 @@ class FramedParser(ABC):
                 return self._keep_header_prefix(pos)
             if start > pos:
                 self._count_drop(start - pos)
-            pos = start
-            try:
-                length = self.frame_length(buf, pos)
-            except Reject as exc:
-                pos = self._reject(exc, pos)
-                continue
-            if length is None or len(buf) - pos < length:
-                return pos
-            try:
-                packet = self.decode(bytes(buf[pos:pos + length]))
-            except Reject as exc:
-                pos = self._reject(exc, pos)
-                continue
-            packets.append(packet)
-            self.stats.packets += 1
-            pos += length
+            pos = self._take_frame(start, packets)
+            if pos is None:
+                return start
+
+    def _take_frame(self, pos: int, packets: list) -> int | None:
+        """Decode the frame starting at `pos` (append it to `packets`, or count its rejection);
+        return where scanning goes on, or None while the frame is still incomplete."""
+        buf = self._buf
+        try:
+            length = self.frame_length(buf, pos)
+        except Reject as exc:
+            return self._reject(exc, pos)
+        if length is None or len(buf) - pos < length:
+            return None
+        try:
+            packet = self.decode(bytes(buf[pos:pos + length]))
+        except Reject as exc:
+            return self._reject(exc, pos)
+        packets.append(packet)
+        self.stats.packets += 1
+        return pos + length
 
     def _keep_header_prefix(self, pos: int) -> int:
         """Keep a trailing partial header (it may complete with the next chunk); drop the rest."""

@@ -197,21 +197,10 @@ class LMSParser(FramedParser):
                 packets.append(Handshake(buf[pos] == ACK))
                 pos += 1
                 continue
-            try:
-                length = self.frame_length(buf, pos)
-            except Reject as exc:
-                pos = self._reject(exc, pos)
-                continue
-            if length is None or len(buf) - pos < length:
+            after = self._take_frame(pos, packets)
+            if after is None:
                 return pos
-            try:
-                packet = self.decode(bytes(buf[pos:pos + length]))
-            except Reject as exc:
-                pos = self._reject(exc, pos)
-                continue
-            packets.append(packet)
-            self.stats.packets += 1
-            pos += length
+            pos = after
 
 
 # -- host telegrams ---------------------------------------------------------------------------
