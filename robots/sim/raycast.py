@@ -11,12 +11,15 @@ import numpy as np
 
 
 def cast_rays(origins: np.ndarray, angles: np.ndarray, segments: np.ndarray,
-              circles: np.ndarray, max_range: float) -> np.ndarray:
+              circles: np.ndarray, max_range: float,
+              segment_hits: np.ndarray | None = None) -> np.ndarray:
     """Distance along each ray to the nearest segment or circle; `np.inf` beyond `max_range`.
 
     origins: (n, 2) ray starts; angles: (n,) world-frame directions in rad;
     segments: (m, 4) rows x1, y1, x2, y2; circles: (k, 3) rows cx, cy, r.
     A ray starting inside a circle reads 0 (the obstacle touches the sensor).
+    `segment_hits`, when given, is what `segment_distances` returned for these rays and
+    segments (walls do not move: a sensor that has not moved reuses them).
     """
     origins = np.asarray(origins, dtype=float).reshape(-1, 2)
     angles = np.asarray(angles, dtype=float).reshape(-1)
@@ -26,12 +29,25 @@ def cast_rays(origins: np.ndarray, angles: np.ndarray, segments: np.ndarray,
     px = origins[:, 0]
     py = origins[:, 1]
     best = np.full(angles.shape[0], np.inf)
-    if segments is not None and len(segments):
+    if segment_hits is not None:
+        best = np.minimum(best, segment_hits)
+    elif segments is not None and len(segments):
         best = np.minimum(best, _segment_hits(px, py, dx, dy, segments))
     if circles is not None and len(circles):
         best = np.minimum(best, _circle_hits(px, py, dx, dy, circles))
     best[best > max_range] = np.inf
     return best
+
+
+def segment_distances(origins: np.ndarray, angles: np.ndarray,
+                      segments: np.ndarray) -> np.ndarray:
+    """Distance along each ray to the nearest segment, `np.inf` when none (no range limit)."""
+    origins = np.asarray(origins, dtype=float).reshape(-1, 2)
+    angles = np.asarray(angles, dtype=float).reshape(-1)
+    if segments is None or not len(segments):
+        return np.full(angles.shape[0], np.inf)
+    return _segment_hits(origins[:, 0], origins[:, 1], np.cos(angles), np.sin(angles),
+                         segments)
 
 
 def _segment_hits(px, py, dx, dy, segments: np.ndarray) -> np.ndarray:

@@ -25,7 +25,7 @@ from robots.sim.floor import Floor
 from robots.sim.measures import NEAR_WALLS, Measures
 from robots.sim.odometry import WheelOdometry, odometry_rng
 from robots.sim.people import BODY_RADIUS, LEG_RADIUS, SimPerson
-from robots.sim.raycast import cast_rays, point_segment_distances
+from robots.sim.raycast import cast_rays, point_segment_distances, segment_distances
 from robots.sim.scenario import Follow, Lead, Leave, MakeWay, Scenario, Shop, Walk
 from robots.sim.walkways import walk_grid
 
@@ -111,6 +111,7 @@ class World:
         self._version = 0                  # bumped every substep; keys the caches below
         self._cache: dict[str, tuple[tuple, object]] = {}
         self._near_walls: dict[float, tuple[float, float, np.ndarray]] = {}
+        self._wall_hits: dict[str, tuple[tuple[float, float, float], np.ndarray]] = {}
 
     # -- places ----------------------------------------------------------------------------
 
@@ -296,7 +297,8 @@ class World:
         reach = sonar.max_range + float(np.hypot(*self._sonar_rays[:, :2].T).max())
         origins, angles = self._to_world(self._sonar_rays)
         circles = self._circles_near(self.body_circles(), reach + BODY_RADIUS)
-        ranges = cast_rays(origins, angles, self._walls_near(reach), circles, sonar.max_range)
+        walls = self._wall_distances("sonar", origins, angles, reach)
+        ranges = cast_rays(origins, angles, None, circles, sonar.max_range, walls)
         return ranges.reshape(-1, len(SONAR_RAY_SPREAD)).min(axis=1)
 
     def laser_scan(self) -> tuple[np.ndarray, np.ndarray]:
@@ -318,8 +320,22 @@ class World:
         origins = np.broadcast_to(origin, (laser.beams, 2))
         reach = laser.max_range + math.hypot(laser.x, laser.y)
         circles = self._circles_near(self.leg_circles(), reach + LEG_RADIUS)
-        return cast_rays(origins, self._laser_offsets + body.th, self._walls_near(reach),
-                         circles, laser.max_range)
+        angles = self._laser_offsets + body.th
+        walls = self._wall_distances("laser", origins, angles, reach)
+        return cast_rays(origins, angles, None, circles, laser.max_range, walls)
+
+    def _wall_distances(self, sensor: str, origins: np.ndarray, angles: np.ndarray,
+                        reach: float) -> np.ndarray:
+        """A sensor's rays to the walls, cast again only when the body has moved: walls do
+        not move, and a robot standing still (most of a survey) would recast the same rays
+        every substep."""
+        pose = (self.body.x, self.body.y, self.body.th)
+        kept = self._wall_hits.get(sensor)
+        if kept is not None and kept[0] == pose:
+            return kept[1]
+        hits = segment_distances(origins, angles, self._walls_near(reach))
+        self._wall_hits[sensor] = (pose, hits)
+        return hits
 
     def detect_people(self) -> list[tuple[float, float]]:
         """Noisy person positions in the robot frame (see `person_detections`)."""
