@@ -69,7 +69,7 @@ class WorldRangefinder:
         body = world.body
         c, s = math.cos(body.th), math.sin(body.th)
         origin = (body.x + c * mx - s * my, body.y + s * mx + c * my)
-        origins = np.broadcast_to(np.array([origin]), (len(angles), 2))
+        origins = np.array([origin])                       # one for every beam
         ranges = cast_rays(origins, angles + mth + body.th, world.floor.segments,
                            world.leg_circles(), self.max_range)
         if self.noise > 0:

@@ -17,17 +17,15 @@ def cast_rays(origins: np.ndarray, angles: np.ndarray, segments: np.ndarray,
 
     origins: (n, 2) ray starts; angles: (n,) world-frame directions in rad;
     segments: (m, 4) rows x1, y1, x2, y2; circles: (k, 3) rows cx, cy, r.
-    A ray starting inside a circle reads 0 (the obstacle touches the sensor).
+    A ray starting inside a circle reads 0 (the obstacle touches the sensor). One origin row
+    (1, 2) serves every ray (a laser): what depends on the origin alone is computed once.
     `segment_hits`, when given, is what `segment_distances` returned for these rays and
     segments (walls do not move: a sensor that has not moved reuses them).
     """
-    origins = np.asarray(origins, dtype=float).reshape(-1, 2)
-    angles = np.asarray(angles, dtype=float).reshape(-1)
+    px, py, angles = _rays(origins, angles)
     # (obstacle, ray) layout: the final min runs along the long axis, which numpy does fast
     dx = np.cos(angles)
     dy = np.sin(angles)
-    px = origins[:, 0]
-    py = origins[:, 1]
     best = np.full(angles.shape[0], np.inf)
     if segment_hits is not None:
         best = np.minimum(best, segment_hits)
@@ -42,12 +40,21 @@ def cast_rays(origins: np.ndarray, angles: np.ndarray, segments: np.ndarray,
 def segment_distances(origins: np.ndarray, angles: np.ndarray,
                       segments: np.ndarray) -> np.ndarray:
     """Distance along each ray to the nearest segment, `np.inf` when none (no range limit)."""
-    origins = np.asarray(origins, dtype=float).reshape(-1, 2)
-    angles = np.asarray(angles, dtype=float).reshape(-1)
+    px, py, angles = _rays(origins, angles)
     if segments is None or not len(segments):
         return np.full(angles.shape[0], np.inf)
-    return _segment_hits(origins[:, 0], origins[:, 1], np.cos(angles), np.sin(angles),
-                         segments)
+    return _segment_hits(px, py, np.cos(angles), np.sin(angles), segments)
+
+
+def _rays(origins, angles) -> tuple:
+    """(px, py, angles): the origins' columns, or two floats when one origin serves all rays
+    (then the origin's terms are (obstacle, 1) columns instead of (obstacle, ray) tables,
+    with the same values)."""
+    origins = np.asarray(origins, dtype=float).reshape(-1, 2)
+    angles = np.asarray(angles, dtype=float).reshape(-1)
+    if origins.shape[0] == 1:
+        return float(origins[0, 0]), float(origins[0, 1]), angles
+    return origins[:, 0], origins[:, 1], angles
 
 
 def _segment_hits(px, py, dx, dy, segments: np.ndarray) -> np.ndarray:

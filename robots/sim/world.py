@@ -315,9 +315,8 @@ class World:
         """Noise-free laser ranges of the current substep."""
         laser, body = self.profile.laser, self.body
         c, s = math.cos(body.th), math.sin(body.th)
-        origin = np.array([[body.x + c * laser.x - s * laser.y,
-                            body.y + s * laser.x + c * laser.y]])
-        origins = np.broadcast_to(origin, (laser.beams, 2))
+        origins = np.array([[body.x + c * laser.x - s * laser.y,
+                             body.y + s * laser.x + c * laser.y]])     # one for every beam
         reach = laser.max_range + math.hypot(laser.x, laser.y)
         circles = self._circles_near(self.leg_circles(), reach + LEG_RADIUS)
         angles = self._laser_offsets + body.th
@@ -365,7 +364,7 @@ class World:
         found = []
         if candidates:
             table = np.array(candidates)
-            origins = np.broadcast_to(np.array([[body.x, body.y]]), (len(table), 2))
+            origins = np.array([[body.x, body.y]])                        # the camera's
             walls = cast_rays(origins, table[:, 3], self._walls_near(spec.range), None, spec.range)
             bodies = cast_rays(origins, table[:, 3], None, self._person_bodies(), spec.range)
             unhidden = bodies >= table[:, 2] - BODY_RADIUS - 1e-6    # own body is the first hit
