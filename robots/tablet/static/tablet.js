@@ -4,7 +4,7 @@
 "use strict";
 (function () {
   const token = new URLSearchParams(location.search).get("token") || "";
-  const PRESS_TIMEOUT = 4000;   // ms without a reply before a press is given up
+  const PRESS_TIMEOUT = 3000;   // ms without a reply before a press is given up
   const RETRY_FIRST = 250;      // ms before looking for the robot again; doubles …
   const RETRY_MOST = 2000;      // … up to this
   const main = document.getElementById("screen");
@@ -123,14 +123,16 @@
     if (current && current.mode === "question") { showAnswered(current.answered); }
   }
 
-  function gaveUp() {           // no reply: the connection is dead though not yet closed
+  function gaveUp() {           // no reply: the robot hangs, or the connection is dead
     pending = null;
     undoPress();
-    notice("The robot did not answer. Please try again.");
-    if (socket) { socket.close(); }
+    const dead = socket;
+    lost();
+    if (dead) { dead.close(); }
   }
 
   function received(event) {
+    if (event.target !== socket) { return; }     // a connection given up: not listened to
     const message = JSON.parse(event.data);
     if (message.type === "screen") {
       render(message.screen);
@@ -184,10 +186,11 @@
 
   function connect() {
     const scheme = location.protocol === "https:" ? "wss://" : "ws://";
-    socket = new WebSocket(scheme + location.host + "/ws?token=" + encodeURIComponent(token));
-    socket.addEventListener("open", function () { retry = RETRY_FIRST; });
-    socket.addEventListener("message", received);
-    socket.addEventListener("close", lost);
+    const ws = new WebSocket(scheme + location.host + "/ws?token=" + encodeURIComponent(token));
+    socket = ws;
+    ws.addEventListener("open", function () { retry = RETRY_FIRST; });
+    ws.addEventListener("message", received);
+    ws.addEventListener("close", function () { if (socket === ws) { lost(); } });
   }
 
   document.getElementById("typed").addEventListener("submit", function (event) {
