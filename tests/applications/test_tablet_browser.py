@@ -158,7 +158,8 @@ def test_a_person_answers_the_whole_survey_on_the_page(quick_survey, tmp_path):
             for prompt, answer in ANSWERS.items():              # the same page, its old URL
                 question = wait_for_question(driver, prompt)
                 assert answer in question["buttons"]
-                driver.find_element(By.CSS_SELECTOR, f'#buttons button[data-value="{answer}"]').click()
+                driver.find_element(By.CSS_SELECTOR,
+                                    f'#buttons button[data-value="{answer}"]').click()
             WebDriverWait(driver, 20, poll_frequency=0.05).until(
                 lambda d: shown(d)["mode"] == "idle")
         second.send_signal(signal.SIGINT)                         # done: no need to wait it out
