@@ -168,10 +168,11 @@ def _handle(content: ScreenContent, message: str) -> dict:
         return {"type": "refused", "reason": "not JSON"}
     if not isinstance(data, dict) or data.get("type") != "press":
         return {"type": "refused", "reason": "unknown message (expected a press)"}
-    prompt, value, page = data.get("prompt"), data.get("value"), data.get("page", "")
-    if not isinstance(prompt, str) or not isinstance(value, str) or not isinstance(page, str):
+    prompt, value = data.get("prompt"), data.get("value")
+    page, name = data.get("page", ""), data.get("name", "")
+    if not all(isinstance(field, str) for field in (prompt, value, page, name)):
         return {"type": "refused", "reason": "a press needs a prompt and a value (strings)"}
-    reason = content.press(prompt, value, page)
+    reason = content.press(prompt, value, page, name)
     if reason is not None:
         return {"type": "refused", "reason": reason, "prompt": prompt,
                 "answered": content.answered(prompt)}

@@ -31,7 +31,7 @@ class ScreenContent:
         self._pictures: dict[int, Path] = {}
         self._picture_ids: dict[Path, int] = {}
         self._presses: deque[tuple[str, str]] = deque()
-        self._answered: OrderedDict[str, dict] = OrderedDict()   # prompt -> {value, by}
+        self._answered: OrderedDict[str, dict] = OrderedDict()   # prompt -> {value, by, who}
         self.listeners: list[Callable[[], None]] = []   # called (robot thread) after a change
 
     # --- the robot's side -----------------------------------------------------------------
@@ -71,11 +71,12 @@ class ScreenContent:
         with self._lock:
             return {**self._screen, "caption": self._caption, "v": self.version}
 
-    def press(self, prompt_id: str, value: str, by: str = "") -> str | None:
+    def press(self, prompt_id: str, value: str, by: str = "", who: str = "") -> str | None:
         """Queue a press for the robot; returns why it was refused, or None when accepted.
 
         Only the prompt on screen counts, once, with one of its buttons or (typed prompts) a
-        text. `by` is the id of the page that pressed (told to a page whose press came late)."""
+        text. `by` is the id of the page that pressed, `who` the name its tablet was given (if
+        any): both are told to the other pages."""
         with self._lock:
             screen = self._screen
             if screen.get("mode") != "question" or screen.get("prompt") != prompt_id:
@@ -88,7 +89,7 @@ class ScreenContent:
                     return f"'{value[:40]}' is not one of the answers"
                 if not value or len(value) > MAX_TYPED:
                     return f"typed text must have 1 to {MAX_TYPED} characters"
-            answer = {"value": value, "by": str(by)[:MAX_PAGE_ID]}
+            answer = {"value": value, "by": str(by)[:MAX_PAGE_ID], "who": str(who)[:MAX_PAGE_ID]}
             self._screen = {**screen, "answered": answer}
             self._remember(prompt_id, answer)
             self._presses.append((prompt_id, value))
@@ -97,7 +98,7 @@ class ScreenContent:
         return None
 
     def answered(self, prompt_id: str) -> dict | None:
-        """How a recent prompt was answered on a page ({value, by}), or None."""
+        """How a recent prompt was answered on a page ({value, by, who}), or None."""
         with self._lock:
             answer = self._answered.get(prompt_id)
             return None if answer is None else dict(answer)

@@ -183,7 +183,7 @@ def test_the_same_question_shown_again_after_its_answer_is_asked_anew():
     content.show("more", "Another one?", ("yes", "no"), False)   # still waiting: no change
     assert content.snapshot() == first
     assert content.press("more", "yes", "a") is None
-    assert content.snapshot()["answered"] == {"value": "yes", "by": "a"}
+    assert content.snapshot()["answered"] == {"value": "yes", "by": "a", "who": ""}
     content.show("more", "Another one?", ("yes", "no"), False)   # the loop asks again
     again = content.snapshot()
     assert "answered" not in again and again["ask"] == first["ask"] + 1
@@ -212,7 +212,9 @@ def test_two_pages_the_late_one_is_told_who_answered(tablet):
         async with websockets.connect(socket_url(tablet), origin=origin(tablet)) as one, \
                    websockets.connect(socket_url(tablet), origin=origin(tablet)) as two:
             await next_screen(one), await next_screen(two)
-            won = await press(one, "q1", "yes", "tablet-one")
+            await one.send(json.dumps({"type": "press", "prompt": "q1", "value": "yes",
+                                       "page": "tablet-one", "name": "Entrance"}))
+            won = await next_reply(one)
             seen_by_two = await next_screen(two)        # the answer reaches every page at once
             lost = await press(two, "q1", "no", "tablet-two")
             tablet.show("q2", "Tea?", ("yes", "no"))
@@ -221,9 +223,10 @@ def test_two_pages_the_late_one_is_told_who_answered(tablet):
 
     won, seen_by_two, lost, late = asyncio.run(race())
     assert won["type"] == "accepted"
-    assert seen_by_two["answered"] == {"value": "yes", "by": "tablet-one"}
+    answer = {"value": "yes", "by": "tablet-one", "who": "Entrance"}
+    assert seen_by_two["answered"] == answer
     assert lost["type"] == late["type"] == "refused"
-    assert lost["answered"] == late["answered"] == {"value": "yes", "by": "tablet-one"}
+    assert lost["answered"] == late["answered"] == answer
     assert tablet.take_press() == ("q1", "yes") and tablet.take_press() is None
 
 

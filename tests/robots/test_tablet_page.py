@@ -277,7 +277,7 @@ def test_two_tablets_the_one_that_lost_is_told_who_answered(page):
     question_on(driver, "q1")
     driver.switch_to.new_window("tab")
     second = driver.current_window_handle
-    driver.get(screen.url)
+    driver.get(screen.url + "&name=Checkout")         # a tablet may be given a name
     question_on(driver, "q1")
     driver.switch_to.window(first)
     click(driver, "yes")
@@ -286,11 +286,18 @@ def test_two_tablets_the_one_that_lost_is_told_who_answered(page):
     until(driver, lambda d: state(d)["sent"] == ["yes"])
     seen = state(driver)
     assert seen["enabled"] == [] and seen["notice"] == "Answered on another tablet: “yes”"
+    screen.show("q0", "Milk?", ("yes", "no"))          # the named tablet answers
+    question_on(driver, "q0")
+    click(driver, "no")
+    assert wait_press(screen) == ("q0", "no")
+    driver.switch_to.window(first)
+    until(driver, lambda d: state(d)["notice"] == "Answered on the tablet “Checkout”: “no”")
     # both press at the same moment: the server holds both presses, takes one, refuses one
     screen.show("q2", "Tea?", ("yes", "no"))
     question_on(driver, "q2")
-    driver.switch_to.window(first)
+    driver.switch_to.window(second)
     question_on(driver, "q2")
+    driver.switch_to.window(first)
     screen.app.state.hub.loop.call_soon_threadsafe(time.sleep, 0.5)
     click(driver, "yes")
     driver.switch_to.window(second)
@@ -303,8 +310,9 @@ def test_two_tablets_the_one_that_lost_is_told_who_answered(page):
         until(driver, lambda d: state(d)["sent"] == [winner[1]])
         notices[handle] = state(driver)["notice"]
     loser = second if winner[1] == "yes" else first
-    assert notices[loser] in (f"Already answered on another tablet: “{winner[1]}”",
-                              f"Answered on another tablet: “{winner[1]}”")
+    where = "the tablet “Checkout”" if loser == first else "another tablet"
+    assert notices[loser] in (f"Already answered on {where}: “{winner[1]}”",
+                              f"Answered on {where}: “{winner[1]}”")
     assert notices[first if loser == second else second] == ""
 
 

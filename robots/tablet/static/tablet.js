@@ -3,7 +3,9 @@
 // its pass cookie, though the token in this page's address is old).
 "use strict";
 (function () {
-  const token = new URLSearchParams(location.search).get("token") || "";
+  const params = new URLSearchParams(location.search);
+  const token = params.get("token") || "";
+  const tabletName = (params.get("name") || "").slice(0, 40);   // told to the other tablets
   const PRESS_TIMEOUT = 3000;   // ms without a reply before a press is given up
   const RETRY_FIRST = 250;      // ms before looking for the robot again; doubles …
   const RETRY_MOST = 2000;      // … up to this
@@ -19,6 +21,9 @@
 
   function text(id, value) { document.getElementById(id).textContent = value || ""; }
   function notice(value) { text("notice", value); }
+  function where(answered) {
+    return answered.who ? "on the tablet “" + answered.who + "”" : "on another tablet";
+  }
 
   function pageId() {           // this tab's id, kept over a reload, to tell "you" from others
     try {
@@ -98,7 +103,9 @@
     const match = Array.from(document.querySelectorAll("#buttons button"))
       .find(function (b) { return b.dataset.value === answered.value; });
     (match || typedSend).classList.add("sent");
-    if (answered.by !== me) { notice("Answered on another tablet: “" + answered.value + "”"); }
+    if (answered.by !== me) {
+      notice("Answered " + where(answered) + ": “" + answered.value + "”");
+    }
   }
 
   function press(button, value) {
@@ -109,7 +116,8 @@
     enable(false);
     button.classList.add("pressed");
     pending = setTimeout(gaveUp, PRESS_TIMEOUT);
-    socket.send(JSON.stringify({ type: "press", prompt: current.prompt, value: value, page: me }));
+    socket.send(JSON.stringify({ type: "press", prompt: current.prompt, value: value, page: me,
+                                 name: tabletName }));
   }
 
   function settled() {          // the press under way, if any, has its answer: stop waiting
@@ -145,7 +153,7 @@
       undoPress();
       const answered = message.answered;
       if (answered && answered.by !== me) {
-        notice("Already answered on another tablet: “" + answered.value + "”");
+        notice("Already answered " + where(answered) + ": “" + answered.value + "”");
       } else if (!answered && current && current.prompt !== message.prompt) {
         notice("Too late: the robot has moved on.");
       }
