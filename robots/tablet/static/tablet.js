@@ -175,6 +175,7 @@
     socket = null;
     away("gone");
     setTimeout(findRobot, retry);
+    retry = Math.min(retry * 2, RETRY_MOST);    // back to the first once a connection opens
   }
 
   function findRobot() {        // is it back, and does it know this tablet?
@@ -183,8 +184,9 @@
       retry = Math.min(retry * 2, RETRY_MOST);
       setTimeout(findRobot, retry);
     };
-    fetch("/hello?token=" + encodeURIComponent(token),
-          { cache: "no-store", credentials: "same-origin", signal: AbortSignal.timeout(3000) })
+    const options = { cache: "no-store", credentials: "same-origin" };
+    if (window.AbortSignal && AbortSignal.timeout) { options.signal = AbortSignal.timeout(3000); }
+    fetch("/hello?token=" + encodeURIComponent(token), options)
       .then(function (response) {
         if (response.ok) { connect(); }
         else { again(response.status === 403 ? "new-key" : "gone"); }
