@@ -6,6 +6,7 @@ token), two tablets, the information screen with its picture, and feedback at th
 One browser serves the whole module; each test gets its own server (a robot) and page."""
 from __future__ import annotations
 
+import threading
 import time
 
 import pytest
@@ -260,12 +261,15 @@ def test_a_robot_that_hangs_after_a_touch_leaves_nothing_pressed(page):
     screen, driver = page
     screen.show("q1", "Coffee?", ("yes", "no"))
     question_on(driver, "q1")
-    loop = screen.app.state.hub.loop
-    loop.call_soon_threadsafe(time.sleep, 3.6)         # no answer for longer than the page waits
-    click(driver, "yes")
-    until(driver, lambda d: state(d)["mode"] == "offline", timeout=3.5)
-    assert state(driver)["pressed"] == 0
-    until(driver, lambda d: state(d)["mode"] == "question", timeout=8.0)   # back afterwards
+    hung = threading.Event()
+    screen.app.state.hub.loop.call_soon_threadsafe(hung.wait, 10.0)   # the server hangs …
+    try:
+        click(driver, "yes")
+        until(driver, lambda d: state(d)["mode"] == "offline", timeout=5.0)
+        assert state(driver)["pressed"] == 0
+    finally:
+        hung.set()                                     # … until the page has given up
+    until(driver, lambda d: state(d)["mode"] == "question", timeout=5.0)   # back afterwards
     assert wait_press(screen) == ("q1", "yes")         # the press arrived late: it counted …
     until(driver, lambda d: state(d)["sent"] == ["yes"])   # … and the page shows it so
 
@@ -298,10 +302,14 @@ def test_two_tablets_the_one_that_lost_is_told_who_answered(page):
     driver.switch_to.window(second)
     question_on(driver, "q2")
     driver.switch_to.window(first)
-    screen.app.state.hub.loop.call_soon_threadsafe(time.sleep, 0.5)
-    click(driver, "yes")
-    driver.switch_to.window(second)
-    click(driver, "no")
+    held = threading.Event()
+    screen.app.state.hub.loop.call_soon_threadsafe(held.wait, 10.0)
+    try:
+        click(driver, "yes")
+        driver.switch_to.window(second)
+        click(driver, "no")
+    finally:
+        held.set()                                     # both presses wait in the server
     winner = wait_press(screen)
     assert winner is not None and winner[0] == "q2" and screen.take_press() is None
     notices = {}
