@@ -370,9 +370,11 @@ def _open_interaction(hardware: Hardware, interaction: Interaction) -> None:
     if interaction.gui is not None and profile.touch_screen:
         from robots.mirror import MirroredTouchScreen
         from robots.tablet import WebTouchScreen, parse_address
+        from robots.tablet.pairing import default_secret_file
         host, port = parse_address(interaction.gui)
-        page = WebTouchScreen(host, port)
+        page = WebTouchScreen(host, port, secret_file=default_secret_file())
         hardware.tablet_url = page.url
+        hardware.notes.extend(page.notes)
         hardware.screen = MirroredTouchScreen(hardware.screen, page) if hardware.screen else page
     elif interaction.gui is not None:
         hardware.notes.append(f"robot '{profile.name}' has no touch screen: --gui is ignored")

@@ -19,6 +19,17 @@ steps = [ {{ pause = 100.0 }} ]
 """
 
 
+@pytest.fixture(scope="session", autouse=True)
+def tablet_pairing_secret(tmp_path_factory):
+    """The tablet page's pairing secret (robots.tablet.pairing) in the session's temporary
+    folder, never in the home folder of whoever runs the tests (runs started as subprocesses
+    inherit it)."""
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv("INTERBOT_TABLET_SECRET",
+                     str(tmp_path_factory.mktemp("tablet") / "tablet-secret"))
+        yield
+
+
 @pytest.fixture
 def standing_person(tmp_path):
     """A scenario file with one person standing at (x, y) from the start (robot at robot_home)."""

@@ -1,5 +1,7 @@
 """The tablet's web app (Starlette): the page, its static files, pictures, and one WebSocket per
-open page that pushes every new screen and carries the presses back.
+open page that pushes every new screen and carries the presses back. `/hello` tells a page that
+lost the robot whether it is back and would let it in (200), is back with another key (403), or
+is still gone (no answer at all).
 
 Runs on the server's event loop; the robot's thread only touches `ScreenContent`, whose change
 listener wakes the loop through `call_soon_threadsafe` (nothing here can block the tick).
@@ -31,6 +33,12 @@ HEADERS = {
     "X-Content-Type-Options": "nosniff",
 }
 REFUSED_CODE = 4403        # WebSocket close code: wrong token or origin
+PASS_MAX_AGE = 365 * 24 * 3600    # s a paired tablet keeps its pass (the cookie)
+
+
+def pass_cookie(url) -> str:
+    """The pass's cookie name; cookies ignore the port, so two robots on one host keep theirs."""
+    return f"interbot_pass_{url.port or 80}"
 
 
 class Hub:
@@ -63,14 +71,29 @@ class Hub:
 def build_app(content: ScreenContent, guard: Guard) -> Starlette:
     hub = Hub(content)
 
+    def allowed(request) -> bool:
+        return guard.allowed(request.query_params.get("token"),
+                             request.cookies.get(pass_cookie(request.url)))
+
     async def page(request) -> Response:
-        if not guard.token_ok(request.query_params.get("token")):
+        if not allowed(request):
             return PlainTextResponse("403: wrong or missing token; open the URL printed when "
                                      "the robot started\n", status_code=403, headers=HEADERS)
-        return HTMLResponse((STATIC / "index.html").read_text(encoding="utf-8"), headers=HEADERS)
+        response = HTMLResponse((STATIC / "index.html").read_text(encoding="utf-8"),
+                                headers=HEADERS)
+        if guard.tablet_pass is not None:      # pair this tablet: it finds the next run too
+            response.set_cookie(pass_cookie(request.url), guard.tablet_pass,
+                                max_age=PASS_MAX_AGE, httponly=True, samesite="strict")
+        return response
+
+    async def hello(request) -> Response:
+        if not allowed(request):
+            return PlainTextResponse("403: this robot does not know this tablet\n",
+                                     status_code=403, headers=HEADERS)
+        return Response(status_code=204, headers=HEADERS)
 
     async def picture(request) -> Response:
-        if not guard.token_ok(request.query_params.get("token")):
+        if not allowed(request):
             return PlainTextResponse("403: wrong or missing token\n", status_code=403)
         path = content.picture_path(request.path_params["number"])
         if path is None or not path.is_file():
@@ -79,7 +102,8 @@ def build_app(content: ScreenContent, guard: Guard) -> Starlette:
 
     async def socket(websocket: WebSocket) -> None:
         reason = guard.why_refused(websocket.query_params.get("token"),
-                                   websocket.headers.get("origin"), websocket.headers.get("host"))
+                                   websocket.headers.get("origin"), websocket.headers.get("host"),
+                                   websocket.cookies.get(pass_cookie(websocket.url)))
         if reason is not None:
             log.warning("tablet: refused a connection: %s", reason)
             await websocket.close(code=REFUSED_CODE, reason=reason[:120])
@@ -109,6 +133,7 @@ def build_app(content: ScreenContent, guard: Guard) -> Starlette:
 
     app = Starlette(routes=[
         Route("/", page),
+        Route("/hello", hello),
         Route("/favicon.ico", no_icon),
         Route("/picture/{number:int}", picture),
         WebSocketRoute("/ws", socket),
@@ -144,9 +169,11 @@ def _handle(content: ScreenContent, message: str) -> dict:
     if not isinstance(data, dict) or data.get("type") != "press":
         return {"type": "refused", "reason": "unknown message (expected a press)"}
     prompt, value = data.get("prompt"), data.get("value")
-    if not isinstance(prompt, str) or not isinstance(value, str):
+    page, name = data.get("page", ""), data.get("name", "")
+    if not all(isinstance(field, str) for field in (prompt, value, page, name)):
         return {"type": "refused", "reason": "a press needs a prompt and a value (strings)"}
-    reason = content.press(prompt, value)
+    reason = content.press(prompt, value, page, name)
     if reason is not None:
-        return {"type": "refused", "reason": reason, "prompt": prompt}
+        return {"type": "refused", "reason": reason, "prompt": prompt,
+                "answered": content.answered(prompt)}
     return {"type": "accepted", "prompt": prompt, "value": value}

@@ -1,10 +1,14 @@
 """`WebTouchScreen`: the TouchScreen device whose glass is any browser that opens its URL."""
 from __future__ import annotations
 
+import ipaddress
+from pathlib import Path
+
 from robots.devices import TouchScreen
 from robots.exceptions import RobotError
 from robots.tablet.app import build_app
 from robots.tablet.guard import Guard, new_token
+from robots.tablet.pairing import load_secret
 from robots.tablet.screen import ScreenContent
 from robots.tablet.server import TabletServer
 
@@ -26,18 +30,46 @@ def parse_address(address: str) -> tuple[str, int]:
     return host, number
 
 
+def is_local(host: str) -> bool:
+    """Whether only this computer can reach `host` (a loopback address or `localhost`)."""
+    if host.lower() == "localhost":
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False        # a host name: it may be reached from the network
+
+
 class WebTouchScreen(TouchScreen):
     """Shows prompts on every open tablet page; presses from any of them are queued (thread-safe)
-    for `take_press`."""
+    for `take_press`.
+
+    `secret_file` holds the pairing secret (robots.tablet.pairing): with it, a tablet that opened
+    the page once finds the robot again after a restart, though the token is new. `notes` says,
+    one line each, what the person starting the robot should know (a page open to the network,
+    pairing that could not be set up)."""
 
     source = "touch"
 
-    def __init__(self, host: str = DEFAULT_HOST, port: int = 0, token: str | None = None) -> None:
+    def __init__(self, host: str = DEFAULT_HOST, port: int = 0, token: str | None = None,
+                 secret_file: str | Path | None = None) -> None:
+        self.notes: list[str] = []
+        secret = None
+        if secret_file is not None:
+            try:
+                secret = load_secret(secret_file)
+            except (OSError, ValueError) as exc:
+                self.notes.append(f"tablets cannot be paired (after a restart, open the new "
+                                  f"URL on each): {exc}")
         self.content = ScreenContent()
-        self.guard = Guard(token or new_token())
+        self.guard = Guard(token or new_token(), secret)
         self.app = build_app(self.content, self.guard)
         self.server = TabletServer(self.app, host, port)
         self.server.start()
+        if not is_local(self.server.host):
+            self.notes.insert(0, f"warning: the tablet page listens on {self.server.host}:"
+                                 f"{self.server.port}, open to the network: anyone who can read "
+                                 f"its plain HTTP can take the token; use the robot's own network")
 
     @property
     def url(self) -> str:

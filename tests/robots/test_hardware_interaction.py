@@ -49,3 +49,22 @@ def test_listening_without_a_microphone_is_a_note_not_a_crash(monkeypatch):
         assert any("no microphone" in note for note in hardware.notes)
     finally:
         hardware.close()
+
+
+def test_a_page_open_to_the_network_is_one_warning_at_start_and_tablets_are_paired(
+        tmp_path, monkeypatch):
+    monkeypatch.setenv("INTERBOT_TABLET_SECRET", str(tmp_path / "tablet-secret"))
+    hardware = open_hardware("horos", fast=True, gui="0.0.0.0:0")
+    try:
+        warnings = [note for note in hardware.notes if "tablet page" in note]
+        assert len(warnings) == 1 and "\n" not in warnings[0]
+        assert warnings[0].startswith("warning: the tablet page listens on 0.0.0.0:")
+        assert hardware.screen.screens[1].guard.tablet_pass is not None
+        assert (tmp_path / "tablet-secret").stat().st_size == 32
+    finally:
+        hardware.close()
+    local = open_hardware("horos", fast=True, gui="127.0.0.1:0")
+    try:
+        assert not any("tablet page" in note for note in local.notes)
+    finally:
+        local.close()

@@ -13,6 +13,8 @@ import websockets
 
 from robots.exceptions import RobotError
 from robots.tablet import WebTouchScreen, parse_address
+from robots.tablet.device import is_local
+from robots.tablet.pairing import default_secret_file, load_secret
 from robots.tablet.screen import ScreenContent
 
 
@@ -37,6 +39,19 @@ async def next_screen(ws) -> dict:
         message = json.loads(await asyncio.wait_for(ws.recv(), 10))
         if message["type"] == "screen":
             return message["screen"]
+
+
+async def next_reply(ws) -> dict:
+    """The next message that is not a screen (the reply to what the page sent)."""
+    while True:
+        message = json.loads(await asyncio.wait_for(ws.recv(), 10))
+        if message["type"] != "screen":
+            return message
+
+
+async def press(ws, prompt: str, value: str, page: str = "") -> dict:
+    await ws.send(json.dumps({"type": "press", "prompt": prompt, "value": value, "page": page}))
+    return await next_reply(ws)
 
 
 def test_the_page_needs_the_token(tablet):
@@ -92,14 +107,11 @@ def test_presses_for_the_shown_question_are_queued_others_refused(tablet):
         async with websockets.connect(socket_url(tablet), origin=origin(tablet)) as ws:
             await next_screen(ws)
             for prompt, value in (("q1", "maybe"), ("q0", "yes"), ("q1", "no")):
-                await ws.send(json.dumps({"type": "press", "prompt": prompt, "value": value}))
-                while (reply := json.loads(await ws.recv()))["type"] == "screen":
-                    pass
-                replies.append(reply["type"])
+                replies.append((await press(ws, prompt, value))["type"])
             await ws.send("not json")
-            replies.append(json.loads(await ws.recv())["type"])
+            replies.append((await next_reply(ws))["type"])
             await ws.send(b"\x00\x01")
-            replies.append(json.loads(await ws.recv())["type"])
+            replies.append((await next_reply(ws))["type"])
         return replies
 
     assert asyncio.run(presses()) == ["refused", "refused", "accepted", "refused", "refused"]
@@ -128,8 +140,9 @@ def test_typed_answers_are_accepted_only_where_the_question_takes_text():
     content.show("name", "Your name?", ("skip",), typed=False)
     assert "not one of the answers" in content.press("name", "Ada")
     content.show("name", "Your name?", ("skip",), typed=True)
-    assert content.press("name", "  Ada  ") is None
     assert "characters" in content.press("name", "x" * 500)
+    assert "characters" in content.press("name", "   ")
+    assert content.press("name", "  Ada  ") is None
     assert content.take_press() == ("name", "Ada")
 
 
@@ -142,10 +155,12 @@ def test_showing_the_same_screen_again_pushes_nothing():
     assert pushed == [1, 2]
 
 
-def test_presses_from_many_threads_are_all_queued_once():
+def test_of_presses_racing_from_many_threads_exactly_one_counts():
     content = ScreenContent()
     content.show("q", "Pick", tuple(str(i) for i in range(8)), False)
-    threads = [threading.Thread(target=lambda i=i: [content.press("q", str(i)) for _ in range(50)])
+    refusals = []
+    threads = [threading.Thread(target=lambda i=i: refusals.extend(
+                   content.press("q", str(i), f"page{i}") for _ in range(50)))
                for i in range(8)]
     for thread in threads:
         thread.start()
@@ -154,7 +169,26 @@ def test_presses_from_many_threads_are_all_queued_once():
     taken = []
     while (press := content.take_press()) is not None:
         taken.append(press)
-    assert len(taken) == 400 and {v for _, v in taken} == {str(i) for i in range(8)}
+    assert len(taken) == 1 and refusals.count(None) == 1
+    winner = content.snapshot()["answered"]
+    assert taken == [("q", winner["value"])] and winner["by"] == f"page{winner['value']}"
+    assert content.answered("q") == winner
+    assert set(refusals) - {None} == {"that question has already been answered"}
+
+
+def test_the_same_question_shown_again_after_its_answer_is_asked_anew():
+    content = ScreenContent()
+    content.show("more", "Another one?", ("yes", "no"), False)
+    first = content.snapshot()
+    content.show("more", "Another one?", ("yes", "no"), False)   # still waiting: no change
+    assert content.snapshot() == first
+    assert content.press("more", "yes", "a") is None
+    assert content.snapshot()["answered"] == {"value": "yes", "by": "a", "who": ""}
+    content.show("more", "Another one?", ("yes", "no"), False)   # the loop asks again
+    again = content.snapshot()
+    assert "answered" not in again and again["ask"] == first["ask"] + 1
+    assert content.press("more", "no", "b") is None
+    assert [content.take_press(), content.take_press()] == [("more", "yes"), ("more", "no")]
 
 
 def test_addresses():
@@ -169,3 +203,109 @@ def test_addresses():
 def test_a_port_in_use_is_a_clear_error(tablet):
     with pytest.raises(RobotError, match="cannot listen"):
         WebTouchScreen("127.0.0.1", tablet.server.port)
+
+
+def test_two_pages_the_late_one_is_told_who_answered(tablet):
+    tablet.show("q1", "Coffee?", ("yes", "no"))
+
+    async def race():
+        async with websockets.connect(socket_url(tablet), origin=origin(tablet)) as one, \
+                   websockets.connect(socket_url(tablet), origin=origin(tablet)) as two:
+            await next_screen(one), await next_screen(two)
+            await one.send(json.dumps({"type": "press", "prompt": "q1", "value": "yes",
+                                       "page": "tablet-one", "name": "Entrance"}))
+            won = await next_reply(one)
+            seen_by_two = await next_screen(two)        # the answer reaches every page at once
+            lost = await press(two, "q1", "no", "tablet-two")
+            tablet.show("q2", "Tea?", ("yes", "no"))
+            late = await press(two, "q1", "no", "tablet-two")  # after the robot moved on
+            return won, seen_by_two, lost, late
+
+    won, seen_by_two, lost, late = asyncio.run(race())
+    assert won["type"] == "accepted"
+    answer = {"value": "yes", "by": "tablet-one", "who": "Entrance"}
+    assert seen_by_two["answered"] == answer
+    assert lost["type"] == late["type"] == "refused"
+    assert lost["answered"] == late["answered"] == answer
+    assert tablet.take_press() == ("q1", "yes") and tablet.take_press() is None
+
+
+def hello(screen, token: str | None = None, cookie: str | None = None) -> int:
+    request = urllib.request.Request(
+        f"{origin(screen)}/hello?token={token or screen.guard.token}",
+        headers={"Cookie": cookie} if cookie else {})
+    try:
+        with urllib.request.urlopen(request) as response:
+            return response.status
+    except urllib.error.HTTPError as refused:
+        return refused.code
+
+
+def test_a_paired_tablet_is_let_in_by_the_next_run_with_its_new_token(tmp_path):
+    secret = tmp_path / "state" / "tablet-secret"
+    first = WebTouchScreen("127.0.0.1", 0, secret_file=secret)
+    try:
+        with urllib.request.urlopen(first.url) as page:
+            cookie = page.headers["Set-Cookie"]
+        assert "HttpOnly" in cookie and "SameSite=strict" in cookie
+        assert cookie.startswith(f"interbot_pass_{first.server.port}=")
+        port, old_token = first.server.port, first.guard.token
+    finally:
+        first.close()
+    assert secret.stat().st_mode & 0o777 == 0o600
+    pass_cookie = cookie.split(";")[0]
+    again = WebTouchScreen("127.0.0.1", port, secret_file=secret)       # a restart
+    stranger = WebTouchScreen("127.0.0.1", 0, secret_file=tmp_path / "other-secret")
+    try:
+        assert again.guard.token != old_token
+        assert hello(again, token=old_token) == 403                  # the old token alone
+        assert hello(again, token=old_token, cookie=pass_cookie) == 204
+        assert hello(stranger, token="old", cookie=pass_cookie.replace(
+            str(port), str(stranger.server.port))) == 403            # another robot's pass
+
+        async def reconnect():
+            async with websockets.connect(socket_url(again, old_token), origin=origin(again),
+                                          additional_headers={"Cookie": pass_cookie}) as ws:
+                return await next_screen(ws)
+
+        again.show("q1", "Coffee?", ("yes", "no"))
+        assert asyncio.run(reconnect())["prompt"] == "q1"
+    finally:
+        again.close()
+        stranger.close()
+
+
+def test_without_pairing_no_cookie_and_the_token_alone_counts(tablet):
+    with urllib.request.urlopen(tablet.url) as page:
+        assert page.headers["Set-Cookie"] is None
+    assert hello(tablet) == 204 and hello(tablet, token="guess") == 403
+
+
+def test_a_page_open_to_the_network_is_a_one_line_warning(tmp_path):
+    local = WebTouchScreen("127.0.0.1", 0)
+    wide = WebTouchScreen("0.0.0.0", 0)
+    unpaired = WebTouchScreen("127.0.0.1", 0, secret_file=tmp_path)   # a folder: unreadable
+    try:
+        assert local.notes == []
+        assert len(wide.notes) == 1 and "\n" not in wide.notes[0]
+        assert wide.notes[0].startswith("warning: the tablet page listens on 0.0.0.0:")
+        assert len(unpaired.notes) == 1 and "cannot be paired" in unpaired.notes[0]
+    finally:
+        for screen in (local, wide, unpaired):
+            screen.close()
+    assert is_local("127.0.0.1") and is_local("::1") and is_local("localhost")
+    assert not is_local("0.0.0.0") and not is_local("192.168.5.1") and not is_local("robot")
+
+
+def test_the_pairing_secret_is_made_once_and_kept(tmp_path, monkeypatch):
+    monkeypatch.setenv("INTERBOT_TABLET_SECRET", str(tmp_path / "s"))
+    assert default_secret_file() == tmp_path / "s"
+    monkeypatch.delenv("INTERBOT_TABLET_SECRET")
+    monkeypatch.setenv("XDG_STATE_HOME", str(tmp_path / "xdg"))
+    path = default_secret_file()
+    assert path == tmp_path / "xdg" / "interbot" / "tablet-secret"
+    made = load_secret(path)
+    assert len(made) == 32 and load_secret(path) == made
+    path.write_bytes(b"short")
+    with pytest.raises(ValueError, match="at least 16 bytes"):
+        load_secret(path)
