@@ -39,6 +39,7 @@ import serial
 
 from robots.base import Base, BaseState, clamp_velocity
 from robots.exceptions import HandshakeError, LinkError
+from robots.link.arrival import read_arrived
 from robots.link.backoff import Backoff
 from robots.link.lockstep import LockStep
 from robots.link.watchdog import CommandWatchdog
@@ -53,6 +54,7 @@ MISSED_CYCLES = 3          # link down after this many SIP cycles without one
 WATCHDOG = 0.15            # s without a fresh command -> zero (the bound we promise is 0.2 s)
 KEEPALIVE = 0.5            # s, re-send an unchanged fresh command this often (ARIA's figure)
 READ_QUANTUM = 0.02        # s, longest a read blocks (so close() and liveness stay prompt)
+FLOOD_KEEP = 16384         # bytes of one read parsed at most (~300 SIPs): the newest of a flood
 STILL_OPEN, NO_REPLY = "still open", "no reply"
 
 
@@ -71,11 +73,8 @@ class _Port:
             self.lockstep.deliver(2.0)
 
     def read(self, timeout: float) -> bytes:
-        """What is there, or wait up to `timeout` s for at least one byte."""
-        port = self.serial
-        if port.timeout != timeout:       # setting it reconfigures the tty: only on change
-            port.timeout = timeout
-        data = port.read(max(1, port.in_waiting))
+        """All that has arrived, or wait up to `timeout` s for at least one byte."""
+        data = read_arrived(self.serial, timeout)
         if data and self.lockstep is not None:
             self.lockstep.to_host.got(len(data))
         return data
@@ -384,7 +383,7 @@ class P2OSBase(Base):
             self._link_lost(f"port error: {exc}")
             return
         if data:
-            self._decode(data)
+            self._decode(data, self._time())
 
     def _drain(self, deadline: float) -> None:
         """Lock-step: read until everything the emulator wrote has been decoded."""
@@ -396,11 +395,16 @@ class P2OSBase(Base):
             self._read_once(READ_QUANTUM)
             port = self._port
 
-    def _decode(self, data: bytes) -> None:
+    def _decode(self, data: bytes, arrived: float) -> None:
+        """Decode what arrived at `arrived`; in real time only the newest FLOOD_KEEP bytes of
+        a flood (robots.link.arrival), so a SIP's age is the age of its arrival."""
         # the silent-gap rule is about a real line: in lock-step a packet the pty hands over in
         # two pieces on a loaded machine is not a gap (dropping it made runs depend on the load)
-        now = None if self.lockstep is not None else time.monotonic()
-        for packet in self.parser.feed(data, now):
+        if self.lockstep is not None:
+            packets = self.parser.feed(data)
+        else:
+            packets = self.parser.feed_newest(data, FLOOD_KEEP, time.monotonic())
+        for packet in packets:
             if packet.kind in p.SIP_TYPES:
                 try:
                     sip = p.decode_sip(packet)
@@ -408,9 +412,9 @@ class P2OSBase(Base):
                     self.stats["bad_sips"] += 1
                     self.last_error = str(exc)
                     continue
-                self._on_sip(sip)
+                self._on_sip(sip, arrived)
 
-    def _on_sip(self, sip: p.SIP) -> None:
+    def _on_sip(self, sip: p.SIP, arrived: float | None = None) -> None:
         f = self.factors
         x, y, th = self.odometry.update(sip)
         v, w = self.odometry.velocities(sip)
@@ -427,7 +431,7 @@ class P2OSBase(Base):
                 metres = math.inf
             self._sonar[number] = metres
         bumpers = (1 if sip.front_bumpers else 0) | (2 if sip.rear_bumpers else 0)
-        self._last_sip_t = self._time()
+        self._last_sip_t = self._time() if arrived is None else arrived
         self.stats["sips"] += 1
         state = BaseState(
             t=self._now(), x=x, y=y, th=th, v=v, w=w, sonar=tuple(self._sonar), bumpers=bumpers,

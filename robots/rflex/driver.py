@@ -28,6 +28,7 @@ import serial
 from robots.base import Base, BaseState, clamp_velocity
 from robots.exceptions import LinkError, ProfileError, ProtocolError
 from robots.link import Backoff, CommandWatchdog, LockStep
+from robots.link.arrival import read_arrived
 from robots.profile import Limits
 from robots.rflex import protocol as p
 
@@ -36,7 +37,9 @@ ANGLE_CONV = 35343.888        # units/rad, CARMEN b21r+ (Player/ROS: 35000)
 BAUD = 115200
 RESEND_PERIOD = 0.1           # s: both axes at 10 Hz, always
 WATCHDOG_TIMEOUT = 0.15       # s: zero goes out within 200 ms of the last fresh command
-LINK_TIMEOUT = 0.5            # s without a report: link down (five missed 10 Hz reports)
+LINK_TIMEOUT = 0.35           # s without a report: link down (three missed 10 Hz reports and a
+                              # half, as the P2OS driver: silence is noticed within 0.5 s)
+FLOOD_KEEP = 16384            # bytes of one read parsed at most: the newest of a flood
 RESTART_PERIOD = 1.0          # s between start sequences while the controller is silent
 STATUS_EVERY = 50             # resend cycles between SYS_STATUS requests (ROS: "overwhelms")
 FRAME_GAP = 0.001             # s after each frame in real time ("not recognised if too rapid")
@@ -344,12 +347,15 @@ class RFlexBase(Base):
                 self.lockstep.deliver(LOCKSTEP_TIMEOUT)
 
     def _read_available(self) -> bytes:
+        """All that has arrived (in real time waiting up to 20 ms for the first byte)."""
         port = self._port
         if port is None:
             return b""
         try:
+            if self.lockstep is None:
+                return read_arrived(port, 0.02)
             waiting = port.in_waiting
-            return port.read(waiting if waiting else (1 if self.lockstep is None else 0))
+            return port.read(waiting) if waiting else b""
         except (serial.SerialException, OSError, TypeError) as exc:
             raise LinkError(f"rFLEX port {self.url}: read failed: {exc}") from exc
 
@@ -446,19 +452,25 @@ class RFlexBase(Base):
 
     # -- reports --------------------------------------------------------------------------------
     def _handle_bytes(self, data: bytes, wall: float | None = None) -> None:
-        for frame in self.parser.feed(data, wall):
+        """Decode what arrived; in real time (`wall` given) only the newest FLOOD_KEEP bytes of
+        a flood (robots.link.arrival), and every report is stamped with the time it was read,
+        so the newest report's age is the age of its arrival."""
+        arrived = self._now()
+        frames = (self.parser.feed(data) if wall is None else
+                  self.parser.feed_newest(data, FLOOD_KEEP, wall))
+        for frame in frames:
             try:
                 report = p.decode_report(frame)
             except ProtocolError:
                 self._decode_errors += 1
                 continue
-            self._apply_report(report)
+            self._apply_report(report, arrived)
 
-    def _apply_report(self, report) -> None:
+    def _apply_report(self, report, arrived: float | None = None) -> None:
         with self._report_cond:
             if isinstance(report, p.MotorReport):
                 self._motor(report)
-                self._report_t = self._now()
+                self._report_t = self._now() if arrived is None else arrived
                 self._reports += 1
                 self._report_cond.notify_all()
             elif isinstance(report, p.SonarReport):
