@@ -177,7 +177,10 @@ class Localization(Skill):
             reason = self._why_stale(state, now)
             # a laser's episode says so (`device`), so a summary can count each device's
             self._down_device = {"device": "laser"} if reason.startswith("laser") else {}
-            self.events.emit(now, "link", state="down", reason=reason, **self._down_device)
+            # the base's own episode names its controller and port, where the driver says
+            base = {} if self._down_device else {"base": state.extra.get("link_device")}
+            self.events.emit(now, "link", state="down", reason=reason, **self._down_device,
+                             **{k: v for k, v in base.items() if v})
         elif fresh and self._down:
             self._down = False
             self.events.emit(now, "link", state="up", after=round(now - self._down_since, 3),

@@ -56,6 +56,7 @@ KEEPALIVE = 0.5            # s, re-send an unchanged fresh command this often (A
 READ_QUANTUM = 0.02        # s, longest a read blocks (so close() and liveness stay prompt)
 FLOOD_KEEP = 16384         # bytes of one read parsed at most (~300 SIPs): the newest of a flood
 STILL_OPEN, NO_REPLY = "still open", "no reply"
+ESTOP_FLAG = 0x20          # SIP FLAGS bit 5: e-stop (ARIA, later firmware)
 
 
 class _Port:
@@ -133,6 +134,8 @@ class P2OSBase(Base):
         self._last_sip_t = -math.inf
         self._next_attempt = 0.0
         self.last_error = ""
+        self._motors_seen = False                   # motors reported on since this connection
+        self.drive_fault: dict | None = None        # device, code, meaning: latched until close
 
     # -- wiring -------------------------------------------------------------------------------------
     @classmethod
@@ -198,9 +201,11 @@ class P2OSBase(Base):
         mm = _toward_zero_within(v * 1000.0, self.limits.max_speed * 1000.0)
         deg = _toward_zero_within(math.degrees(w), math.degrees(self.limits.max_turn_rate))
         with self._lock:
-            self._cmd = (mm, deg)
             now = self._time()
             self.watchdog.feed(now)
+            if self.drive_fault is not None:
+                return                     # a drive fault holds still until the run ends
+            self._cmd = (mm, deg)
             if not self._link_up:
                 return
             if self._sent != (mm, deg) or now - self._sent_at >= KEEPALIVE:
@@ -287,6 +292,7 @@ class P2OSBase(Base):
             self.odometry = p.Odometry(self.factors)
             self.parser.reset()
             self._cmd = (0, 0)                       # nothing resumes by itself
+            self._motors_seen = False
             self._sent, self._sent_at = (0, 0), self._time()
             self._last_sip_t = self._time()
             self._set_link(True)
@@ -431,22 +437,57 @@ class P2OSBase(Base):
                 metres = math.inf
             self._sonar[number] = metres
         bumpers = (1 if sip.front_bumpers else 0) | (2 if sip.rear_bumpers else 0)
+        self._check_drive(sip)
         self._last_sip_t = self._time() if arrived is None else arrived
         self.stats["sips"] += 1
         state = BaseState(
             t=self._now(), x=x, y=y, th=th, v=v, w=w, sonar=tuple(self._sonar), bumpers=bumpers,
             stalled=sip.left_stall or sip.right_stall, motors_enabled=sip.motors_enabled,
-            battery=sip.battery / 10.0, link_up=True,
+            battery=sip.battery / 10.0, link_up=self.drive_fault is None,
             extra={"front_bumpers": sip.front_bumpers, "rear_bumpers": sip.rear_bumpers,
                    "estop": bool(sip.flags & 0x20), "sips": self.stats["sips"],
                    "subclass": self.factors.subclass,
                    "rejected_packets": self.parser.stats.rejected,
                    "dropped_bytes": self.parser.stats.dropped_bytes,
                    "dropped_readings": self.stats["dropped_readings"],
-                   "dropped_reason": self.dropped_reason})
+                   "dropped_reason": self.dropped_reason,
+                   "link_device": self.link_device, **self._fault_extra()})
         with self._state_cond:
             self._state = state
             self._state_cond.notify_all()
+
+    @property
+    def link_device(self) -> str:
+        """What a link episode is about: the controller and where it is."""
+        return f"P2OS controller on {self.url}"
+
+    def _check_drive(self, sip: p.SIP) -> None:
+        """Motors that go off after they were on (the motor switch, the e-stop, the controller
+        giving up) are a drive fault: stop, hold still, say which and why (issue 24)."""
+        estop = bool(sip.flags & ESTOP_FLAG)
+        if sip.motors_enabled and not estop:
+            self._motors_seen = True
+            return
+        if not self._motors_seen or self.drive_fault is not None:
+            return                         # still starting (ENABLE not yet in force), or known
+        meaning = ("e-stop pressed (SIP FLAGS bit 5)" if estop else
+                   "motors disabled by the controller (SIP FLAGS bit 0 clear: the motor switch, "
+                   "the e-stop or a controller fault)")
+        self.drive_fault = {"device": "P2OS motors", "code": sip.flags, "meaning": meaning}
+        self.last_error = f"{self.url}: drive fault: {meaning}"
+        log.warning("%s", self.last_error)
+        with self._lock:
+            self._cmd = (0, 0)
+            self.watchdog.disarm()
+            if self._link_up:
+                self._send_velocity(0, 0, self._time())
+
+    def _fault_extra(self) -> dict:
+        fault = self.drive_fault
+        if fault is None:
+            return {}
+        return {"fault": f"{fault['device']}: {fault['meaning']}", "fault_device": fault["device"],
+                "fault_code": fault["code"], "fault_meaning": fault["meaning"]}
 
     def _ring_size(self, factors: p.Factors) -> int:
         """How many sonars readings may name: the profile's ring, else the controller's."""
@@ -526,6 +567,7 @@ class P2OSBase(Base):
                 extra = dict(self._state.extra)
                 if not up:
                     extra["link_error"] = why or "link closed"
+                    extra["link_device"] = self.link_device
                 self._state = replace(self._state, link_up=up, t=self._now(),
                                       v=self._state.v if up else 0.0,
                                       w=self._state.w if up else 0.0, extra=extra)

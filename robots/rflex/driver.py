@@ -41,7 +41,9 @@ LINK_TIMEOUT = 0.35           # s without a report: link down (three missed 10 H
                               # half, as the P2OS driver: silence is noticed within 0.5 s)
 FLOOD_KEEP = 16384            # bytes of one read parsed at most: the newest of a flood
 RESTART_PERIOD = 1.0          # s between start sequences while the controller is silent
-STATUS_EVERY = 50             # resend cycles between SYS_STATUS requests (ROS: "overwhelms")
+STATUS_EVERY = 10             # resend cycles between SYS_STATUS requests: once a second, so a
+                              # brake set by itself is a fault within about a second (Player
+                              # asks every cycle; ROS every 100th: "overwhelms the driver")
 FRAME_GAP = 0.001             # s after each frame in real time ("not recognised if too rapid")
 LOCKSTEP_TIMEOUT = 1.0        # s (real) to wait for the emulator's reports in lock-step
 OPTIONS = ("dist_conv", "angle_conv", "baud", "accel")
@@ -102,6 +104,7 @@ class RFlexBase(Base):
         self._panels: dict[int, int] = {}
         self._battery = math.nan
         self._brake = True
+        self.drive_fault: dict | None = None  # device, code, meaning: latched until close
         self._report_t = -math.inf
         self._reports = 0
         self._decode_errors = 0
@@ -173,6 +176,7 @@ class RFlexBase(Base):
         with self._state_lock:
             now = self._now()
             link_up = self._port is not None and now - self._report_t <= LINK_TIMEOUT
+            fault = self.drive_fault or {}
             bumpers = 0
             for address, data in self._panels.items():
                 panel = address - p.BUMPER_FIRST_ADDRESS
@@ -183,23 +187,34 @@ class RFlexBase(Base):
                 x=self._x, y=self._y, th=self._th, v=self._v, w=self._w,
                 sonar=tuple(self._sonar), bumpers=bumpers, stalled=False,
                 motors_enabled=link_up and not self._brake, battery=self._battery,
-                link_up=link_up,
+                link_up=link_up and not fault,
                 extra={"reports": self._reports, "reconnects": self._reconnects,
                        "watchdog_expirations": self.watchdog.expirations,
                        "decode_errors": self._decode_errors,
                        "parser": self.parser.stats, "command": self._cmd,
                        "dropped_readings": self._dropped_readings,
                        "dropped_reason": self._dropped_reason,
-                       "link_error": ("port closed" if self._port is None else
+                       "link_error": (f"{fault['device']}: {fault['meaning']}" if fault else
+                                      "port closed" if self._port is None else
                                       "no report yet" if self._report_t == -math.inf else
-                                      f"no report for {now - self._report_t:.2f} s")})
+                                      f"no report for {now - self._report_t:.2f} s "
+                                      f"(allowed {LINK_TIMEOUT:.2f} s)"),
+                       "link_device": self.link_device,
+                       **({"fault": f"{fault['device']}: {fault['meaning']}",
+                           "fault_device": fault["device"], "fault_code": fault["code"],
+                           "fault_meaning": fault["meaning"]} if fault else {})})
+
+    @property
+    def link_device(self) -> str:
+        """What a link episode is about: the controller and where it is."""
+        return f"rFLEX controller on {self.url}"
 
     def command(self, v: float, w: float) -> None:
         """Clamp (NaN -> 0), remember, and send both axes now; the watchdog is re-armed."""
         if not self._opened or self._closed:
             raise LinkError(f"rflex base on {self.url} is not open; call open() first")
-        if self._port is None:                 # link down: nothing is kept for after the reconnect
-            return
+        if self._port is None or self.drive_fault is not None:
+            return                             # link down or a drive fault: nothing is kept
         v, w = clamp_velocity(v, w, self.limits)
         with self._state_lock:
             self._cmd = (v, w)
@@ -288,12 +303,13 @@ class RFlexBase(Base):
             self._positions = [None, None]
             self._baseline = None
             self._fresh = 0
+        release = [] if self.drive_fault is not None else [p.brake_release()]   # held after a fault
         frames = [p.system_report_request(p.REPORT_PERIOD_US, 3), p.dio_reports_request(p.REPORT_PERIOD_US),
-                  p.set_defaults(), p.brake_release()]
+                  p.set_defaults(), *release]
         frames += self._axis_frames(0.0, 0.0)
         frames += [p.sonar_run(True), p.system_status_request()]
         self._send_frames(frames)
-        self._brake = False
+        self._brake = not release
         self._last_sent = (0.0, 0.0)
         self._next_send = now + RESEND_PERIOD
 
@@ -485,6 +501,8 @@ class RFlexBase(Base):
                 self._panels[report.address] = report.data
             elif isinstance(report, p.SystemStatus):
                 self._battery = report.volts
+                if report.brake and not self._brake:
+                    self._brake_set_by_itself()
                 self._brake = bool(report.brake)
 
     def _motor(self, report: p.MotorReport) -> None:
@@ -509,6 +527,17 @@ class RFlexBase(Base):
             self._y += distance * math.sin(heading)
             self._th = math.atan2(math.sin(self._th + turn), math.cos(self._th + turn))
         self._baseline = current
+
+    def _brake_set_by_itself(self) -> None:
+        """The controller reports its brake set though we released it (the e-stop or the
+        motor power): a drive fault. Zero, hold still, say which and why (issue 24)."""
+        if self.drive_fault is not None:
+            return
+        self.drive_fault = {"device": "rFLEX brake", "code": None,
+                            "meaning": "brake set by the controller after MOT_BRAKE_RELEASE "
+                                       "(SYS_STATUS brake = 1: e-stop or motor power off?)"}
+        self._cmd = (0.0, 0.0)               # (the caller holds the state lock)
+        self.watchdog.disarm()
 
     def _watchdog_expired(self) -> None:
         with self._state_lock:
