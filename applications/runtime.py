@@ -64,8 +64,8 @@ class RunSummary:
         elif kind == "link":
             if event.get("state") == "down":
                 self.link_downs += 1
-                self.base_link_last = ": ".join(str(part) for part in (event.get("base"), event.get("reason"))
-                                                if part)
+                if event.get("base"):           # the driver named its controller and port
+                    self.base_link_last = f"{event['base']}: {event.get('reason', '')}"
             else:
                 self.link_ups += 1
                 self.link_down_seconds += float(event.get("after", 0.0))
@@ -153,6 +153,12 @@ class Run:
             self.summary.fault = robot.fault
             self.summary.wall_seconds = time.perf_counter() - start_wall
         return self.summary
+
+    def record_closing(self) -> None:
+        """After the robot closed: what its closing found (a link that had just gone down, a
+        stop it could not send) goes into the trace and the summary like any event."""
+        for event in self.robot.events():
+            self._emit(event)
 
     def _loop(self, machine: StateMachine, t0: float) -> None:
         robot = self.robot

@@ -135,6 +135,8 @@ class P2OSBase(Base):
         self._next_attempt = 0.0
         self.last_error = ""
         self._motors_seen = False                   # motors reported on since this connection
+        self._opened_once = False                   # open() succeeded (so close() has a robot)
+        self.closing_note = ""                      # a stop that closing could not deliver
         self.drive_fault: dict | None = None        # device, code, meaning: latched until close
 
     # -- wiring -------------------------------------------------------------------------------------
@@ -186,6 +188,7 @@ class P2OSBase(Base):
     def open(self) -> None:
         self._closing.clear()
         self._connect()
+        self._opened_once = True
         self._last_sip_t = self._time()
         if not self.simulated:
             self._wait_first_sip()
@@ -231,8 +234,13 @@ class P2OSBase(Base):
                 try:
                     self._port.write(p.vel(0) + p.rvel(0))
                     self._port.write(p.close())
-                except Exception:
-                    pass
+                except Exception as exc:
+                    self.closing_note = (f"the stop and CLOSE could not be sent ({exc}); the "
+                                         f"controller's own watchdog stops the robot")
+            elif self._opened_once:
+                why = self._state.extra.get("link_error") or "the link was down"
+                self.closing_note = (f"no stop could be sent, the link was down ({why}); the "
+                                     f"controller's own watchdog stops the robot")
             self._drop_port()
             self._set_link(False)
         if self.emulator is not None:

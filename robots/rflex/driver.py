@@ -105,6 +105,7 @@ class RFlexBase(Base):
         self._battery = math.nan
         self._brake = True
         self.drive_fault: dict | None = None  # device, code, meaning: latched until close
+        self.closing_note = ""                # a stop that closing could not deliver
         self._report_t = -math.inf
         self._reports = 0
         self._decode_errors = 0
@@ -213,7 +214,8 @@ class RFlexBase(Base):
         """Clamp (NaN -> 0), remember, and send both axes now; the watchdog is re-armed."""
         if not self._opened or self._closed:
             raise LinkError(f"rflex base on {self.url} is not open; call open() first")
-        if self._port is None or self.drive_fault is not None:
+        if (self._port is None or self.drive_fault is not None
+                or self._now() - self._report_t > LINK_TIMEOUT):
             return                             # link down or a drive fault: nothing is kept
         v, w = clamp_velocity(v, w, self.limits)
         with self._state_lock:
@@ -237,14 +239,23 @@ class RFlexBase(Base):
         self.watchdog.stop()
         if self._thread is not None and self._thread is not threading.current_thread():
             self._thread.join(timeout=2.0)
+        silent = self._now() - self._report_t
         if self._port is not None:
             with self._state_lock:
                 self._cmd = (0.0, 0.0)
             try:
                 self._send_frames(self._axis_frames(0.0, 0.0) + self._stop_frames())
-            except LinkError:
-                pass
+                if self._opened and silent > LINK_TIMEOUT:
+                    self.closing_note = (f"the stop went out to a controller silent for "
+                                         f"{silent:.2f} s; it may not have arrived (the "
+                                         f"controller's failsafe stops the robot)")
+            except LinkError as exc:
+                self.closing_note = (f"the stop could not be sent ({exc}); the controller's "
+                                     f"failsafe stops the robot")
             self._drop_port()
+        elif self._opened:
+            self.closing_note = ("no stop could be sent, the port was closed (link down); the "
+                                 "controller's failsafe stops the robot")
         if self._emulator is not None:
             self._emulator.close()
 

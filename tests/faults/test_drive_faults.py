@@ -99,3 +99,22 @@ def test_rflex_silence_is_a_link_episode_naming_the_controller(rflex_tcp, start_
     moves = [(e["from"], e["to"]) for e in finished.trace if e["kind"] == "transition"]
     assert ("Wait", "Halted") in moves and ("Halted", "Wait") in moves      # and back
     assert f"last down: rFLEX controller on {url}: base link is down: no report for" in finished.out
+
+
+def test_rflex_silent_just_before_a_signal_is_in_the_trace_and_the_summary(rflex_tcp, start_run_on):
+    import signal
+    emulator, url = rflex_tcp
+    run = start_run_on(url, "perses", duration=60)
+    assert opened(emulator), "interbot never started the rFLEX controller"
+    wait(1.0)
+    emulator.muted = True
+    wait(0.45)
+    run.process.send_signal(signal.SIGTERM)
+    finished = run.finish(timeout=20)
+    assert finished.code == 128 + signal.SIGTERM
+    downs = [e for e in finished.trace if e["kind"] == "link" and e["state"] == "down"]
+    assert downs and all(e["base"] == f"rFLEX controller on {url}" for e in downs), downs
+    assert "no report for" in downs[0]["reason"]
+    assert downs[-1]["reason"].startswith("while closing: the stop went out to a controller "
+                                          "silent for"), downs
+    assert "link to the base: down" in finished.out and "while closing" in finished.out

@@ -166,10 +166,7 @@ def test_a_second_tcp_client_inherits_no_velocity_and_no_released_brake():
     second = None
     try:
         base.open()
-        for _ in range(10):
-            base.command(0.4, 0.0)
-            time.sleep(0.03)
-        assert wait_until(lambda: world.body.v > 0.2)
+        assert wait_until(lambda: base.command(0.4, 0.0) or world.body.v > 0.2, every=0.03)
         assert emulator.controller.brake is False
         base.watchdog.stop()                      # the first client freezes (no stop, no
         base._running = False                     # resend, no reconnect) ...
