@@ -41,9 +41,9 @@ LINK_TIMEOUT = 0.35           # s without a report: link down (three missed 10 H
                               # half, as the P2OS driver: silence is noticed within 0.5 s)
 FLOOD_KEEP = 16384            # bytes of one read parsed at most: the newest of a flood
 RESTART_PERIOD = 1.0          # s between start sequences while the controller is silent
-STATUS_EVERY = 10             # resend cycles between SYS_STATUS requests: once a second, so a
-                              # brake set by itself is a fault within about a second (Player
-                              # asks every cycle; ROS every 100th: "overwhelms the driver")
+STATUS_PERIOD = 1.0           # s between SYS_STATUS requests, driving or not: a brake set by
+                              # itself is a fault within about a second (Player asks every
+                              # cycle; ROS every 100th: "overwhelms the driver")
 FRAME_GAP = 0.001             # s after each frame in real time ("not recognised if too rapid")
 LOCKSTEP_TIMEOUT = 1.0        # s (real) to wait for the emulator's reports in lock-step
 OPTIONS = ("dist_conv", "angle_conv", "baud", "accel")
@@ -94,6 +94,7 @@ class RFlexBase(Base):
         self._next_attempt = 0.0
         self._last_start = -math.inf
         self._cycles = 0
+        self._next_status = 0.0
         # What the reports said.
         self._x, self._y, self._th = (float(c) for c in initial_pose)
         self._v = self._w = 0.0
@@ -214,13 +215,14 @@ class RFlexBase(Base):
         """Clamp (NaN -> 0), remember, and send both axes now; the watchdog is re-armed."""
         if not self._opened or self._closed:
             raise LinkError(f"rflex base on {self.url} is not open; call open() first")
-        if (self._port is None or self.drive_fault is not None
-                or self._now() - self._report_t > LINK_TIMEOUT):
+        if self._port is None or self.drive_fault is not None:
             return                             # link down or a drive fault: nothing is kept
+        self.watchdog.feed()                   # the caller is alive (as P2OS: fed while down)
+        if self._now() - self._report_t > LINK_TIMEOUT:
+            return                             # reports stale: the stale-link stop holds
         v, w = clamp_velocity(v, w, self.limits)
         with self._state_lock:
             self._cmd = (v, w)
-        self.watchdog.feed()
         self._send_axes(force=False)
 
     def stop(self) -> None:
@@ -423,13 +425,25 @@ class RFlexBase(Base):
         """Watchdog (lock-step), the 10 Hz resend, the silent-controller restart."""
         if self.lockstep is not None:
             self.watchdog.check(now)
-        if now - self._report_t > LINK_TIMEOUT and now - self._last_start >= RESTART_PERIOD:
-            self._silent(now)
+        if now - self._report_t > LINK_TIMEOUT:
+            if self._cmd != (0.0, 0.0):
+                self._stale_stop()
+            if now - self._last_start >= RESTART_PERIOD:
+                self._silent(now)
         if now >= self._next_send - 1e-6:
             self._cycles += 1
             self._send_axes()
-            if self._cycles % STATUS_EVERY == 0 and self._port is not None:
-                self._send_frames_safely([p.system_status_request()])
+        if now >= self._next_status and self._port is not None:
+            self._next_status = now + STATUS_PERIOD
+            self._send_frames_safely([p.system_status_request()])
+
+    def _stale_stop(self) -> None:
+        """Reports stopped: zero now, while the line may still carry it (a silent controller
+        would otherwise run on until its failsafe); commands are kept out until reports
+        come again, and nothing resumes by itself."""
+        with self._state_lock:
+            self._cmd = (0.0, 0.0)
+        self._send_axes()
 
     def _send_frames_safely(self, frames: list[p.Frame]) -> None:
         try:
