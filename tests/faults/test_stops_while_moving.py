@@ -130,8 +130,8 @@ def test_p2os_stop_and_close_while_moving(peer, p2os_moving):
     base, commander = p2os_moving
     commander.halt()
     t0 = time.monotonic()
-    base.stop()
-    assert_stopped_in_time("P2OS stop()", t0, wait_for(lambda: p2os_first_zero_after(peer, t0)))
+    base.stop()                         # (within 0.12 s: before the watchdog could stop it)
+    assert_stopped_in_time("P2OS stop()", t0, wait_for(lambda: p2os_first_zero_after(peer, t0), 0.12))
     base.command(SPEED, 0.0)                               # moving again ...
     assert wait_for(lambda: any(r.name == "VEL 300" and r.t > t0 for r in p2os_vel(peer)))
     t1 = time.monotonic()
@@ -216,8 +216,8 @@ def test_rflex_stop_and_close_while_moving(rflex_moving):
     commander.halt()
     base.command(SPEED, 0.0)
     t0 = time.monotonic()
-    base.stop()
-    assert_stopped_in_time("rFLEX stop()", t0, wait_for(lambda: emulator.zero_after(t0)))
+    base.stop()                         # (within 0.12 s: before the watchdog could stop it)
+    assert_stopped_in_time("rFLEX stop()", t0, wait_for(lambda: emulator.zero_after(t0), 0.12))
     base.command(SPEED, 0.0)
     time.sleep(0.05)
     t1 = time.monotonic()
@@ -279,6 +279,17 @@ def test_canopen_a_fault_quick_stops_the_other_drive(canopen_moving, fault):
                                     if at >= t0 and target == 0 and word == 0x0002), None))
     assert_stopped_in_time(f"CANopen {fault}", t0, t_stop)
     assert base.fault is not None
+
+
+def test_canopen_stop_while_moving(canopen_moving):
+    base, emulator, commander = canopen_moving
+    commander.halt()
+    base.command(SPEED, 0.0)
+    t0 = time.monotonic()
+    base.stop()
+    for node in (1, 2):
+        assert_stopped_in_time(f"CANopen stop(), node {node}", t0,
+                               wait_for(lambda: can_zero_after(emulator.drives[node], t0), 0.12))
 
 
 def test_canopen_close_while_moving_quick_stops_both(canopen_moving):
