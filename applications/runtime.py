@@ -49,6 +49,7 @@ class RunSummary:
     device_links: dict[str, list] = field(default_factory=dict)  # device -> [downs, ups, s down]
     ended_by: str | None = None     # why the loop ended early: "SIGTERM", "an error", ...
     device_faults: list[str] = field(default_factory=list)   # `fault` events naming a device
+    base_link_last: str = ""        # the newest base link episode: controller and port, why
 
     def count(self, event: dict[str, Any]) -> None:
         """Keep the link and dropped-reading counters from the events that pass by."""
@@ -63,6 +64,8 @@ class RunSummary:
         elif kind == "link":
             if event.get("state") == "down":
                 self.link_downs += 1
+                if event.get("base"):           # the driver named its controller and port
+                    self.base_link_last = f"{event['base']}: {event.get('reason', '')}"
             else:
                 self.link_ups += 1
                 self.link_down_seconds += float(event.get("after", 0.0))
@@ -84,7 +87,8 @@ class RunSummary:
         if self.link_downs:
             out.append(f"link to the base: down {self.link_downs} time(s), re-connected "
                        f"{self.link_ups} time(s), {self.link_down_seconds:.1f} s down in all"
-                       + ("; down at the end" if self.link_downs > self.link_ups else ""))
+                       + ("; down at the end" if self.link_downs > self.link_ups else "")
+                       + (f"; last down: {self.base_link_last}" if self.base_link_last else ""))
         for device, (downs, ups, seconds) in sorted(self.device_links.items()):
             out.append(f"link to the {device}: down {downs} time(s), re-connected {ups} "
                        f"time(s), {seconds:.1f} s down in all"
@@ -149,6 +153,12 @@ class Run:
             self.summary.fault = robot.fault
             self.summary.wall_seconds = time.perf_counter() - start_wall
         return self.summary
+
+    def record_closing(self) -> None:
+        """After the robot closed: what its closing found (a link that had just gone down, a
+        stop it could not send) goes into the trace and the summary like any event."""
+        for event in self.robot.events():
+            self._emit(event)
 
     def _loop(self, machine: StateMachine, t0: float) -> None:
         robot = self.robot

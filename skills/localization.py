@@ -152,6 +152,26 @@ class Localization(Skill):
         self._link_episode(fresh, state, now)
         self._dropped_readings(state, now)
 
+    def closing(self, now: float) -> None:
+        """Before the base closes: a link that went down since the last tick (just before a
+        signal, say) still gets its `link` event, so the trace and summary have it."""
+        if self._started is None:
+            return
+        state = self.base.read_state()
+        fresh = state.link_up and now - state.t <= self.STALE_AFTER and self._laser_link_up()
+        self._link_episode(fresh, state, now)
+
+    def closed(self, now: float) -> None:
+        """After the base closed: a stop it could not deliver on closing (the link was down
+        or went down) is a `link` event too, not only a line on stderr."""
+        note = getattr(self.base, "closing_note", "")
+        if not note:
+            return
+        state = self.base.read_state()
+        base = state.extra.get("link_device") if state.extra else None
+        self.events.emit(now, "link", state="down", reason=f"while closing: {note}",
+                         **({"base": base} if base else {}))
+
     def _why_lost(self) -> str:
         """The filter's reason, in the words of its three tests (fit, likelihood, spread)."""
         f = self.filter
@@ -177,7 +197,10 @@ class Localization(Skill):
             reason = self._why_stale(state, now)
             # a laser's episode says so (`device`), so a summary can count each device's
             self._down_device = {"device": "laser"} if reason.startswith("laser") else {}
-            self.events.emit(now, "link", state="down", reason=reason, **self._down_device)
+            # the base's own episode names its controller and port, where the driver says
+            base = {} if self._down_device else {"base": state.extra.get("link_device")}
+            self.events.emit(now, "link", state="down", reason=reason, **self._down_device,
+                             **{k: v for k, v in base.items() if v})
         elif fresh and self._down:
             self._down = False
             self.events.emit(now, "link", state="up", after=round(now - self._down_since, 3),

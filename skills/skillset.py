@@ -7,6 +7,8 @@ only with a map.
 """
 from __future__ import annotations
 
+import logging
+
 import math
 from pathlib import Path
 
@@ -203,9 +205,18 @@ class SkillSet:
 
     def close(self) -> None:
         try:
+            self._closing_events(self.localization.closing)     # a link that just went down
             self.hardware.close()
+            self._closing_events(self.localization.closed)      # a stop closing could not send
         finally:
             self.blackboard.clear()
+
+    def _closing_events(self, record) -> None:
+        """Record the closing's link events; never let that keep the base from closing."""
+        try:
+            record(self.now())
+        except Exception as exc:
+            logging.getLogger("interbot.skills").warning("recording the closing failed: %s", exc)
 
 
 def _track(track) -> dict:

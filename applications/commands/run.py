@@ -123,7 +123,8 @@ class RunCommand:
         except BaseException as exc:
             guard.closing()
             return self._end_badly(exc, robot, trace, database, run, watching)
-        problems = close_all(("the robot", robot.close), ("the trace", trace.close),
+        problems = close_all(("the robot", robot.close),
+                             ("the closing's events", run.record_closing), ("the trace", trace.close),
                              ("the answer database", database.close),
                              ("the observers", lambda: watching.close(summary)))
         for line in summary.lines():
@@ -138,6 +139,8 @@ class RunCommand:
     def _end_badly(exc: BaseException, robot, trace, database, run, watching) -> int:
         """Stop and close the robot first, then the records; then the summary and one line."""
         robot_problems = close_all(("the robot", robot and robot.close))
+        if trace is not None and not is_output_failure(exc):
+            close_all(("the closing's events", run and run.record_closing))
         if isinstance(exc, Exception) and not isinstance(exc, _EXPECTED):
             crash = crash_line(exc)
             if trace is not None and not is_output_failure(exc):

@@ -53,6 +53,7 @@ from robots.canopen.stopping import DriveStopping
 from robots.canopen.bus import CandumpLog, Counted, DriverBus, open_bus, parse_port
 from robots.canopen.od import drive_dictionary
 from robots.canopen.wheels import DriveConfig, Odometry
+from robots.link.arrival import StampedArrival
 from robots.link.lockstep import LockStep
 from robots.link.watchdog import CommandWatchdog
 from robots.profile import Limits
@@ -108,7 +109,8 @@ class CanOpenBase(DriveStartUp, DriveStopping, Base):
         self._pending_faults: list[tuple[str, float]] = []
         self._boot_seen: dict[int, float] = {}
         self._boot_cond = threading.Condition()
-        self._heartbeat_t: dict[int, float] = {}
+        self._heartbeat_t: dict[int, float] = {}     # when each drive's newest heartbeat arrived
+        self._stamps = StampedArrival()               # a frame's arrival from its bus stamp
         self._sw = {n: 0 for n in self.nodes}
         self._vel = {n: 0 for n in self.nodes}
         self._pos = {n: 0 for n in self.nodes}
@@ -180,6 +182,13 @@ class CanOpenBase(DriveStartUp, DriveStopping, Base):
     def _time(self) -> float:
         """Watchdog and supervision time: sim time in lock-step, else monotonic."""
         return self.clock.now() if self.simulated else time.monotonic()
+
+    def _arrival(self, timestamp: float) -> float:
+        """Supervision time a received frame arrived: from its bus stamp in real time (a
+        backlog of old frames behind a flood never counts as fresh), now in lock-step."""
+        if self.simulated:
+            return self._time()
+        return self._stamps.arrived(timestamp, time.time(), time.monotonic())
 
     def _who(self, node: int) -> str:
         return f"node {node} ({self.config.wheel_name(node)})"
@@ -499,7 +508,7 @@ class CanOpenBase(DriveStartUp, DriveStopping, Base):
             if self._enabled:
                 self._raise_fault(f"{self._who(node)} rebooted (boot-up frame) during operation")
             return
-        self._heartbeat_t[node] = self._time()
+        self._heartbeat_t[node] = max(self._heartbeat_t.get(node, -math.inf), self._arrival(timestamp))
         if self._enabled and state is not p.NodeState.OPERATIONAL:
             self._raise_fault(f"{self._who(node)} left NMT operational (heartbeat state {state.name})")
 
@@ -564,7 +573,7 @@ class CanOpenBase(DriveStartUp, DriveStopping, Base):
             if first + k < len(ranges):
                 ranges[first + k] = math.inf if mm in (0, 0xFFFF) else mm / 1000.0
         self._sonar = tuple(ranges)
-        self._sonar_t = self._time()
+        self._sonar_t = max(self._sonar_t, self._arrival(timestamp))
 
     def _publish(self) -> None:
         c = self.config

@@ -283,6 +283,24 @@ class ScipParser:
             self._drop(keep, f"{keep} bytes that end no reply")
         return out
 
+    def skip_older(self, data: bytes, keep: int) -> bytes:
+        """The newest `keep` bytes of `data` from the first block boundary in them; the rest
+        and any unfinished block are counted as dropped (an overrun), never parsed."""
+        if len(data) <= keep:
+            return data
+        start = len(data) - keep
+        boundary = data.find(b"\n\n", start)
+        start = len(data) if boundary < 0 else boundary + 2
+        if self._buf:
+            self._drop(len(self._buf), "overrun")
+        self.stats.overruns += 1
+        self.stats.last_error = (f"byte {self._base}: overrun: {start} bytes left out, older "
+                                 f"than the newest {keep} that arrived at once")
+        self.stats.bytes_in += start
+        self.stats.dropped_bytes += start
+        self._base += start
+        return data[start:]
+
     @staticmethod
     def _leading_noise(block: bytes) -> int:
         """Where the block's echo starts: after stray non-printable bytes before it."""

@@ -1,6 +1,7 @@
 """What every serial base driver shares, whatever its protocol.
 
 - `parser`: a byte-fed framed-packet parser base (never blocks, bounded buffer, resync, counters).
+- `arrival`: reading every byte that has arrived in one call; a stamped message's arrival time.
 - `watchdog`: a command watchdog that sends zero on its own when commands stop coming.
 - `backoff`: the reconnect-with-back-off policy.
 - `pty`: a raw-mode pseudo-terminal pair, so firmware emulators speak over a real tty.

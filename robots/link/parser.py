@@ -36,6 +36,7 @@ class ParserStats:
     bad_checksum: int = 0      # frames rejected by their check
     bad_other: int = 0         # frames rejected for a protocol-specific reason
     gaps: int = 0              # unfinished frames dropped after a silent gap on the line
+    overruns: int = 0          # times the driver fell behind and left older bytes out
     last_error: str = ""       # "byte <offset>: <reason>" of the newest drop
 
     @property
@@ -84,6 +85,26 @@ class FramedParser(ABC):
         pos = self._scan(packets)
         self._consume(pos)
         return packets
+
+    def feed_newest(self, data: bytes, keep: int, now: float | None = None) -> list:
+        """Like `feed`, but of more than `keep` bytes that arrived at once only the newest
+        `keep` are parsed (a flood: the robot's present state, not a backlog of the past)."""
+        return self.feed(self.skip_older(data, keep), now)
+
+    def skip_older(self, data: bytes, keep: int) -> bytes:
+        """The newest `keep` bytes of `data`; the older ones and any unfinished frame are
+        counted as dropped (an overrun, with the stream offset), never parsed."""
+        if len(data) <= keep:
+            return data
+        skipped = len(data) - keep
+        self.stats.overruns += 1
+        self._drop_all("")
+        self.stats.last_error = (f"byte {self._base}: overrun: {skipped} bytes left out, "
+                                 f"older than the newest {keep} that arrived at once")
+        self.stats.bytes_in += skipped
+        self._count_drop(skipped)
+        self._base += skipped
+        return data[skipped:]
 
     def _expire_gap(self, now: float) -> None:
         if (self._buf and self.gap_timeout is not None and self._last_time is not None

@@ -21,7 +21,6 @@ can, `_garbage()` (what its parser threw away, for the fault's reason) and `_goo
 from __future__ import annotations
 
 import logging
-import select
 import threading
 import time
 
@@ -30,12 +29,15 @@ import serial
 
 from robots.devices import LaserScan
 from robots.exceptions import LinkError
+from robots.link.arrival import read_arrived
 from robots.link.backoff import Backoff
 from robots.link.lockstep import LockStep
 
 log = logging.getLogger(__name__)
 
 READ_QUANTUM = 0.02        # s, longest a read blocks (so close() and liveness stay prompt)
+FLOOD_KEEP = 1 << 18       # bytes of one read decoded at most (a laser streams ~100 kB/s): the
+                           # newest of a flood, so a reading's age is the age of its arrival
 
 
 class SensorPort:
@@ -77,26 +79,8 @@ class SensorPort:
         return data
 
     def _read(self, timeout: float) -> bytes:
-        port = self.serial
-        sock = getattr(port, "_socket", None)
-        if sock is not None:
-            return self._read_socket(sock, timeout)
-        if port.timeout != timeout:       # setting it reconfigures the tty: only on change
-            port.timeout = timeout
-        return port.read(max(1, port.in_waiting))
-
-    @staticmethod
-    def _read_socket(sock, timeout: float) -> bytes:
-        """pyserial's socket:// reports 1 byte waiting whatever is there, and its read waits
-        out the timeout for more: a 100 kB/s laser stream would fall behind. So read the
-        socket itself (pyserial keeps it in `_socket`)."""
-        ready, _, _ = select.select([sock], [], [], timeout)
-        if not ready:
-            return b""
-        data = sock.recv(65536)
-        if not data:
-            raise serial.SerialException("the other end closed the connection")
-        return data
+        """All that has arrived, on a tty, a pty or a socket (robots.link.arrival)."""
+        return read_arrived(self.serial, timeout)
 
     def discard_input(self) -> None:
         self.serial.reset_input_buffer()
@@ -135,6 +119,7 @@ class StreamingSensor:
         self._closing = threading.Event()
         self._reader: threading.Thread | None = None
         self._last_fresh = -float("inf")      # monotonic time of the newest good reading
+        self._arrived: float | None = None    # when the bytes being decoded were read
         self._connected_at = -float("inf")    # ... and of the newest (re)connection
         self._next_attempt = 0.0
 
@@ -273,12 +258,20 @@ class StreamingSensor:
         except (serial.SerialException, OSError, TypeError, AttributeError) as exc:
             self._link_lost(f"port error (unplugged?): {exc}")
             return
-        if data:
+        if not data:
+            return
+        self._arrived = self._time()
+        parser = getattr(self, "parser", None)
+        if self.lockstep is None and hasattr(parser, "skip_older"):
+            data = parser.skip_older(data, FLOOD_KEEP)
+        try:
             self._feed(data)
+        finally:
+            self._arrived = None
 
     def _fresh(self) -> None:
-        """A protocol decoded one good reading."""
-        self._last_fresh = self._time()
+        """A protocol decoded one good reading (stamped with when its bytes were read)."""
+        self._last_fresh = self._arrived if self._arrived is not None else self._time()
         with self._fresh_cond:
             self.stats["readings"] += 1
             self._fresh_cond.notify_all()

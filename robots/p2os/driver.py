@@ -39,6 +39,7 @@ import serial
 
 from robots.base import Base, BaseState, clamp_velocity
 from robots.exceptions import HandshakeError, LinkError
+from robots.link.arrival import read_arrived
 from robots.link.backoff import Backoff
 from robots.link.lockstep import LockStep
 from robots.link.watchdog import CommandWatchdog
@@ -53,7 +54,9 @@ MISSED_CYCLES = 3          # link down after this many SIP cycles without one
 WATCHDOG = 0.15            # s without a fresh command -> zero (the bound we promise is 0.2 s)
 KEEPALIVE = 0.5            # s, re-send an unchanged fresh command this often (ARIA's figure)
 READ_QUANTUM = 0.02        # s, longest a read blocks (so close() and liveness stay prompt)
+FLOOD_KEEP = 16384         # bytes of one read parsed at most (~300 SIPs): the newest of a flood
 STILL_OPEN, NO_REPLY = "still open", "no reply"
+ESTOP_FLAG = 0x20          # SIP FLAGS bit 5: e-stop (ARIA, later firmware)
 
 
 class _Port:
@@ -71,11 +74,8 @@ class _Port:
             self.lockstep.deliver(2.0)
 
     def read(self, timeout: float) -> bytes:
-        """What is there, or wait up to `timeout` s for at least one byte."""
-        port = self.serial
-        if port.timeout != timeout:       # setting it reconfigures the tty: only on change
-            port.timeout = timeout
-        data = port.read(max(1, port.in_waiting))
+        """All that has arrived, or wait up to `timeout` s for at least one byte."""
+        data = read_arrived(self.serial, timeout)
         if data and self.lockstep is not None:
             self.lockstep.to_host.got(len(data))
         return data
@@ -134,6 +134,10 @@ class P2OSBase(Base):
         self._last_sip_t = -math.inf
         self._next_attempt = 0.0
         self.last_error = ""
+        self._motors_seen = False                   # motors reported on since this connection
+        self._opened_once = False                   # open() succeeded (so close() has a robot)
+        self.closing_note = ""                      # a stop that closing could not deliver
+        self.drive_fault: dict | None = None        # device, code, meaning: latched until close
 
     # -- wiring -------------------------------------------------------------------------------------
     @classmethod
@@ -184,6 +188,7 @@ class P2OSBase(Base):
     def open(self) -> None:
         self._closing.clear()
         self._connect()
+        self._opened_once = True
         self._last_sip_t = self._time()
         if not self.simulated:
             self._wait_first_sip()
@@ -199,9 +204,11 @@ class P2OSBase(Base):
         mm = _toward_zero_within(v * 1000.0, self.limits.max_speed * 1000.0)
         deg = _toward_zero_within(math.degrees(w), math.degrees(self.limits.max_turn_rate))
         with self._lock:
-            self._cmd = (mm, deg)
             now = self._time()
             self.watchdog.feed(now)
+            if self.drive_fault is not None:
+                return                     # a drive fault holds still until the run ends
+            self._cmd = (mm, deg)
             if not self._link_up:
                 return
             if self._sent != (mm, deg) or now - self._sent_at >= KEEPALIVE:
@@ -227,8 +234,13 @@ class P2OSBase(Base):
                 try:
                     self._port.write(p.vel(0) + p.rvel(0))
                     self._port.write(p.close())
-                except Exception:
-                    pass
+                except Exception as exc:
+                    self.closing_note = (f"the stop and CLOSE could not be sent ({exc}); the "
+                                         f"controller's own watchdog stops the robot")
+            elif self._opened_once:
+                why = self._state.extra.get("link_error") or "the link was down"
+                self.closing_note = (f"no stop could be sent, the link was down ({why}); the "
+                                     f"controller's own watchdog stops the robot")
             self._drop_port()
             self._set_link(False)
         if self.emulator is not None:
@@ -288,6 +300,7 @@ class P2OSBase(Base):
             self.odometry = p.Odometry(self.factors)
             self.parser.reset()
             self._cmd = (0, 0)                       # nothing resumes by itself
+            self._motors_seen = False
             self._sent, self._sent_at = (0, 0), self._time()
             self._last_sip_t = self._time()
             self._set_link(True)
@@ -384,7 +397,7 @@ class P2OSBase(Base):
             self._link_lost(f"port error: {exc}")
             return
         if data:
-            self._decode(data)
+            self._decode(data, self._time())
 
     def _drain(self, deadline: float) -> None:
         """Lock-step: read until everything the emulator wrote has been decoded."""
@@ -396,11 +409,16 @@ class P2OSBase(Base):
             self._read_once(READ_QUANTUM)
             port = self._port
 
-    def _decode(self, data: bytes) -> None:
+    def _decode(self, data: bytes, arrived: float) -> None:
+        """Decode what arrived at `arrived`; in real time only the newest FLOOD_KEEP bytes of
+        a flood (robots.link.arrival), so a SIP's age is the age of its arrival."""
         # the silent-gap rule is about a real line: in lock-step a packet the pty hands over in
         # two pieces on a loaded machine is not a gap (dropping it made runs depend on the load)
-        now = None if self.lockstep is not None else time.monotonic()
-        for packet in self.parser.feed(data, now):
+        if self.lockstep is not None:
+            packets = self.parser.feed(data)
+        else:
+            packets = self.parser.feed_newest(data, FLOOD_KEEP, time.monotonic())
+        for packet in packets:
             if packet.kind in p.SIP_TYPES:
                 try:
                     sip = p.decode_sip(packet)
@@ -408,9 +426,9 @@ class P2OSBase(Base):
                     self.stats["bad_sips"] += 1
                     self.last_error = str(exc)
                     continue
-                self._on_sip(sip)
+                self._on_sip(sip, arrived)
 
-    def _on_sip(self, sip: p.SIP) -> None:
+    def _on_sip(self, sip: p.SIP, arrived: float | None = None) -> None:
         f = self.factors
         x, y, th = self.odometry.update(sip)
         v, w = self.odometry.velocities(sip)
@@ -427,22 +445,57 @@ class P2OSBase(Base):
                 metres = math.inf
             self._sonar[number] = metres
         bumpers = (1 if sip.front_bumpers else 0) | (2 if sip.rear_bumpers else 0)
-        self._last_sip_t = self._time()
+        self._check_drive(sip)
+        self._last_sip_t = self._time() if arrived is None else arrived
         self.stats["sips"] += 1
         state = BaseState(
             t=self._now(), x=x, y=y, th=th, v=v, w=w, sonar=tuple(self._sonar), bumpers=bumpers,
             stalled=sip.left_stall or sip.right_stall, motors_enabled=sip.motors_enabled,
-            battery=sip.battery / 10.0, link_up=True,
+            battery=sip.battery / 10.0, link_up=self.drive_fault is None,
             extra={"front_bumpers": sip.front_bumpers, "rear_bumpers": sip.rear_bumpers,
                    "estop": bool(sip.flags & 0x20), "sips": self.stats["sips"],
                    "subclass": self.factors.subclass,
                    "rejected_packets": self.parser.stats.rejected,
                    "dropped_bytes": self.parser.stats.dropped_bytes,
                    "dropped_readings": self.stats["dropped_readings"],
-                   "dropped_reason": self.dropped_reason})
+                   "dropped_reason": self.dropped_reason,
+                   "link_device": self.link_device, **self._fault_extra()})
         with self._state_cond:
             self._state = state
             self._state_cond.notify_all()
+
+    @property
+    def link_device(self) -> str:
+        """What a link episode is about: the controller and where it is."""
+        return f"P2OS controller on {self.url}"
+
+    def _check_drive(self, sip: p.SIP) -> None:
+        """Motors that go off after they were on (the motor switch, the e-stop, the controller
+        giving up) are a drive fault: stop, hold still, say which and why (issue 24)."""
+        estop = bool(sip.flags & ESTOP_FLAG)
+        if sip.motors_enabled and not estop:
+            self._motors_seen = True
+            return
+        if not self._motors_seen or self.drive_fault is not None:
+            return                         # still starting (ENABLE not yet in force), or known
+        meaning = ("e-stop pressed (SIP FLAGS bit 5)" if estop else
+                   "motors disabled by the controller (SIP FLAGS bit 0 clear: the motor switch, "
+                   "the e-stop or a controller fault)")
+        self.drive_fault = {"device": "P2OS motors", "code": sip.flags, "meaning": meaning}
+        self.last_error = f"{self.url}: drive fault: {meaning}"
+        log.warning("%s", self.last_error)
+        with self._lock:
+            self._cmd = (0, 0)
+            self.watchdog.disarm()
+            if self._link_up:
+                self._send_velocity(0, 0, self._time())
+
+    def _fault_extra(self) -> dict:
+        fault = self.drive_fault
+        if fault is None:
+            return {}
+        return {"fault": f"{fault['device']}: {fault['meaning']}", "fault_device": fault["device"],
+                "fault_code": fault["code"], "fault_meaning": fault["meaning"]}
 
     def _ring_size(self, factors: p.Factors) -> int:
         """How many sonars readings may name: the profile's ring, else the controller's."""
@@ -522,6 +575,7 @@ class P2OSBase(Base):
                 extra = dict(self._state.extra)
                 if not up:
                     extra["link_error"] = why or "link closed"
+                    extra["link_device"] = self.link_device
                 self._state = replace(self._state, link_up=up, t=self._now(),
                                       v=self._state.v if up else 0.0,
                                       w=self._state.w if up else 0.0, extra=extra)

@@ -28,6 +28,7 @@ import serial
 from robots.base import Base, BaseState, clamp_velocity
 from robots.exceptions import LinkError, ProfileError, ProtocolError
 from robots.link import Backoff, CommandWatchdog, LockStep
+from robots.link.arrival import read_arrived
 from robots.profile import Limits
 from robots.rflex import protocol as p
 
@@ -36,9 +37,13 @@ ANGLE_CONV = 35343.888        # units/rad, CARMEN b21r+ (Player/ROS: 35000)
 BAUD = 115200
 RESEND_PERIOD = 0.1           # s: both axes at 10 Hz, always
 WATCHDOG_TIMEOUT = 0.15       # s: zero goes out within 200 ms of the last fresh command
-LINK_TIMEOUT = 0.5            # s without a report: link down (five missed 10 Hz reports)
+LINK_TIMEOUT = 0.35           # s without a report: link down (three missed 10 Hz reports and a
+                              # half, as the P2OS driver: silence is noticed within 0.5 s)
+FLOOD_KEEP = 16384            # bytes of one read parsed at most: the newest of a flood
 RESTART_PERIOD = 1.0          # s between start sequences while the controller is silent
-STATUS_EVERY = 50             # resend cycles between SYS_STATUS requests (ROS: "overwhelms")
+STATUS_PERIOD = 1.0           # s between SYS_STATUS requests, driving or not: a brake set by
+                              # itself is a fault within about a second (Player asks every
+                              # cycle; ROS every 100th: "overwhelms the driver")
 FRAME_GAP = 0.001             # s after each frame in real time ("not recognised if too rapid")
 LOCKSTEP_TIMEOUT = 1.0        # s (real) to wait for the emulator's reports in lock-step
 OPTIONS = ("dist_conv", "angle_conv", "baud", "accel")
@@ -89,6 +94,7 @@ class RFlexBase(Base):
         self._next_attempt = 0.0
         self._last_start = -math.inf
         self._cycles = 0
+        self._next_status = 0.0
         # What the reports said.
         self._x, self._y, self._th = (float(c) for c in initial_pose)
         self._v = self._w = 0.0
@@ -99,6 +105,8 @@ class RFlexBase(Base):
         self._panels: dict[int, int] = {}
         self._battery = math.nan
         self._brake = True
+        self.drive_fault: dict | None = None  # device, code, meaning: latched until close
+        self.closing_note = ""                # a stop that closing could not deliver
         self._report_t = -math.inf
         self._reports = 0
         self._decode_errors = 0
@@ -170,6 +178,7 @@ class RFlexBase(Base):
         with self._state_lock:
             now = self._now()
             link_up = self._port is not None and now - self._report_t <= LINK_TIMEOUT
+            fault = self.drive_fault or {}
             bumpers = 0
             for address, data in self._panels.items():
                 panel = address - p.BUMPER_FIRST_ADDRESS
@@ -180,27 +189,40 @@ class RFlexBase(Base):
                 x=self._x, y=self._y, th=self._th, v=self._v, w=self._w,
                 sonar=tuple(self._sonar), bumpers=bumpers, stalled=False,
                 motors_enabled=link_up and not self._brake, battery=self._battery,
-                link_up=link_up,
+                link_up=link_up and not fault,
                 extra={"reports": self._reports, "reconnects": self._reconnects,
                        "watchdog_expirations": self.watchdog.expirations,
                        "decode_errors": self._decode_errors,
                        "parser": self.parser.stats, "command": self._cmd,
                        "dropped_readings": self._dropped_readings,
                        "dropped_reason": self._dropped_reason,
-                       "link_error": ("port closed" if self._port is None else
+                       "link_error": (f"{fault['device']}: {fault['meaning']}" if fault else
+                                      "port closed" if self._port is None else
                                       "no report yet" if self._report_t == -math.inf else
-                                      f"no report for {now - self._report_t:.2f} s")})
+                                      f"no report for {now - self._report_t:.2f} s "
+                                      f"(allowed {LINK_TIMEOUT:.2f} s)"),
+                       "link_device": self.link_device,
+                       **({"fault": f"{fault['device']}: {fault['meaning']}",
+                           "fault_device": fault["device"], "fault_code": fault["code"],
+                           "fault_meaning": fault["meaning"]} if fault else {})})
+
+    @property
+    def link_device(self) -> str:
+        """What a link episode is about: the controller and where it is."""
+        return f"rFLEX controller on {self.url}"
 
     def command(self, v: float, w: float) -> None:
         """Clamp (NaN -> 0), remember, and send both axes now; the watchdog is re-armed."""
         if not self._opened or self._closed:
             raise LinkError(f"rflex base on {self.url} is not open; call open() first")
-        if self._port is None:                 # link down: nothing is kept for after the reconnect
-            return
+        if self._port is None or self.drive_fault is not None:
+            return                             # link down or a drive fault: nothing is kept
+        self.watchdog.feed()                   # the caller is alive (as P2OS: fed while down)
+        if self._now() - self._report_t > LINK_TIMEOUT:
+            return                             # reports stale: the stale-link stop holds
         v, w = clamp_velocity(v, w, self.limits)
         with self._state_lock:
             self._cmd = (v, w)
-        self.watchdog.feed()
         self._send_axes(force=False)
 
     def stop(self) -> None:
@@ -219,14 +241,23 @@ class RFlexBase(Base):
         self.watchdog.stop()
         if self._thread is not None and self._thread is not threading.current_thread():
             self._thread.join(timeout=2.0)
+        silent = self._now() - self._report_t
         if self._port is not None:
             with self._state_lock:
                 self._cmd = (0.0, 0.0)
             try:
                 self._send_frames(self._axis_frames(0.0, 0.0) + self._stop_frames())
-            except LinkError:
-                pass
+                if self._opened and silent > LINK_TIMEOUT:
+                    self.closing_note = (f"the stop went out to a controller silent for "
+                                         f"{silent:.2f} s; it may not have arrived (the "
+                                         f"controller's failsafe stops the robot)")
+            except LinkError as exc:
+                self.closing_note = (f"the stop could not be sent ({exc}); the controller's "
+                                     f"failsafe stops the robot")
             self._drop_port()
+        elif self._opened:
+            self.closing_note = ("no stop could be sent, the port was closed (link down); the "
+                                 "controller's failsafe stops the robot")
         if self._emulator is not None:
             self._emulator.close()
 
@@ -285,12 +316,13 @@ class RFlexBase(Base):
             self._positions = [None, None]
             self._baseline = None
             self._fresh = 0
+        release = [] if self.drive_fault is not None else [p.brake_release()]   # held after a fault
         frames = [p.system_report_request(p.REPORT_PERIOD_US, 3), p.dio_reports_request(p.REPORT_PERIOD_US),
-                  p.set_defaults(), p.brake_release()]
+                  p.set_defaults(), *release]
         frames += self._axis_frames(0.0, 0.0)
         frames += [p.sonar_run(True), p.system_status_request()]
         self._send_frames(frames)
-        self._brake = False
+        self._brake = not release
         self._last_sent = (0.0, 0.0)
         self._next_send = now + RESEND_PERIOD
 
@@ -344,12 +376,15 @@ class RFlexBase(Base):
                 self.lockstep.deliver(LOCKSTEP_TIMEOUT)
 
     def _read_available(self) -> bytes:
+        """All that has arrived (in real time waiting up to 20 ms for the first byte)."""
         port = self._port
         if port is None:
             return b""
         try:
+            if self.lockstep is None:
+                return read_arrived(port, 0.02)
             waiting = port.in_waiting
-            return port.read(waiting if waiting else (1 if self.lockstep is None else 0))
+            return port.read(waiting) if waiting else b""
         except (serial.SerialException, OSError, TypeError) as exc:
             raise LinkError(f"rFLEX port {self.url}: read failed: {exc}") from exc
 
@@ -390,13 +425,25 @@ class RFlexBase(Base):
         """Watchdog (lock-step), the 10 Hz resend, the silent-controller restart."""
         if self.lockstep is not None:
             self.watchdog.check(now)
-        if now - self._report_t > LINK_TIMEOUT and now - self._last_start >= RESTART_PERIOD:
-            self._silent(now)
+        if now - self._report_t > LINK_TIMEOUT:
+            if self._cmd != (0.0, 0.0):
+                self._stale_stop()
+            if now - self._last_start >= RESTART_PERIOD:
+                self._silent(now)
         if now >= self._next_send - 1e-6:
             self._cycles += 1
             self._send_axes()
-            if self._cycles % STATUS_EVERY == 0 and self._port is not None:
-                self._send_frames_safely([p.system_status_request()])
+        if now >= self._next_status and self._port is not None:
+            self._next_status = now + STATUS_PERIOD
+            self._send_frames_safely([p.system_status_request()])
+
+    def _stale_stop(self) -> None:
+        """Reports stopped: zero now, while the line may still carry it (a silent controller
+        would otherwise run on until its failsafe); commands are kept out until reports
+        come again, and nothing resumes by itself."""
+        with self._state_lock:
+            self._cmd = (0.0, 0.0)
+        self._send_axes()
 
     def _send_frames_safely(self, frames: list[p.Frame]) -> None:
         try:
@@ -446,19 +493,25 @@ class RFlexBase(Base):
 
     # -- reports --------------------------------------------------------------------------------
     def _handle_bytes(self, data: bytes, wall: float | None = None) -> None:
-        for frame in self.parser.feed(data, wall):
+        """Decode what arrived; in real time (`wall` given) only the newest FLOOD_KEEP bytes of
+        a flood (robots.link.arrival), and every report is stamped with the time it was read,
+        so the newest report's age is the age of its arrival."""
+        arrived = self._now()
+        frames = (self.parser.feed(data) if wall is None else
+                  self.parser.feed_newest(data, FLOOD_KEEP, wall))
+        for frame in frames:
             try:
                 report = p.decode_report(frame)
             except ProtocolError:
                 self._decode_errors += 1
                 continue
-            self._apply_report(report)
+            self._apply_report(report, arrived)
 
-    def _apply_report(self, report) -> None:
+    def _apply_report(self, report, arrived: float | None = None) -> None:
         with self._report_cond:
             if isinstance(report, p.MotorReport):
                 self._motor(report)
-                self._report_t = self._now()
+                self._report_t = self._now() if arrived is None else arrived
                 self._reports += 1
                 self._report_cond.notify_all()
             elif isinstance(report, p.SonarReport):
@@ -473,6 +526,8 @@ class RFlexBase(Base):
                 self._panels[report.address] = report.data
             elif isinstance(report, p.SystemStatus):
                 self._battery = report.volts
+                if report.brake and not self._brake:
+                    self._brake_set_by_itself()
                 self._brake = bool(report.brake)
 
     def _motor(self, report: p.MotorReport) -> None:
@@ -497,6 +552,17 @@ class RFlexBase(Base):
             self._y += distance * math.sin(heading)
             self._th = math.atan2(math.sin(self._th + turn), math.cos(self._th + turn))
         self._baseline = current
+
+    def _brake_set_by_itself(self) -> None:
+        """The controller reports its brake set though we released it (the e-stop or the
+        motor power): a drive fault. Zero, hold still, say which and why (issue 24)."""
+        if self.drive_fault is not None:
+            return
+        self.drive_fault = {"device": "rFLEX brake", "code": None,
+                            "meaning": "brake set by the controller after MOT_BRAKE_RELEASE "
+                                       "(SYS_STATUS brake = 1: e-stop or motor power off?)"}
+        self._cmd = (0.0, 0.0)               # (the caller holds the state lock)
+        self.watchdog.disarm()
 
     def _watchdog_expired(self) -> None:
         with self._state_lock:

@@ -140,6 +140,17 @@ class RFlexController:
         for axis in self.axes:
             axis.target = 0.0
 
+    def hang_up(self) -> None:
+        """The host went away (a TCP take-over or hang-up): what the driver's own stop sequence
+        leaves (axes at zero, reports and sonar off, brake set), so the next client inherits
+        no velocity and no released brake."""
+        self._stop_axes()
+        self.brake = True
+        self.motor_period, self.axis_mask, self.dio_period = 0.0, 0, 0.0
+        self.sonar_on = False
+        self.last_set_dir = None
+        self._drive()
+
     def _drive(self) -> None:
         """Hand the targets to the body, ramped at min(physical, commanded) acceleration."""
         body = self.world.body
@@ -297,6 +308,10 @@ class RFlexEmulator(EmulatorHost):
     # -- hosting hooks (robots.link.host) -----------------------------------------------------
     def on_connect(self) -> None:
         self.controller.parser.reset()
+
+    def on_hangup(self) -> None:
+        """The client left or another took over: stopped, brake set (robots.link.host)."""
+        self.controller.hang_up()
 
     def receive(self, data: bytes) -> None:
         """Bytes from the driver: apply, answer, then count them as read (lock-step)."""

@@ -28,3 +28,16 @@ def test_a_device_link_event_reads_as_that_device():
     up = describe_event({"t": 4.0, "kind": "link", "device": "head", "state": "up",
                          "after": 1.0}, "horos")
     assert "head link back up after 1.0 s" in up
+
+
+def test_the_base_link_line_names_the_controller_of_the_newest_episode():
+    summary = RunSummary()
+    for event in ({"t": 1.0, "kind": "link", "state": "down", "reason": "no SIP for 0.36 s",
+                   "base": "P2OS controller on socket://127.0.0.1:8101"},
+                  {"t": 2.0, "kind": "link", "state": "up", "after": 1.0},
+                  {"t": 3.0, "kind": "link", "state": "down", "base": "P2OS controller on "
+                   "socket://127.0.0.1:8101", "reason": "while closing: no stop could be sent"}):
+        summary.count(event)
+    assert ("link to the base: down 2 time(s), re-connected 1 time(s), 1.0 s down in all; down "
+            "at the end; last down: P2OS controller on socket://127.0.0.1:8101: while closing: "
+            "no stop could be sent") in summary.lines()

@@ -56,11 +56,12 @@ class Finished:
 class RunningInterbot:
     """`interbot run APP --port URL` as a separate process (signals reach it as they would)."""
 
-    def __init__(self, app: Path, url: str, tmp_path: Path, duration: float) -> None:
+    def __init__(self, app: Path, url: str, tmp_path: Path, duration: float,
+                 robot: str = "horos") -> None:
         self.trace_path = tmp_path / "trace.jsonl"
         env = dict(os.environ, PYTHONPATH=str(REPO))
         self.process = subprocess.Popen(
-            [sys.executable, "-m", "applications.cli", "run", str(app), "--robot", "horos",
+            [sys.executable, "-m", "applications.cli", "run", str(app), "--robot", robot,
              "--port", url, "--duration", str(duration), "--trace", str(self.trace_path),
              "--data", str(tmp_path / "data")],
             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=REPO, env=env)
@@ -87,6 +88,20 @@ def start_run(tmp_path, watch_app):
         run = RunningInterbot(watch_app, peer.url, tmp_path, duration)
         started.append(run)
         assert peer.wait_open(timeout=20), "interbot never opened the scripted robot"
+        return run
+    yield start
+    for run in started:
+        run.kill()
+
+
+@pytest.fixture
+def start_run_on(tmp_path, watch_app):
+    """`interbot run` of the watch application with `robot` on any `url`."""
+    started = []
+
+    def start(url: str, robot: str, duration: float) -> RunningInterbot:
+        run = RunningInterbot(watch_app, url, tmp_path, duration, robot=robot)
+        started.append(run)
         return run
     yield start
     for run in started:

@@ -8,6 +8,7 @@ the client sends with the wall time it arrived. A test then switches its `mode` 
 - "silent": nothing at all (no SIPs, no handshake replies);
 - "garbage": random bytes every cycle instead of SIPs, and no handshake replies;
 - "flood": SIPs back to back as fast as the socket takes them;
+- `burst(n)`: n SIPs in one write (a queue of them), then silence;
 - `close()` drops the current connection (a pulled cable / a crashed MobileSim).
 
 A new connection takes over from the old one, as a serial line answers whoever sends SYNC0.
@@ -62,6 +63,8 @@ class ScriptedPioneer:
         self._conn: socket.socket | None = None
         self._open = False
         self._stage = 0
+        self._flooding = threading.Event()
+        self._flood_ended = 0.0
         self._server = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
         self._server.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
         self._server.bind(("127.0.0.1", 0))
@@ -106,6 +109,24 @@ class ScriptedPioneer:
 
     def wait_open(self, timeout: float = 10.0) -> bool:
         return self.wait_for(lambda: self._open, timeout)
+
+    def burst(self, count: int) -> float:
+        """`count` SIPs in one write, then silence; returns when the write was done."""
+        self.mode = "silent"
+        conn = self._conn
+        if conn is not None:
+            self._send(conn, p.encode_sip(self.sip) * count)
+            self.sips_sent += count
+        return time.monotonic()
+
+    def flood_then_silence(self, seconds: float) -> float:
+        """SIPs back to back for `seconds`, then silence; returns when the last write was done."""
+        self.mode = "flood"
+        time.sleep(seconds)
+        self.mode = "silent"
+        time.sleep(0.05)                # a write the cycle thread had begun ...
+        self._flooding.wait(2.0)        # ... has finished
+        return self._flood_ended
 
     def set_sonar(self, readings) -> None:
         self.sip = replace(self.sip, sonar=tuple(readings))
@@ -189,5 +210,11 @@ class ScriptedPioneer:
                 self._send(conn, bytes(rng.randrange(256) for _ in range(64)))
                 continue
             if self._open:
-                self._send(conn, p.encode_sip(self.sip) * (20 if self.mode == "flood" else 1))
-                self.sips_sent += 1
+                flood = self.mode == "flood"
+                if flood:
+                    self._flooding.clear()
+                self._send(conn, p.encode_sip(self.sip) * (20 if flood else 1))
+                self.sips_sent += 20 if flood else 1
+                if flood:
+                    self._flood_ended = time.monotonic()
+                    self._flooding.set()

@@ -104,3 +104,18 @@ def test_no_gap_rule_without_time():
     parser.feed(b"\xAA\x55\x05ab")
     assert parser.feed(b"cde" + b"\x00") == []       # wrong check: rejected, no packet
     assert parser.stats.bad_checksum == 1
+
+
+def test_a_flood_is_parsed_from_its_newest_bytes_and_the_rest_counted_as_an_overrun():
+    from robots.p2os import protocol as p2
+    sip = p2.encode_sip(p2.SIP(battery=125, flags=0x03))
+    parser = p2.P2OSParser(gap_timeout=None)
+    parser.feed(sip[:5])                                   # an unfinished frame is pending
+    flood = sip * 1000
+    packets = parser.feed_newest(flood, keep=10 * len(sip) + 3)
+    assert len(packets) == 10                              # the newest ten whole SIPs
+    assert parser.stats.overruns == 1
+    assert parser.stats.bytes_in == 5 + len(flood)
+    assert parser.stats.dropped_bytes == 5 + len(flood) - 10 * len(sip)
+    assert "overrun" in parser.stats.last_error and parser.stats.last_error.startswith("byte 5:")
+    assert parser.feed_newest(sip, keep=10 * len(sip)) and parser.stats.overruns == 1

@@ -142,3 +142,18 @@ def test_an_in_process_emulator_on_a_simulated_clock_reads_on_no_thread_of_its_o
     finally:
         hardware.close()
 
+
+
+def test_stamped_arrival_learns_the_stamp_clock_offset_and_ages_a_backlog():
+    from robots.link.arrival import StampedArrival
+    arrival = StampedArrival(drift=0.01)
+    skew = 1000.0                                   # the stamping clock is another machine's
+    assert arrival.arrived(5.0 - skew, wall_now=5.0, now=50.0) == 50.0     # handled at once
+    # a frame stamped 0.8 s before it is handled (it waited behind a flood) arrived 0.8 s ago
+    assert arrival.arrived(5.2 - skew, wall_now=6.0, now=51.0) == pytest.approx(50.2, abs=0.02)
+    assert arrival.arrived(None, wall_now=6.0, now=51.0) == 51.0          # no stamp: now
+    # a clock step backwards is forgotten as the offset creeps up by drift s per s
+    late = [arrival.arrived(10.0 + k - skew - 0.5, wall_now=10.0 + k, now=55.0 + k)
+            for k in range(0, 100, 10)]
+    assert late[0] == pytest.approx(55.0 - 0.5, abs=0.06)
+    assert late[-1] == pytest.approx(145.0, abs=0.01)

@@ -149,3 +149,37 @@ def test_interbot_emulate_rflex_serves_a_driver(capsys):
         stop.set()
         runner.join(timeout=5)
     assert not runner.is_alive()
+
+
+def test_a_second_tcp_client_inherits_no_velocity_and_no_released_brake():
+    """Take-over on TCP: the newest client has the line; the first one's 0.4 m/s and released
+    brake end at once, not when the controller's failsafe runs out."""
+    import socket
+    world = BoxWorld()
+    clock = RealClock()
+    sim = StepSim(world)
+    emulator = RFlexEmulator(world, clock=clock)
+    emulator.attach(sim)
+    host, port = emulator.serve_tcp("127.0.0.1", 0)
+    emulator.start_clock(sim)
+    base = RFlexBase(PERSES.limits, f"socket://{host}:{port}")
+    second = None
+    try:
+        base.open()
+        assert wait_until(lambda: base.command(0.4, 0.0) or world.body.v > 0.2, every=0.03)
+        assert emulator.controller.brake is False
+        base.watchdog.stop()                      # the first client freezes (no stop, no
+        base._running = False                     # resend, no reconnect) ...
+        base._thread.join(timeout=1.0)
+        second = socket.create_connection((host, port))      # ... and another takes over
+        taken_at = time.monotonic()
+        assert wait_until(lambda: emulator.connections == 2, timeout=2.0)
+        assert wait_until(lambda: world.body.cmd_v == 0.0, timeout=0.2)
+        assert emulator.controller.brake is True
+        assert emulator.controller.failsafe_stops == 0          # not the failsafe
+        print(f"stopped {(time.monotonic() - taken_at) * 1000:.0f} ms after the take-over")
+    finally:
+        if second is not None:
+            second.close()
+        base.close()
+        emulator.close()
