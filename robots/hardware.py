@@ -409,7 +409,12 @@ def _open_interaction(hardware: Hardware, interaction: Interaction, wire: bool =
         hardware.screen = MirroredTouchScreen(hardware.screen, page) if hardware.screen else page
     elif interaction.gui is not None:
         hardware.notes.append(f"robot '{profile.name}' has no touch screen: --gui is ignored")
-    if profile.speech:
+    if profile.speech and wire and simulated:
+        from robots.audio.wired import WiredVoice
+        hardware.speaker = WiredVoice.for_world(hardware.speaker, hardware.clock,
+                                                interaction.language, interaction.voice,
+                                                interaction.speech_wav)
+    elif profile.speech:
         hardware.speaker = _speaker(hardware, interaction, simulated)
     if interaction.listen:
         hardware.recognizer = _recognizer(hardware, interaction)

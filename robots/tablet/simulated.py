@@ -37,8 +37,10 @@ class SimulatedTablet:
         self.version = -1                 # the newest screen version received
         self.replies: list[dict] = []     # answers to presses, in order
         try:
+            # entered as a context manager, the form every websockets version since 12 takes
+            # without a deprecation warning; closed in close()
             self.socket = connect(f"ws://{parts.netloc}/ws?{parts.query}", origin=origin,
-                                  open_timeout=timeout)
+                                  open_timeout=timeout).__enter__()
         except Exception as exc:
             raise RobotError(f"the simulated tablet cannot open the page {origin}: {exc}") \
                 from exc
@@ -47,8 +49,8 @@ class SimulatedTablet:
 
     def _read(self) -> None:
         try:
-            for text in self.socket:
-                message = json.loads(text)
+            while True:
+                message = json.loads(self.socket.recv())
                 with self._cond:
                     if message.get("type") == "screen":
                         self._show(message["screen"])
