@@ -390,17 +390,14 @@ def _wire_simulated_devices(hardware: Hardware) -> None:
 
 def _open_interaction(hardware: Hardware, interaction: Interaction, wire: bool = False) -> None:
     """Add the tablet page, real speech and listening to `hardware` as the options ask; with
-    `wire` (simulation) the tablet is the page and a simulated tablet on its WebSocket."""
+    `wire` in simulation the tablet and the voice are on their wires instead."""
     profile, simulated = hardware.profile, hardware.simulation is not None
-    if wire and simulated and profile.touch_screen:
-        from robots.tablet import parse_address
-        from robots.tablet.simulated import WiredTouchScreen
-        host, port = parse_address(interaction.gui) if interaction.gui is not None \
-            else ("127.0.0.1", 0)
-        screen = WiredTouchScreen.for_world(hardware.simulation.world, host, port)
-        hardware.screen = screen
-        hardware.tablet_url = screen.url if interaction.gui is not None else None
-    elif interaction.gui is not None and profile.touch_screen:
+    if wire and simulated:
+        _open_wired_interaction(hardware, interaction)
+        if interaction.listen:
+            hardware.recognizer = _recognizer(hardware, interaction)
+        return
+    if interaction.gui is not None and profile.touch_screen:
         from robots.mirror import MirroredTouchScreen
         from robots.tablet import WebTouchScreen, parse_address
         host, port = parse_address(interaction.gui)
@@ -409,15 +406,32 @@ def _open_interaction(hardware: Hardware, interaction: Interaction, wire: bool =
         hardware.screen = MirroredTouchScreen(hardware.screen, page) if hardware.screen else page
     elif interaction.gui is not None:
         hardware.notes.append(f"robot '{profile.name}' has no touch screen: --gui is ignored")
-    if profile.speech and wire and simulated:
+    if profile.speech:
+        hardware.speaker = _speaker(hardware, interaction, simulated)
+    if interaction.listen:
+        hardware.recognizer = _recognizer(hardware, interaction)
+
+
+def _open_wired_interaction(hardware: Hardware, interaction: Interaction) -> None:
+    """The simulated robot's tablet as the page and a simulated tablet on its WebSocket
+    (robots.tablet.simulated; at --gui's address when given), its voice through espeak-ng
+    into WAV files the world hears (robots.audio.wired)."""
+    profile = hardware.profile
+    if profile.touch_screen:
+        from robots.tablet import parse_address
+        from robots.tablet.simulated import WiredTouchScreen
+        host, port = (parse_address(interaction.gui) if interaction.gui is not None
+                      else ("127.0.0.1", 0))
+        screen = WiredTouchScreen.for_world(hardware.simulation.world, host, port)
+        hardware.screen = screen
+        hardware.tablet_url = screen.url if interaction.gui is not None else None
+    elif interaction.gui is not None:
+        hardware.notes.append(f"robot '{profile.name}' has no touch screen: --gui is ignored")
+    if profile.speech:
         from robots.audio.wired import WiredVoice
         hardware.speaker = WiredVoice.for_world(hardware.speaker, hardware.clock,
                                                 interaction.language, interaction.voice,
                                                 interaction.speech_wav)
-    elif profile.speech:
-        hardware.speaker = _speaker(hardware, interaction, simulated)
-    if interaction.listen:
-        hardware.recognizer = _recognizer(hardware, interaction)
 
 
 def _speaker(hardware: Hardware, interaction: Interaction, simulated: bool) -> Speaker:
