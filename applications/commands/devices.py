@@ -27,8 +27,8 @@ def add_arguments(parser) -> None:
     group.add_argument("--wire", action="store_true",
                        help="simulation only: the laser and the head too go through their "
                             "drivers, wire protocols and emulators (the base always does), "
-                            "and the tablet page through its WebSocket with a simulated "
-                            "tablet")
+                            "the tablet page through its WebSocket to a simulated tablet, "
+                            "and the voice through espeak-ng into WAV files (docs/wire.md)")
 
 
 def options(args) -> dict:
