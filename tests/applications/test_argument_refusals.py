@@ -135,6 +135,8 @@ OTHER_MISTAKES = [
     (["trace", "{badline}"], "file", "broken.jsonl:2"),
     (["trace", "{badline}", "--timeline", "{tmp}/states.gif"], "--timeline", "OUT.svg, OUT.png, OUT.pdf"),
     (["trace", "{badline}", "--path", "{tmp}/missing/path.svg"], "--path", "existing folder"),
+    (["new", "{file}"], "folder", "is a file"),
+    (["new", "{file}/app"], "folder", "cannot be created"),
     (["emulate", "p2os", "--tcp", "{busy}"], "--tcp/--host", "Address already in use"),
     (["emulate", "p2os", "--link", "{tmp}/missing/pty"], "--link", "existing folder"),
     (["emulate", "p2os", "--scenario", "{tmp}/missing.toml"], None, "no such scenario file"),
