@@ -17,8 +17,10 @@ from typing import Any, Callable
 
 def add_arguments(parser, record: bool = True) -> None:
     """The flags of `interbot run` (and, without --record, of `interbot replay`)."""
+    from applications.commands.arguments import output_file
+    from applications.commands.refusals import listen_address
     group = parser.add_argument_group("seeing into the run")
-    group.add_argument("--inspect", metavar="[HOST:]PORT",
+    group.add_argument("--inspect", metavar="[HOST:]PORT", type=listen_address,
                        help="serve the live inspector page on this port (127.0.0.1 unless a "
                             "host is given; 0 picks a free port); the URL with its token is "
                             "printed at start")
@@ -26,10 +28,10 @@ def add_arguments(parser, record: bool = True) -> None:
                        help="redraw a compact view (state, behavior, tree, percepts) in the "
                             "terminal instead of printing events")
     if record:
-        group.add_argument("--record", metavar="FILE.mcap",
+        group.add_argument("--record", metavar="FILE.mcap", type=output_file,
                            help="record every tick's inputs and decisions to this MCAP file "
                                 "(open it with Foxglove; play it with `interbot replay`)")
-    group.add_argument("--foxglove", metavar="[HOST:]PORT",
+    group.add_argument("--foxglove", metavar="[HOST:]PORT", type=listen_address,
                        help="serve the run live to Foxglove or Lichtblick over the Foxglove "
                             "WebSocket protocol (open ws://127.0.0.1:PORT there): the same "
                             "channels as a recording; 127.0.0.1 unless a host is given, 0 "

@@ -37,3 +37,15 @@ def check_robot_devices(robot: str, port: str | None = None) -> list[dict]:
         return check(robot, port)
     except SkillError as exc:
         raise RobotOpenError(str(exc)) from exc
+
+
+def check_device_addresses(robot: str, devices: dict[str, str | None], *, wire: bool = False,
+                           simulated: bool = True) -> None:
+    """Refuse (RobotOpenError, one line) devices' addresses that would not open."""
+    from behaviors.exceptions import RobotOpenError
+    from skills.exceptions import SkillError
+    from skills.skillset import check_device_addresses as check
+    try:
+        check(robot, devices, wire=wire, simulated=simulated)
+    except SkillError as exc:
+        raise RobotOpenError(str(exc)) from exc

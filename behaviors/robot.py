@@ -198,7 +198,8 @@ def open_robot(robot: str | Path, *, port: str | None = None, scenario: str | Pa
                voice: str | None = None, listen: bool = False, replay=None,
                map: str | Path | None = None,
                initial_pose: tuple[float, float, float] | None = None,
-               reset_faults: bool = False) -> Robot:
+               reset_faults: bool = False, devices: dict[str, str | None] | None = None,
+               wire: bool = False) -> Robot:
     """Open `robot` with its skills and hardware (simulated unless `port`). `map` (a bundled
     floor name, a floor .toml or a map_server .yaml) replaces the simulated floor's map for
     localization and navigation, or gives a real base one; `initial_pose` (x m, y m, heading
@@ -208,11 +209,14 @@ def open_robot(robot: str | Path, *, port: str | None = None, scenario: str | Pa
     `replay` plays a recording instead of hardware: an object with `devices` (the recorded
     robot's devices) iterating over the recorded hardware inputs, tick by tick (see
     `robots.replay`). `reset_faults` clears a drive fault found at start-up, where the base
-    has such a reset (refused where it has not)."""
+    has such a reset (refused where it has not). `devices` names devices' addresses over the
+    profile's ({"laser": ..., "head": ..., "camera": ...}); `wire` puts the simulated robot's
+    devices on their wires (see `robots.addresses`)."""
     try:
         return Robot(open_skills(robot, port=port, scenario=scenario, fast=fast, seed=seed,
                                  gui=gui, speech_wav=speech_wav, language=language, voice=voice,
                                  listen=listen, replay=replay, map=map,
-                                 initial_pose=initial_pose, reset_faults=reset_faults))
+                                 initial_pose=initial_pose, reset_faults=reset_faults,
+                                 devices=devices, wire=wire))
     except SkillError as exc:
         raise RobotOpenError(str(exc)) from exc

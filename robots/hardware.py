@@ -228,7 +228,8 @@ def open_hardware(robot: str | Path, *, port: str | None = None, scenario: str |
                   floor: str | Path | None = None, gui: str | None = None,
                   speech_wav: str | Path | None = None, language: str = "en",
                   voice: str | None = None, listen: bool = False,
-                  replay=None, reset_faults: bool = False) -> Hardware:
+                  replay=None, reset_faults: bool = False,
+                  devices: dict[str, str | None] | None = None, wire: bool = False) -> Hardware:
     """Open `robot` (a profile name or path). `port` drives a real base; otherwise simulate.
 
     `emulate=False` forces the in-process simulated base even where an emulator exists;
@@ -238,8 +239,11 @@ def open_hardware(robot: str | Path, *, port: str | None = None, scenario: str |
     robot's devices, and iterating over tap logs) opens a robot that plays a recording instead
     (`robots.replay`). `reset_faults` clears a drive fault at start-up, for a base that offers
     it (its `PROFILE_OPTIONS` has `reset_faults`); refused, before anything opens, for others.
+    `devices` names devices' addresses over the profile's ({"laser": "lms200:/dev/ttyUSB0"},
+    robots.addresses); `wire` puts the simulated robot's laser and head on their wires too.
     """
-    profile = load_profile(robot)
+    profile = _with_addresses(load_profile(robot), devices, wire,
+                              simulated=port is None and replay is None)
     if reset_faults:
         profile = _with_fault_reset(profile)
     if replay is not None:
@@ -252,11 +256,31 @@ def open_hardware(robot: str | Path, *, port: str | None = None, scenario: str |
     else:
         hardware = _open_simulated(profile, clock, scenario, seed, emulate, floor)
     try:
-        _open_interaction(hardware, interaction)
+        _open_interaction(hardware, interaction, wire=wire)
     except BaseException:
         hardware.close()
         raise
     return hardware
+
+
+def _with_addresses(profile: RobotProfile, devices, wire: bool, simulated: bool) -> RobotProfile:
+    """The profile with the devices' addresses of the command line (robots.addresses)."""
+    if not devices and not wire:
+        return profile
+    from robots.addresses import wired_addresses, with_addresses
+    if wire:
+        if not simulated:
+            raise RobotError("--wire puts the simulated robot's devices on their wires; a real "
+                             "robot (--port) is on its wires already: name its devices' "
+                             "addresses with --laser, --head, --camera")
+        profile = with_addresses(profile, wired_addresses(profile), simulated=True)
+    return with_addresses(profile, devices or {}, simulated=simulated)
+
+
+def check_addresses(robot: str | Path, devices, wire: bool = False,
+                    simulated: bool = True) -> None:
+    """Refuse (ProfileError) devices' addresses that would not open, before anything is."""
+    _with_addresses(load_profile(robot), devices, wire, simulated)
 
 
 def _with_fault_reset(profile: RobotProfile) -> RobotProfile:
@@ -364,9 +388,15 @@ def _wire_simulated_devices(hardware: Hardware) -> None:
                                 or hardware.people_detector)
 
 
-def _open_interaction(hardware: Hardware, interaction: Interaction) -> None:
-    """Add the tablet page, real speech and listening to `hardware` as the options ask."""
+def _open_interaction(hardware: Hardware, interaction: Interaction, wire: bool = False) -> None:
+    """Add the tablet page, real speech and listening to `hardware` as the options ask; with
+    `wire` in simulation the tablet and the voice are on their wires instead."""
     profile, simulated = hardware.profile, hardware.simulation is not None
+    if wire and simulated:
+        _open_wired_interaction(hardware, interaction)
+        if interaction.listen:
+            hardware.recognizer = _recognizer(hardware, interaction)
+        return
     if interaction.gui is not None and profile.touch_screen:
         from robots.mirror import MirroredTouchScreen
         from robots.tablet import WebTouchScreen, parse_address
@@ -382,6 +412,28 @@ def _open_interaction(hardware: Hardware, interaction: Interaction) -> None:
         hardware.speaker = _speaker(hardware, interaction, simulated)
     if interaction.listen:
         hardware.recognizer = _recognizer(hardware, interaction)
+
+
+def _open_wired_interaction(hardware: Hardware, interaction: Interaction) -> None:
+    """The simulated robot's tablet as the page and a simulated tablet on its WebSocket
+    (robots.tablet.simulated; at --gui's address when given), its voice through espeak-ng
+    into WAV files the world hears (robots.audio.wired)."""
+    profile = hardware.profile
+    if profile.touch_screen:
+        from robots.tablet import parse_address
+        from robots.tablet.simulated import WiredTouchScreen
+        host, port = (parse_address(interaction.gui) if interaction.gui is not None
+                      else ("127.0.0.1", 0))
+        screen = WiredTouchScreen.for_world(hardware.simulation.world, host, port)
+        hardware.screen = screen
+        hardware.tablet_url = screen.url if interaction.gui is not None else None
+    elif interaction.gui is not None:
+        hardware.notes.append(f"robot '{profile.name}' has no touch screen: --gui is ignored")
+    if profile.speech:
+        from robots.audio.wired import WiredVoice
+        hardware.speaker = WiredVoice.for_world(hardware.speaker, hardware.clock,
+                                                interaction.language, interaction.voice,
+                                                interaction.speech_wav)
 
 
 def _speaker(hardware: Hardware, interaction: Interaction, simulated: bool) -> Speaker:

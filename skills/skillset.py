@@ -54,6 +54,17 @@ def robot_capabilities(robot: str) -> frozenset[str]:
         raise SkillError(str(exc)) from exc
 
 
+def check_device_addresses(robot: str | Path, devices: dict[str, str | None], *,
+                           wire: bool = False, simulated: bool = True) -> None:
+    """Refuse devices' addresses given on the command line that would not open (a SkillError
+    saying which and what is allowed), before anything is opened (robots.addresses)."""
+    from robots.hardware import check_addresses
+    try:
+        check_addresses(robot, devices, wire, simulated)
+    except RobotError as exc:
+        raise SkillError(str(exc)) from exc
+
+
 def check_robot_devices(robot: str | Path, port: str | None = None) -> list[dict]:
     """Which of the robot's devices answer (robots.check), as plain data."""
     from robots.check import check_devices
@@ -257,7 +268,8 @@ def open_skills(robot: str | Path, *, port: str | None = None, scenario: str | P
                 initial_pose: tuple[float, float, float] | None = None,
                 gui: str | None = None, speech_wav: str | Path | None = None,
                 language: str = "en", voice: str | None = None,
-                listen: bool = False, replay=None, reset_faults: bool = False) -> SkillSet:
+                listen: bool = False, replay=None, reset_faults: bool = False,
+                devices: dict[str, str | None] | None = None, wire: bool = False) -> SkillSet:
     """Open the robot's hardware (real or simulated) and its skills.
 
     `map`: a bundled floor name, a floor .toml or a map_server .yaml, the map localization and
@@ -280,6 +292,7 @@ def open_skills(robot: str | Path, *, port: str | None = None, scenario: str | P
         hardware = open_hardware(robot, port=port, scenario=scenario, fast=fast, seed=seed,
                                  gui=gui, speech_wav=speech_wav, language=language, voice=voice,
                                  listen=listen, replay=replay, reset_faults=reset_faults,
+                                 devices=devices, wire=wire,
                                  floor=floor)
     except RobotError as exc:
         raise SkillError(str(exc)) from exc

@@ -13,6 +13,7 @@ import os
 from pathlib import Path
 
 SEED_MAX = 2**32 - 1           # numpy's seeds: 0 .. 2^32 - 1
+EXIT_USAGE = 2                 # a mistaken argument (as argparse exits)
 
 
 class UsageError(Exception):

@@ -5,8 +5,9 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from applications.commands import arguments
+from applications.commands import arguments, refusals
 from applications.commands.check import report
+from applications.exceptions import ApplicationError
 from applications.appfolder import inspect_folder
 from applications.graph.loader import GRAPH_FILE, check_application
 from applications.graph.scxml import import_scxml
@@ -18,7 +19,7 @@ class ImportCommand:
     help = "import an SCXML state chart as an application folder (writes APPDIR/graph.xml)"
 
     def add_arguments(self, parser) -> None:
-        parser.add_argument("scxml", help="the .scxml file")
+        parser.add_argument("scxml", type=refusals.scxml_file, help="the .scxml file")
         parser.add_argument("-o", "--output", required=True, metavar="APPDIR",
                             type=arguments.data_folder,
                             help="application folder to write graph.xml into")
@@ -32,7 +33,12 @@ class ImportCommand:
             print(f"interbot: error: {target} exists; use --force to overwrite it",
                   file=sys.stderr)
             return 2
-        application = import_scxml(args.scxml, name=folder.name)
+        try:
+            application = import_scxml(args.scxml, name=folder.name)
+        except ApplicationError as exc:   # not a chart we can read: the argument was mistaken
+            for line in [str(d) for d in exc.diagnostics] or [str(exc)]:
+                print(line, file=sys.stderr)
+            return arguments.EXIT_USAGE
         folder.mkdir(parents=True, exist_ok=True)
         source = Path(args.scxml).name
         target.write_text('<?xml version="1.0" encoding="UTF-8"?>\n' +

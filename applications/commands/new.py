@@ -12,6 +12,8 @@ import re
 import sys
 from pathlib import Path
 
+from applications.commands import arguments
+
 TEMPLATE = Path(__file__).resolve().parent.parent / "template"
 APPLICATION_NAME = re.compile(r'(<application\b[^>]*?\bname=")[^"]*(")')
 
@@ -35,8 +37,8 @@ class NewCommand:
     help = "create a new application folder (graph, dialog, database, a scenario) to start from"
 
     def add_arguments(self, parser) -> None:
-        parser.add_argument("folder", help="the folder to create; its last part names the "
-                                           "application")
+        parser.add_argument("folder", type=arguments.data_folder,
+                            help="the folder to create; its last part names the application")
         parser.add_argument("--robot", default="horos", help="the robot it is written for")
         parser.add_argument("--from", dest="source", metavar="APP",
                             help="copy this application (a bundled one, e.g. guide, or a "

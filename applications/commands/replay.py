@@ -4,6 +4,8 @@ from __future__ import annotations
 import time
 
 from applications import observing
+from applications.commands.arguments import UsageError
+from applications.commands.refusals import positive_speed, recording_file
 from applications.exceptions import ApplicationError
 
 
@@ -13,10 +15,10 @@ class ReplayCommand:
             "where a decision differs")
 
     def add_arguments(self, parser) -> None:
-        parser.add_argument("recording", help="an MCAP file written by `interbot run --record`")
+        parser.add_argument("recording", type=recording_file, help="an MCAP file written by `interbot run --record`")
         parser.add_argument("--app", help="replay this application (a bundled name or a folder) "
                                           "instead of the recorded one, e.g. a changed copy")
-        parser.add_argument("--speed", type=float, default=None,
+        parser.add_argument("--speed", type=positive_speed, default=None,
                             help="robot seconds per wall second (default: as fast as possible; "
                                  "1 with --inspect)")
         parser.add_argument("--all", action="store_true",
@@ -33,14 +35,15 @@ class ReplayCommand:
         from applications.runtime import Run
         from behaviors.robot import open_robot
 
-        if args.speed is not None and not args.speed > 0:
-            raise ApplicationError(f"--speed {args.speed}: give robot seconds per wall second, "
-                                   f"above 0 (e.g. 1 for real time, 4 for four times faster)")
-        recording = open_recording(args.recording)
+        try:
+            recording = open_recording(args.recording)
+        except ApplicationError as exc:     # cut inside its first chunk, unreadable: a mistake
+            raise UsageError(f"argument recording: {exc}") from exc
         meta = recording.meta
         if not meta.get("robot") or "duration" not in meta:
-            raise ApplicationError(f"{recording.path} is an MCAP file but not an interbot "
-                                   f"recording (no 'interbot' metadata with robot and duration)")
+            raise UsageError("argument recording: "
+                             f"{recording.path} is an MCAP file but not an interbot "
+                             f"recording (no 'interbot' metadata with robot and duration)")
         folder = application_folder(recording, args.app)
         robot_name = meta.get("robot")
         app = load_application(folder, robot=robot_name)

@@ -5,7 +5,7 @@ import sys
 from pathlib import Path
 
 from applications import observing
-from applications.commands import arguments
+from applications.commands import arguments, devices, refusals
 from applications.exceptions import (ApplicationError, UnknownScenarioError,
                                      UnsupportedOnRobotError)
 from applications.graph.loader import find_application
@@ -54,6 +54,7 @@ class RunCommand:
                             help="reload the application when its files change")
         parser.add_argument("--quiet", action="store_true", help="print only the summary")
         add_interaction_arguments(parser)
+        devices.add_arguments(parser)         # --laser, --head, --camera, --wire
         # --inspect, --live, --record, --progress: applications.observing
         observing.add_arguments(parser)
 
@@ -79,6 +80,8 @@ class RunCommand:
         loaded = load_folder(folder, robot=args.robot)     # refuses an application with errors
         app, dialog = loaded.app, loaded.dialog
         robot_name = args.robot or app.robot or DEFAULT_ROBOT
+        refusals.refuse_goto_without_a_map(args, loaded, robot_name)
+        devices.refuse_bad_addresses(args, robot_name)
         if is_robot_file(robot_name):               # a profile file: the same file from anywhere
             robot_name = str(Path(robot_name).resolve())
         scenario = None if args.port else resolve_scenario(folder, args.scenario)
@@ -87,7 +90,7 @@ class RunCommand:
             robot = open_robot(robot_name, port=args.port, scenario=scenario, fast=args.fast,
                                seed=args.seed, map=args.map, initial_pose=args.initial_pose,
                                reset_faults=args.reset_faults,
-                               **interaction_options(args))
+                               **interaction_options(args), **devices.options(args))
             announce_interaction(robot)
             needed = {state.behavior for state in app.states.values()}
             needed |= {rule.behavior for rule in dialog.overrides}
@@ -176,11 +179,11 @@ class RunCommand:
 
 # --- the tablet page and speech (issue 12): the options, passed down to open_robot ----------
 def add_interaction_arguments(parser) -> None:
-    parser.add_argument("--gui", metavar="[HOST:]PORT",
+    parser.add_argument("--gui", metavar="[HOST:]PORT", type=refusals.listen_address,
                         help="serve the touch screen as a web page for a tablet (binds 127.0.0.1 "
                              "unless HOST is given; PORT 0 picks a free one; the URL with its "
                              "token is printed at start)")
-    parser.add_argument("--speech-wav", metavar="DIR", type=Path,
+    parser.add_argument("--speech-wav", metavar="DIR", type=refusals.wav_folder,
                         help="write what the robot says to numbered WAV files in DIR instead "
                              "of the sound card")
     parser.add_argument("--language", default="en",

@@ -2,7 +2,9 @@
 pdf); repair a recording cut short."""
 from __future__ import annotations
 
-from pathlib import Path
+from applications.commands.arguments import UsageError
+from applications.exceptions import ApplicationError
+from applications.commands.refusals import picture_file, trace_or_recording
 
 
 class TraceCommand:
@@ -12,11 +14,11 @@ class TraceCommand:
             "pdf)")
 
     def add_arguments(self, parser) -> None:
-        parser.add_argument("file", help="a recording (interbot run --record) or a trace (--trace)")
-        parser.add_argument("--timeline", metavar="OUT.svg|png|pdf", type=Path,
+        parser.add_argument("file", type=trace_or_recording, help="a recording (interbot run --record) or a trace (--trace)")
+        parser.add_argument("--timeline", metavar="OUT.svg|png|pdf", type=picture_file,
                             help="draw the states over robot time to this file, in the format "
                                  "its name asks for")
-        parser.add_argument("--path", metavar="OUT.svg|png|pdf", type=Path,
+        parser.add_argument("--path", metavar="OUT.svg|png|pdf", type=picture_file,
                             help="draw the robot's path with the people's tracks (recordings "
                                  "only) to this file, in the format its name asks for")
         parser.add_argument("--repair", action="store_true",
@@ -31,7 +33,10 @@ class TraceCommand:
             from applications.mcap_repair import repair
 
             print(repair(args.file).line())
-        summary = summarize(args.file)
+        try:
+            summary = summarize(args.file)
+        except ApplicationError as exc:    # not a trace or recording after all: a mistake
+            raise UsageError(f"argument file: {exc}") from exc
         for line in summary.lines():
             print(line)
         if args.timeline:

@@ -80,6 +80,11 @@ class EspeakSpeaker(Speaker):
             self._finished(process)
         return self.clock.now() < self._until
 
+    def busy_rendering(self) -> bool:
+        """While espeak-ng still runs (for WAV output: the WAV is not complete yet)."""
+        process = self._process
+        return process is not None and process.poll() is None
+
     def _finished(self, process: subprocess.Popen) -> None:
         self._process = None
         error = process.stderr.read().decode(errors="replace").strip() if process.stderr else ""

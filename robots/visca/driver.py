@@ -40,6 +40,11 @@ log = logging.getLogger(__name__)
 PERIOD = 0.05            # s between position inquiries
 REPLY_TIMEOUT = 0.3      # s to wait for one reply
 SILENCE = 0.6            # s without a valid reply -> link down
+WRITE_TIMEOUT = 1.0      # s a write may block
+# In lock-step with the simulated world the emulator answers every command before the world
+# steps, so the real-time limits only guard against a deadlock: a machine loaded with other
+# work must not look like a dead link (robot time stands still while the answer is awaited).
+LOCKSTEP_LIMITS = {"reply_timeout": 5.0, "silence": 10.0, "write_timeout": 5.0}
 MAX_ERRORS = 3           # error replies in a row -> link down
 DEADBAND_DEG = 0.5       # a goal closer than this to the one sent is not sent again
 READ_QUANTUM = 0.02      # s, longest a read blocks
@@ -53,7 +58,7 @@ class ViscaHead(PanTiltHead):
     def __init__(self, spec: HeadSpec, url: str, *, model: str = "evi-d31", address: int = 1,
                  baud: int = 9600, reply_timeout: float = REPLY_TIMEOUT, period: float = PERIOD,
                  silence: float = SILENCE, max_errors: int = MAX_ERRORS, reconnect: bool = True,
-                 clock=None) -> None:
+                 clock=None, write_timeout: float = WRITE_TIMEOUT) -> None:
         self.spec = spec
         self.url = url
         self.model = p.model_named(model)
@@ -62,6 +67,7 @@ class ViscaHead(PanTiltHead):
         self.reply_timeout = float(reply_timeout)
         self.period = float(period)
         self.silence = float(silence)
+        self.write_timeout = float(write_timeout)
         self.max_errors = int(max_errors)
         self.reconnect = bool(reconnect)
         self.clock = clock
@@ -100,8 +106,9 @@ class ViscaHead(PanTiltHead):
         from robots.visca.emulator import ViscaEmulator    # the emulator only when simulating
         emulator = ViscaEmulator.for_profile(profile, simulation.world)   # the world's head
         emulator.attach(simulation)
-        head = cls.for_profile(profile, emulator.serve_pty(), clock=clock,
-                               reconnect=not getattr(clock, "simulated", False))
+        lockstep = getattr(clock, "simulated", False)
+        head = cls.for_profile(profile, emulator.serve_pty(), clock=clock, reconnect=not lockstep,
+                               **(LOCKSTEP_LIMITS if lockstep else {}))
         head.emulator = emulator
         return head
 
@@ -179,7 +186,8 @@ class ViscaHead(PanTiltHead):
         self._drop_port()
         try:
             self._port = serial.serial_for_url(self.url, baudrate=self.baud,
-                                               timeout=READ_QUANTUM, write_timeout=1.0)
+                                               timeout=READ_QUANTUM,
+                                               write_timeout=self.write_timeout)
         except (serial.SerialException, OSError, ValueError) as exc:
             raise LinkError(f"{self.url}: cannot open the head's port: {exc}") from exc
         self.parser.reset()

@@ -41,8 +41,10 @@ class AppRuns:
         self.folder = folder
         self.done: dict[tuple, AppRun] = {}
 
-    def run(self, app: str, robot: str, scenario: str, seed: int = 0) -> AppRun:
-        key = (app, robot, scenario, seed)
+    def run(self, app: str, robot: str, scenario: str, seed: int = 0,
+            wire: bool = False) -> AppRun:
+        """`wire`: the whole robot on its wires (`run --wire`): laser, head and tablet too."""
+        key = (app, robot, scenario, seed) + (("wire",) if wire else ())
         if key not in self.done:
             where = self.folder / "-".join(map(str, key))
             trace, data, finished = where / "trace.jsonl", where / "data", where / "code"
@@ -51,7 +53,7 @@ class AppRuns:
                     where.mkdir(parents=True, exist_ok=True)
                     code = main(["run", app, "--robot", robot, "--scenario", scenario,
                                  "--fast", "--seed", str(seed), "--trace", str(trace),
-                                 "--data", str(data), "--quiet"])
+                                 "--data", str(data), "--quiet"] + (["--wire"] if wire else []))
                     finished.write_text(str(code))
             self.done[key] = AppRun(int(finished.read_text()), read_trace(trace), data)
         return self.done[key]

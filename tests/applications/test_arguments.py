@@ -83,7 +83,7 @@ def test_a_mistaken_run_argument_is_one_line_and_exit_2_before_the_robot_opens(
     (["emulate", "p2os", "--seed", "-1"], "--seed", "0 .. 4294967295"),
     (["export", "survey", "-o", "{tmp}/missing/survey.scxml"], "-o/--output", "existing folder"),
     (["show", "survey", "-o", "{tmp}/missing/survey.txt"], "-o/--output", "existing folder"),
-    (["import", "x.scxml", "-o", "{app}/graph.xml"], "-o/--output", "folder"),
+    (["import", "{app}/graph.xml", "-o", "{app}/graph.xml"], "-o/--output", "folder"),
 ])
 def test_other_mistaken_arguments_are_one_line_and_exit_2(tmp_path, pause_app, capsys, argv,
                                                           argument, allowed):

@@ -226,9 +226,11 @@ def test_pictures_are_written_in_the_format_their_name_asks_for(recorded, tmp_pa
     assert (0x1f, 0x77, 0xb4) in colours and (0xff, 0x7f, 0x0e) in colours   # Wait, CreateAttention
     assert route.read_bytes().startswith(b"%PDF-")
     capsys.readouterr()
-    assert main(["trace", str(path), "--timeline", str(tmp_path / "states.gif")]) == 1
-    assert "states.gif: cannot draw a '.gif' file; name it OUT.svg, OUT.png, OUT.pdf" \
-        in capsys.readouterr().err
+    with pytest.raises(SystemExit) as refused:      # a mistaken argument (issue 24): exit 2
+        main(["trace", str(path), "--timeline", str(tmp_path / "states.gif")])
+    assert refused.value.code == 2
+    assert "states.gif: cannot draw a '.gif' file (the format comes from the name); allowed " \
+           "OUT.svg, OUT.png, OUT.pdf" in capsys.readouterr().err
     assert not (tmp_path / "states.gif").exists()
 
 
