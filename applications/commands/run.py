@@ -5,6 +5,7 @@ import sys
 from pathlib import Path
 
 from applications import observing
+from applications.learning import options as learning_options
 from applications.commands import arguments
 from applications.exceptions import (ApplicationError, UnknownScenarioError,
                                      UnsupportedOnRobotError)
@@ -56,6 +57,7 @@ class RunCommand:
         add_interaction_arguments(parser)
         # --inspect, --live, --record, --progress: applications.observing
         observing.add_arguments(parser)
+        learning_options.add_arguments(parser)       # --choose, --learner, --freeze
 
     def run(self, args) -> int:
         with SignalGuard() as guard:
@@ -91,6 +93,7 @@ class RunCommand:
             announce_interaction(robot)
             needed = {state.behavior for state in app.states.values()}
             needed |= {rule.behavior for rule in dialog.overrides}
+            needed |= learning_options.behaviors_of_choices(dialog)
             missing = robot.cannot_run(needed)
             if missing:
                 raise UnsupportedOnRobotError(
@@ -115,9 +118,11 @@ class RunCommand:
                       "initial_pose": (list(args.initial_pose) if args.initial_pose
                                        else None)})
             reload = _watcher(folder, robot_name) if args.watch else None
+            chooser, learning = learning_options.open_chooser(args, dialog, app.name, robot_name,
+                                                              data_dir)
             run = Run(app, robot, dialog=dialog, duration=args.duration, trace=trace,
                       database=database, echo=echo, reload=reload,
-                      observers=watching.observers)
+                      observers=watching.observers, chooser=chooser)
             summary = run.run()
             guard.closing()          # from here on a signal must not interrupt the closing
         except BaseException as exc:
@@ -125,6 +130,7 @@ class RunCommand:
             return self._end_badly(exc, robot, trace, database, run, watching)
         problems = close_all(("the robot", robot.close), ("the trace", trace.close),
                              ("the answer database", database.close),
+                             ("the learner's statistics", learning and learning.close),
                              ("the observers", lambda: watching.close(summary)))
         for line in summary.lines():
             print(line)
