@@ -15,14 +15,19 @@ members of groups) and optionally per period of the day:
     group_share = 0.3           # share of arrivals that are groups (of 2 or 3)
     answers = ["yes", "4", "no"]    # what they press if they take part
     [visitors.people]           # the propensities of people walking alone:
-    voice = [2, 5]              #   Beta(a, b) chance to come closer on each call heard
-    head = [1, 9]               #   ... when the robot's head (or body) turns to them (once)
-    drive = [1, 9]              #   ... when the robot drives towards them (once)
+    voice = [2, 5]              #   Beta(a, b) chance to come closer when called
+    head = [1, 9]               #   ... when the robot's head (or body) turns to them
+    drive = [1, 9]              #   ... when the robot drives towards them
     patience = [20.0, 60.0]     #   s they give the questions, uniform
     [visitors.groups]           # the same for members of groups (default: as people)
     [[visitors.period]]         # from `from` s on, other distributions (a shift, the evening)
     from = 3600.0
     people = { voice = [5, 2] }
+
+A visitor decides once, at the first of these the robot gives them: with their chance for it
+they come closer, else they walk on and pay the robot no more heed (a call they ignored is not
+made up for by a look). Calls count within 7 m, looks and drives within 5 m; a look is the
+gaze (head pan plus heading) resting within 15 degrees of them for a second.
 
 Arrival times, group sizes and patience are drawn when the scenario is read (from
 `visitors.seed`); the propensities are drawn when a person appears, from the person's own
@@ -115,7 +120,6 @@ def visit(person: "SimPerson", step: Visit, dt: float, world: "World") -> bool:
         state["chance"] = _draw(person.rng, step.traits)      # hidden from the robot
         state["heard"] = len(world.utterances)
         state["gazed_since"] = None
-        state["fired"] = set()
     distance = person._distance_to_robot(world)
     if _stimulated(person, state, distance, world):
         return True
@@ -127,14 +131,14 @@ def visit(person: "SimPerson", step: Visit, dt: float, world: "World") -> bool:
 
 
 def _stimulated(person, state: dict, distance: float, world: "World") -> bool:
-    """Each stimulus the robot gives now, tried against the person's chance for it."""
+    """The first stimulus the robot gives decides, with the person's chance for it."""
+    if state.get("decided"):
+        return False
     rng, chance = person.rng, state["chance"]
     said = len(world.utterances) - state["heard"]
     state["heard"] = len(world.utterances)
-    if distance <= HEAR:
-        for _ in range(said):
-            if rng.random() < chance["voice"]:
-                return True
+    if distance <= HEAR and said:
+        return _decide(state, rng, chance["voice"])
     if distance > SEE:
         state["gazed_since"] = None
         return False
@@ -144,18 +148,19 @@ def _stimulated(person, state: dict, distance: float, world: "World") -> bool:
     if abs(math.remainder(gaze - bearing, math.tau)) <= GAZE:
         since = state["gazed_since"] = (state["gazed_since"] if state["gazed_since"] is not None
                                         else world.t)
-        if world.t - since >= GAZE_HELD - 1e-9 and "head" not in state["fired"]:
-            state["fired"].add("head")
-            if rng.random() < chance["head"]:
-                return True
+        if world.t - since >= GAZE_HELD - 1e-9:
+            return _decide(state, rng, chance["head"])
     else:
         state["gazed_since"] = None
     towards = body.v * math.cos(math.remainder(bearing - body.th, math.tau))
-    if towards >= DRIVE_TOWARDS and "drive" not in state["fired"]:
-        state["fired"].add("drive")
-        if rng.random() < chance["drive"]:
-            return True
+    if towards >= DRIVE_TOWARDS:
+        return _decide(state, rng, chance["drive"])
     return False
+
+
+def _decide(state: dict, rng: np.random.Generator, chance: float) -> bool:
+    state["decided"] = True
+    return bool(rng.random() < chance)
 
 
 def _draw(rng: np.random.Generator, traits: Traits) -> dict[str, float]:

@@ -78,22 +78,36 @@ def test_a_visitor_comes_when_called_only_as_likely_as_drawn(voice, comes):
         assert person.gone
 
 
+def looking_at(person):
+    def look(world):
+        world.head_pan = (math.atan2(person.y - world.body.y, person.x - world.body.x)
+                          - world.body.th)
+    return look
+
+
 def test_a_visitor_who_only_answers_looks_comes_when_the_head_turns_to_them():
+    traits = {"voice": NEVER, "head": SURE, "drive": NEVER}
+    world = World(OFFICE, HOROS, scenario(people=traits), seed=3)
+    run(world, 25.0, looking_at(world.people[0]))
+    assert world.people[0].index >= 1 and not world.people[0].gone
+    silent = World(OFFICE, HOROS, scenario(people=traits), seed=3)
+    silent.head_pan = math.pi            # looking the other way
+    run(silent, 25.0)
+    assert silent.people[0].gone
+
+
+def test_the_first_stimulus_decides():
+    """Called first (and ignoring calls), a visitor who would come for a look walks on."""
     world = World(OFFICE, HOROS, scenario(people={"voice": NEVER, "head": SURE,
                                                   "drive": NEVER}), seed=3)
-    person = world.people[0]
+    look = looking_at(world.people[0])
 
-    def look(world):
+    def call_then_look(world):
         calling(world)
-        world.head_pan = math.atan2(person.y - world.body.y, person.x - world.body.x) - world.body.th
+        look(world)
 
-    run(world, 25.0, look)
-    assert person.index >= 1 and not person.gone
-    silent = World(OFFICE, HOROS, scenario(people={"voice": NEVER, "head": SURE,
-                                                   "drive": NEVER}), seed=3)
-    silent.head_pan = math.pi            # looking the other way
-    run(silent, 25.0, calling)
-    assert silent.people[0].gone
+    run(world, 25.0, call_then_look)
+    assert world.people[0].gone and world.people[0].step_state.get("decided")
 
 
 def test_propensities_differ_from_seed_to_seed_and_repeat_for_one():
