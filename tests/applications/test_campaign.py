@@ -1,0 +1,116 @@
+"""Campaigns (issue 27, points 4 and 6): the spec, a small campaign run locally and resumed,
+the same campaign on a local Ray instance giving the same results, and the learner finding the
+best alternative in a short seeded campaign."""
+import sqlite3
+from pathlib import Path
+
+import pytest
+
+from applications.campaign.command import CampaignCommand
+from applications.campaign.spec import load_campaign
+from applications.cli import build_parser
+from applications.exceptions import ApplicationError
+
+ATTRACT = Path(__file__).resolve().parents[2] / "campaigns" / "attract"
+
+# Passers-by every 12-14 s who come when looked at (95 %) and almost never when called (5 %),
+# then walk on at once: many short episodes.
+QUICK = """
+[scenario]
+name = "quick"
+duration = 600.0
+robot = "robot_home"
+
+[visitors]
+count = 60
+first = 8.0
+every = [12.0, 14.0]
+[visitors.people]
+voice = [1, 19]
+head = [19, 1]
+drive = [1, 19]
+patience = [0.0, 0.0]
+"""
+
+
+def spec(tmp_path, seeds="2", choose='["learn"]', duration=40.0, extra="") -> Path:
+    (tmp_path / "quick.toml").write_text(QUICK)
+    path = tmp_path / "spec.toml"
+    path.write_text(f'[campaign]\nname = "t"\napp = "{ATTRACT / "app"}"\n'
+                    f'scenarios = ["quick.toml"]\nseeds = {seeds}\nduration = {duration}\n'
+                    f'workers = 2\n{extra}\n[learner]\nchoose = {choose}\n')
+    return path
+
+
+def campaign(*argv) -> int:
+    args = build_parser({"campaign": CampaignCommand()}).parse_args(["campaign", *map(str, argv)])
+    return args.handler.run(args)
+
+
+def table(path: Path):
+    db = sqlite3.connect(path)
+    try:
+        return (db.execute("SELECT key, exit_code, episodes, successes, surveys, answers, "
+                           "robot_seconds FROM runs ORDER BY key").fetchall(),
+                db.execute("SELECT * FROM episodes ORDER BY key, n").fetchall())
+    finally:
+        db.close()
+
+
+def test_the_grid_of_a_spec(tmp_path):
+    found = load_campaign(spec(tmp_path, seeds="[3, 5]", choose='["learn", "first", "random"]'))
+    assert len(found.runs) == 6 and {r.seed for r in found.runs} == {3, 5}
+    assert len({r.key for r in found.runs}) == 6
+    argv = found.runs[0].argv(tmp_path / "r")
+    assert argv[:3] == ["run", str(ATTRACT / "app"), "--fast"] and "--choose" in argv
+    bad = spec(tmp_path, choose='["best"]')
+    with pytest.raises(ApplicationError, match=r"spec.toml: learner.choose: 'best' is not one of"):
+        load_campaign(bad)
+    bad.write_text(bad.read_text().replace("seeds = 2", "seeds = 0"))
+    with pytest.raises(ApplicationError, match=r"campaign.seeds: = 0 must be a count"):
+        load_campaign(bad)
+
+
+@pytest.fixture(scope="module")
+def local_results(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("campaign")
+    path = spec(folder)
+    assert campaign(path, "--out", folder / "local") == 0
+    return path, folder / "local"
+
+
+def test_a_small_campaign_runs_locally_keeps_each_run_and_resumes(local_results, capsys):
+    path, out = local_results
+    runs, episodes = table(out / "results.sqlite")
+    assert [r[1] for r in runs] == [0, 0] and all(r[2] >= 1 for r in runs)
+    assert len(episodes) == sum(r[2] for r in runs)
+    for folder in (out / "runs").iterdir():
+        assert (folder / "trace.jsonl").exists() and "ran 40.0 s" in (folder / "output.txt").read_text()
+    assert (out / "curves.svg").read_text().startswith("<svg")
+    assert "choose=learn" in (out / "summary.txt").read_text()
+    capsys.readouterr()
+    assert campaign(path, "--out", out) == 0               # everything done: nothing runs
+    assert "2 done before, 0 to run" in capsys.readouterr().out
+    db = sqlite3.connect(out / "results.sqlite")
+    with db:
+        db.execute("DELETE FROM runs WHERE seed = 1")      # as if interrupted before seed 1 ended
+    db.close()
+    assert campaign(path, "--out", out) == 0
+    assert "1 done before, 1 to run" in capsys.readouterr().out
+    assert table(out / "results.sqlite") == (runs, episodes)
+
+
+def test_the_same_campaign_on_a_local_ray_instance_gives_the_same_results(local_results):
+    path, out = local_results
+    assert campaign(path, "--out", out.parent / "ray", "--ray", "local") == 0
+    assert table(out.parent / "ray" / "results.sqlite") == table(out / "results.sqlite")
+
+
+def test_the_learner_finds_the_best_alternative_in_a_short_seeded_campaign(tmp_path):
+    path = spec(tmp_path, seeds="1", choose='["learn"]', duration=360.0)
+    assert campaign(path, "--out", tmp_path / "out") == 0
+    db = sqlite3.connect(tmp_path / "out" / "results.sqlite")
+    chosen = [a for (a,) in db.execute("SELECT alternative FROM episodes ORDER BY n")]
+    assert len(chosen) >= 16, chosen
+    late = chosen[len(chosen) // 2:]
+    assert late.count("look") >= 0.8 * len(late), chosen
