@@ -2,7 +2,8 @@
 
     [campaign]
     name = "attract"
-    app = "app"                       # a bundled application or a folder (relative to this file)
+    app = "app"                       # a bundled application or a folder (relative to this
+                                      # file); or a list of them, each a row of the grid
     robots = ["horos"]                # default: the application's robot
     maps = []                         # --map of each run (default: the scenario's)
     scenarios = ["visitors.toml"]     # scenario families: files (relative) or the app's names
@@ -12,7 +13,7 @@
     record = false                    # keep each run's recording (run.mcap)
 
     [learner]                         # every combination is run
-    choose = ["learn", "first", "random"]   # --choose (default: the file's by=)
+    choose = ["learn", "first", "random"]   # --choose ("file", the default: the file's by=)
     learner = ["thompson"]                  # --learner
     freeze = [false]                        # --freeze
 
@@ -31,7 +32,7 @@ from applications.exceptions import ApplicationError
 
 CAMPAIGN_KEYS = {"name", "app", "robots", "maps", "scenarios", "seeds", "duration", "workers",
                  "record"}
-LEARNER_KEYS = {"choose": (None, "learn", "first", "random", "rotate"),
+LEARNER_KEYS = {"choose": ("file", "learn", "first", "random", "rotate"),
                 "learner": ("thompson", "ucb"), "freeze": (False, True)}
 
 
@@ -51,7 +52,7 @@ class RunSpec:
 
     @property
     def key(self) -> str:
-        return (f"robot={self.robot or '-'},map={self.map or '-'},"
+        return (f"app={Path(self.app).name},robot={self.robot or '-'},map={self.map or '-'},"
                 f"scenario={Path(self.scenario).stem},seed={self.seed},"
                 f"choose={self.choose or '-'},learner={self.learner},freeze={int(self.freeze)}")
 
@@ -115,7 +116,8 @@ class _Reader:
         if "app" not in head:
             raise self.fail("campaign.app", "is missing: a bundled application's name or a "
                             "folder (relative to this file)")
-        app = self.app(head["app"])
+        apps = [self.app(a) for a in (head["app"] if isinstance(head["app"], list)
+                                      else [head["app"]])]
         robots = self.strings(head, "robots", [None])
         maps = [self.relative(m) for m in self.strings(head, "maps", [None])]
         scenarios = [self.scenario(s) for s in self.strings(head, "scenarios", None)]
@@ -133,10 +135,12 @@ class _Reader:
             raise self.fail("campaign.workers", f"= {workers!r} must be a whole number >= 1")
         grid = {name: self.choices(learner, name) for name in LEARNER_KEYS}
         runs = tuple(
-            RunSpec(app, robot, map_, scenario, seed, choose, method, freeze,
+            RunSpec(app, robot, map_, scenario, seed, None if choose == "file" else choose,
+                    method, freeze,
                     float(duration) if duration is not None else None, record)
-            for robot, map_, scenario, choose, method, freeze, seed in itertools.product(
-                robots, maps, scenarios, grid["choose"], grid["learner"], grid["freeze"], seeds))
+            for app, robot, map_, scenario, choose, method, freeze, seed in itertools.product(
+                apps, robots, maps, scenarios, grid["choose"], grid["learner"], grid["freeze"],
+                seeds))
         return Campaign(str(head.get("name", self.path.stem)), self.path, runs, workers)
 
     def known(self, table, name: str, allowed: set[str]) -> None:
@@ -188,7 +192,7 @@ class _Reader:
             value = [value]
         for item in value:
             if item not in allowed:
-                shown = ", ".join(repr(a) for a in allowed if a is not None)
+                shown = ", ".join(repr(a) for a in allowed)
                 raise self.fail(f"learner.{key}", f"{item!r} is not one of {shown}")
         if not value:
             raise self.fail(f"learner.{key}", "is empty")

@@ -69,8 +69,9 @@ def report_lines(store: LearningStore, points: tuple[ChoicePoint, ...]) -> list[
             episodes = sum(r.trials for r in table)
             lines.append(f"  context {context or '(none)'}: {episodes} episode(s)")
             best = max(table, key=lambda r: r.estimate)
+            tied = sum(1 for r in table if r.estimate == best.estimate) > 1
             for row in table:
-                mark = "  <- best" if row is best and row.trials else ""
+                mark = "  <- best" if row is best and row.trials and not tied else ""
                 lines.append(f"    {row.alternative:<16} trials {row.trials:5d}  successes "
                              f"{row.successes:5d}  estimated {row.estimate:5.1%} "
                              f"[{row.low:5.1%} … {row.high:5.1%}]  chosen {row.share:5.1%}{mark}")

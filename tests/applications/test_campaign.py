@@ -79,6 +79,7 @@ def local_results(tmp_path_factory):
     return path, folder / "local"
 
 
+@pytest.mark.slow
 def test_a_small_campaign_runs_locally_keeps_each_run_and_resumes(local_results, capsys):
     path, out = local_results
     runs, episodes = table(out / "results.sqlite")
@@ -100,12 +101,14 @@ def test_a_small_campaign_runs_locally_keeps_each_run_and_resumes(local_results,
     assert table(out / "results.sqlite") == (runs, episodes)
 
 
+@pytest.mark.slow
 def test_the_same_campaign_on_a_local_ray_instance_gives_the_same_results(local_results):
     path, out = local_results
     assert campaign(path, "--out", out.parent / "ray", "--ray", "local") == 0
     assert table(out.parent / "ray" / "results.sqlite") == table(out / "results.sqlite")
 
 
+@pytest.mark.slow
 def test_the_learner_finds_the_best_alternative_in_a_short_seeded_campaign(tmp_path):
     path = spec(tmp_path, seeds="1", choose='["learn"]', duration=360.0)
     assert campaign(path, "--out", tmp_path / "out") == 0
