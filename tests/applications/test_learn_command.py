@@ -4,6 +4,7 @@ import json
 
 from applications.cli import build_parser, main
 from applications.commands.learn import LearnCommand
+from applications.tracetools import ticks_of
 from tests.applications.learning_app import survey_with_choice
 
 
@@ -15,13 +16,18 @@ def learn(*argv) -> int:
 def test_a_run_records_its_choice_and_learn_reports_it(tmp_path, capsys):
     folder = survey_with_choice(tmp_path / "app", by="rotate")
     data, trace = tmp_path / "data", tmp_path / "trace.jsonl"
+    recording = tmp_path / "run.mcap"
     assert main(["run", str(folder), "--fast", "--quiet", "--scenario", "complete",
-                 "--data", str(data), "--trace", str(trace), "--duration", "60"]) == 0
+                 "--data", str(data), "--trace", str(trace), "--duration", "60",
+                 "--record", str(recording)]) == 0
     events = [json.loads(line) for line in trace.read_text().splitlines()]
     choices = [e for e in events if e["kind"] in ("choice", "outcome")]
     assert [(e["kind"], e["alternative"]) for e in choices] == [("choice", "face"),
                                                                ("outcome", "face")]
     assert choices[1]["success"] is True and choices[0]["by"] == "rotate"
+    recorded = [e for tick in ticks_of(recording) for e in tick.get("events", [])
+                if e["kind"] in ("choice", "outcome")]
+    assert recorded == choices                      # the recording has them too
     capsys.readouterr()
     assert learn(folder, "--data", data, "--curve", tmp_path / "curve.svg") == 0
     out = capsys.readouterr().out
