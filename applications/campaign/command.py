@@ -5,7 +5,9 @@ command again after an interruption runs only what is missing. At the end: a sum
 (OUT/summary.txt) and the learning curves (OUT/curves.svg)."""
 from __future__ import annotations
 
+import contextlib
 import os
+import signal
 import sys
 import time
 from pathlib import Path
@@ -52,7 +54,15 @@ class CampaignCommand:
             pythonpath = os.environ.get("PYTHONPATH")
             runs = (engine.ray(todo, args.ray, workers, pythonpath) if args.ray
                     else engine.local(todo, workers, pythonpath))
-            failed = self._follow(runs, results, len(todo), dict(todo))
+            try:
+                with _terminate_as_interrupt():
+                    failed = self._follow(runs, results, len(todo), dict(todo))
+            except KeyboardInterrupt:
+                left = len(set(r.key for r in campaign.runs) - results.finished())
+                print(f"\ninterbot campaign: interrupted; the runs still running were stopped, "
+                      f"{left} run(s) left: run the same command again to carry on",
+                      file=sys.stderr)
+                return 130
             lines = summary_lines(results)
             (out / "summary.txt").write_text("\n".join(lines) + "\n", encoding="utf-8")
             write_curves(results, out / "curves.svg", campaign.name)
@@ -123,6 +133,19 @@ def write_curves(results, path: Path, name: str) -> None:
     series = [(group, mean_curve(results.outcomes(group), CURVE_WINDOW))
               for group, *_ in results.groups()]
     path.write_text(curves_svg(f"campaign {name}", series, CURVE_WINDOW), encoding="utf-8")
+
+
+@contextlib.contextmanager
+def _terminate_as_interrupt():
+    """SIGTERM (and SIGHUP) like Ctrl-C, so that the engine stops the runs it started."""
+    def interrupt(signum, frame):
+        raise KeyboardInterrupt
+    old = {s: signal.signal(s, interrupt) for s in (signal.SIGTERM, signal.SIGHUP)}
+    try:
+        yield
+    finally:
+        for number, handler in old.items():
+            signal.signal(number, handler)
 
 
 def _folder_name(key: str) -> str:

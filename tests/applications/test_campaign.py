@@ -117,3 +117,37 @@ def test_the_learner_finds_the_best_alternative_in_a_short_seeded_campaign(tmp_p
     assert len(chosen) >= 16, chosen
     late = chosen[len(chosen) // 2:]
     assert late.count("look") >= 0.8 * len(late), chosen
+
+
+@pytest.mark.slow
+def test_a_terminated_campaign_stops_its_runs_and_carries_on_where_it_stopped(tmp_path):
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    path, out = spec(tmp_path, seeds="3", duration=20.0), tmp_path / "out"
+    path.write_text(path.read_text().replace("workers = 2", "workers = 1"))
+    command = [sys.executable, "-m", "applications.cli", "campaign", str(path), "--out", str(out)]
+    campaign_process = subprocess.Popen(command, stdout=subprocess.PIPE,
+                                        stderr=subprocess.PIPE, text=True,
+                                        env=dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path)))
+    try:
+        deadline = time.monotonic() + 240
+        while time.monotonic() < deadline and not (out / "results.sqlite").exists():
+            time.sleep(0.2)
+        while time.monotonic() < deadline and len(table(out / "results.sqlite")[0]) < 1:
+            time.sleep(0.2)
+        campaign_process.send_signal(signal.SIGTERM)
+        _, err = campaign_process.communicate(timeout=60)
+    finally:
+        if campaign_process.poll() is None:
+            campaign_process.kill()
+    assert campaign_process.returncode == 130 and "run the same command again" in err
+    still = subprocess.run(["pgrep", "-f", str(out)], capture_output=True, text=True).stdout
+    assert still.strip() == ""                       # no run of it is left running
+    done = len(table(out / "results.sqlite")[0])
+    assert 1 <= done < 3
+    assert campaign(path, "--out", out) == 0
+    assert len(table(out / "results.sqlite")[0]) == 3
