@@ -99,3 +99,32 @@ def test_the_statistics_survive_a_kill_9_mid_writing(tmp_path):
     history = store.history("attract")
     assert [a for _, a, _ in history[:6]] == ["face", "call", "call", "face", "call", "call"]
     assert [ok for _, _, ok in history[:4]] == [True, False, True, False]
+
+
+@pytest.mark.parametrize("method", bandit.METHODS)
+def test_a_contextual_choice_point_learns_the_best_alternative_per_context(tmp_path, method):
+    """People alone come when looked at, groups when called: the chooser, writing to the
+    store as runs do, learns one answer per value of people.count."""
+    from applications.appfolder import load_folder
+    from applications.learning.chooser import Chooser, LearnerOptions
+    from tests.applications.learning_app import survey_with_choice
+
+    points = load_folder(survey_with_choice(tmp_path / "app", context="people.count")).dialog.choices
+    store = LearningStore(tmp_path / "survey.sqlite", "survey", "horos")
+    truth = {1: {"face": 0.8, "call": 0.2}, 2: {"face": 0.2, "call": 0.8}}
+    world = np.random.default_rng(5)
+    chooser = Chooser(points, store, LearnerOptions(method=method, seed=1))
+    t, late = 0.0, {1: [], 2: []}
+    for episode in range(400):
+        count = 1 if world.random() < 0.6 else 2
+        picked = chooser.pick("CreateAttention", {"people.count": count}, t)
+        came = world.random() < truth[count][picked.id]
+        chooser.watch("Interaction" if came else "CreateAttention", {}, t + 2.0)
+        chooser.watch("Wait", {}, t + 20.0)
+        if episode >= 250:
+            late[count].append(picked.id)
+        t += 30.0
+    assert late[1].count("face") > 0.8 * len(late[1]), late[1]
+    assert late[2].count("call") > 0.8 * len(late[2]), late[2]
+    assert sum(n for _, n in store.counts("attract").values()) == 400
+    assert set(store.contexts("attract")) == {"people.count=1", "people.count=2"}
