@@ -16,6 +16,7 @@
     choose = ["learn", "first", "random"]   # --choose ("file", the default: the file's by=)
     learner = ["thompson"]                  # --learner
     freeze = [false]                        # --freeze
+    window = [0]                            # --window (0: every episode counts)
 
 Each run is one row of the grid; its key names the row, so a result is found again after an
 interruption and never run twice.
@@ -33,7 +34,7 @@ from applications.exceptions import ApplicationError
 CAMPAIGN_KEYS = {"name", "app", "robots", "maps", "scenarios", "seeds", "duration", "workers",
                  "record"}
 LEARNER_KEYS = {"choose": ("file", "learn", "first", "random", "rotate"),
-                "learner": ("thompson", "ucb"), "freeze": (False, True)}
+                "learner": ("thompson", "ucb"), "freeze": (False, True), "window": None}
 
 
 @dataclass(frozen=True)
@@ -47,6 +48,7 @@ class RunSpec:
     choose: str | None
     learner: str
     freeze: bool
+    window: int = 0
     duration: float | None = None
     record: bool = False
 
@@ -54,7 +56,8 @@ class RunSpec:
     def key(self) -> str:
         return (f"app={Path(self.app).name},robot={self.robot or '-'},map={self.map or '-'},"
                 f"scenario={Path(self.scenario).stem},seed={self.seed},"
-                f"choose={self.choose or '-'},learner={self.learner},freeze={int(self.freeze)}")
+                f"choose={self.choose or '-'},learner={self.learner},freeze={int(self.freeze)}"
+                + (f",window={self.window}" if self.window else ""))
 
     @property
     def group(self) -> str:
@@ -74,6 +77,8 @@ class RunSpec:
             argv += ["--duration", f"{self.duration:g}"]
         if self.freeze:
             argv.append("--freeze")
+        if self.window:
+            argv += ["--window", str(self.window)]
         if self.record:
             argv += ["--record", str(folder / "run.mcap")]
         return argv
@@ -136,11 +141,11 @@ class _Reader:
         grid = {name: self.choices(learner, name) for name in LEARNER_KEYS}
         runs = tuple(
             RunSpec(app, robot, map_, scenario, seed, None if choose == "file" else choose,
-                    method, freeze,
+                    method, freeze, window,
                     float(duration) if duration is not None else None, record)
-            for app, robot, map_, scenario, choose, method, freeze, seed in itertools.product(
-                apps, robots, maps, scenarios, grid["choose"], grid["learner"], grid["freeze"],
-                seeds))
+            for app, robot, map_, scenario, choose, method, freeze, window, seed
+            in itertools.product(apps, robots, maps, scenarios, grid["choose"], grid["learner"],
+                                 grid["freeze"], grid["window"], seeds))
         return Campaign(str(head.get("name", self.path.stem)), self.path, runs, workers)
 
     def known(self, table, name: str, allowed: set[str]) -> None:
@@ -187,6 +192,14 @@ class _Reader:
 
     def choices(self, table: dict, key: str) -> list:
         allowed = LEARNER_KEYS[key]
+        if allowed is None:                       # window: whole numbers >= 0
+            value = table.get(key, [0])
+            value = value if isinstance(value, list) else [value]
+            if not value or not all(isinstance(v, int) and not isinstance(v, bool) and v >= 0
+                                    for v in value):
+                raise self.fail(f"learner.{key}", f"= {value!r} must be whole numbers >= 0 "
+                                "(0: every episode counts)")
+            return value
         value = table.get(key, [allowed[0]])
         if not isinstance(value, list):
             value = [value]

@@ -34,6 +34,9 @@ class LearnCommand:
         parser.add_argument("--min-share", type=_share, metavar="X",
                             help="give each alternative at least this share of the trials "
                                  "(0 to 0.5; 0 turns it off)")
+        parser.add_argument("--window", type=int, metavar="N",
+                            help="learn from the newest N episodes per situation only, so the "
+                                 "robot follows a world that changes (0: all)")
         parser.add_argument("--reset", action="store_true",
                             help="forget the episodes of --point (needs --point)")
 
@@ -96,6 +99,10 @@ class LearnCommand:
             if args.min_share is not None:
                 store.set(point, min_share=args.min_share)
                 print(f"{point}: minimum share {args.min_share:.0%}")
+            if args.window is not None:
+                store.set(point, window=max(0, args.window))
+                print(f"{point}: learns from "
+                      + (f"the newest {args.window} episodes" if args.window > 0 else "all episodes"))
 
 
 def _share(text: str) -> float:

@@ -30,6 +30,7 @@ class LearnerOptions:
     method: str = "thompson"          # the bandit: thompson or ucb
     strategy: str | None = None       # force this `by` on every choice point (None: the file's)
     frozen: bool = False              # exploit only, on every choice point
+    window: int | None = None         # count only the newest episodes (None: the store's setting)
     seed: int = 0
 
 
@@ -132,10 +133,11 @@ class Chooser:
                 turn = sum(n for _, n in stored.values())
             self._turns[point.id] = turn + 1
             return turn % count
-        counts = self.store.counts(point.id, context) if self.store is not None else {}
+        settings = self.store.settings(point.id) if self.store is not None else Settings()
+        window = settings.window if self.options.window is None else self.options.window
+        counts = self.store.counts(point.id, context, window) if self.store is not None else {}
         successes = [counts.get(a.id, (0, 0))[0] for a in point.alternatives]
         trials = [counts.get(a.id, (0, 0))[1] for a in point.alternatives]
-        settings = self.store.settings(point.id) if self.store is not None else Settings()
         return bandit.choose(successes, trials, self.rng, self.options.method,
                              frozen=settings.frozen or self.options.frozen,
                              min_share=settings.min_share)

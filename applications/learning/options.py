@@ -15,9 +15,23 @@ def add_arguments(parser) -> None:
                        help="choose this way at every choice point instead of the file's by=")
     group.add_argument("--learner", choices=METHODS, default="thompson",
                        help="the bandit of by=\"learn\" (default thompson)")
+    group.add_argument("--window", type=_window, metavar="N",
+                       help="learn from the newest N episodes per situation only (0: all; "
+                            "default: `interbot learn APP --window`, else all)")
     group.add_argument("--freeze", action="store_true",
                        help="exploit only: choose the best estimate, learn nothing new "
                             "(`interbot learn APP --freeze POINT` freezes one for good)")
+
+
+def _window(text: str) -> int:
+    import argparse
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number of episodes") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"{value} is negative; allowed 0 (all) or more")
+    return value
 
 
 def behaviors_of_choices(dialog) -> set[str]:
@@ -34,5 +48,6 @@ def open_chooser(args, dialog, app_name: str, robot_name: str, data_dir: Path,
     options = LearnerOptions(method=getattr(args, "learner", "thompson"),
                              strategy=getattr(args, "choose", None),
                              frozen=getattr(args, "freeze", False),
+                             window=getattr(args, "window", None),
                              seed=getattr(args, "seed", 0) or 0)
     return Chooser(dialog.choices, store, options, run_id=run_id), store

@@ -58,7 +58,9 @@ def report_lines(store: LearningStore, points: tuple[ChoicePoint, ...]) -> list[
             head += " (no longer in dialog.xml)"
         flags = [f for f, on in (("FROZEN: exploit only", settings.frozen),
                                  (f"minimum share {settings.min_share:.0%}",
-                                  settings.min_share > 0)) if on]
+                                  settings.min_share > 0),
+                                 (f"learns from the newest {settings.window} episodes",
+                                  settings.window > 0)) if on]
         lines.append(head + (f" [{'; '.join(flags)}]" if flags else ""))
         contexts = store.contexts(point_id)
         if not contexts:

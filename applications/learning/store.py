@@ -3,8 +3,9 @@ and its outcome), written and committed as the episode ends, so a restart — or
 loses at most the episode that was still open. The counts a bandit needs are sums over these
 rows; nothing else is kept, so the statistics can never disagree with the history.
 
-Per application and robot, per choice point: `frozen` (exploit only) and `min_share` (each
-alternative gets at least this share of the trials) in `learning_settings`; `reset` deletes a
+Per application and robot, per choice point: `frozen` (exploit only), `min_share` (each
+alternative gets at least this share of the trials) and `window` (only the newest episodes
+count, so the learner follows a world that changes) in `learning_settings`; `reset` deletes a
 choice point's episodes (the history that made the old estimate goes with it).
 """
 from __future__ import annotations
@@ -25,6 +26,7 @@ CREATE INDEX IF NOT EXISTS learning_episodes_by_point
 CREATE TABLE IF NOT EXISTS learning_settings (
     app TEXT NOT NULL, robot TEXT NOT NULL, point TEXT NOT NULL,
     frozen INTEGER NOT NULL DEFAULT 0, min_share REAL NOT NULL DEFAULT 0,
+    window INTEGER NOT NULL DEFAULT 0,
     PRIMARY KEY (app, robot, point));
 """
 
@@ -33,6 +35,7 @@ CREATE TABLE IF NOT EXISTS learning_settings (
 class Settings:
     frozen: bool = False
     min_share: float = 0.0
+    window: int = 0           # count only the newest this many episodes per context (0: all)
 
 
 @dataclass(frozen=True)
@@ -58,6 +61,10 @@ class LearningStore:
                                   check_same_thread=False)
         self.db.execute("PRAGMA synchronous=FULL")       # a commit is on disk before it returns
         self.db.executescript(SCHEMA)
+        columns = {row[1] for row in self.db.execute("PRAGMA table_info(learning_settings)")}
+        if "window" not in columns:          # a database from before the window setting
+            self.db.execute("ALTER TABLE learning_settings ADD COLUMN window INTEGER NOT NULL "
+                            "DEFAULT 0")
 
     def close(self) -> None:
         self.db.close()
@@ -73,15 +80,21 @@ class LearningStore:
              episode.chosen_by, int(episode.success), float(episode.after),
              float(episode.robot_time), time.time(), episode.run_id))
 
-    def counts(self, point: str, context: str | None = None) -> dict[str, tuple[int, int]]:
-        """alternative -> (successes, trials), in one context or (None) over all of them."""
-        query = ("SELECT alternative, SUM(success), COUNT(*) FROM learning_episodes "
+    def counts(self, point: str, context: str | None = None,
+               window: int = 0) -> dict[str, tuple[int, int]]:
+        """alternative -> (successes, trials), in one context or (None) over all of them; with
+        `window`, over the newest `window` episodes only."""
+        query = ("SELECT alternative, success FROM learning_episodes "
                  "WHERE app=? AND robot=? AND point=?")
         args: list = [self.app, self.robot, point]
         if context is not None:
             query += " AND context=?"
             args.append(context)
-        rows = self.db.execute(query + " GROUP BY alternative", args).fetchall()
+        if window > 0:
+            query += " ORDER BY id DESC LIMIT ?"
+            args.append(window)
+        rows = self.db.execute(f"SELECT alternative, SUM(success), COUNT(*) FROM ({query}) "
+                               "GROUP BY alternative", args).fetchall()
         return {alternative: (int(s), int(n)) for alternative, s, n in rows}
 
     def contexts(self, point: str) -> list[str]:
@@ -113,16 +126,21 @@ class LearningStore:
     # -- settings --------------------------------------------------------------------------
 
     def settings(self, point: str) -> Settings:
-        row = self.db.execute("SELECT frozen, min_share FROM learning_settings WHERE app=? AND "
-                              "robot=? AND point=?", (self.app, self.robot, point)).fetchone()
-        return Settings(bool(row[0]), float(row[1])) if row else Settings()
+        row = self.db.execute("SELECT frozen, min_share, window FROM learning_settings WHERE "
+                              "app=? AND robot=? AND point=?",
+                              (self.app, self.robot, point)).fetchone()
+        return Settings(bool(row[0]), float(row[1]), int(row[2])) if row else Settings()
 
-    def set(self, point: str, frozen: bool | None = None, min_share: float | None = None) -> None:
+    def set(self, point: str, frozen: bool | None = None, min_share: float | None = None,
+            window: int | None = None) -> None:
         old = self.settings(point)
         new = Settings(old.frozen if frozen is None else frozen,
-                       old.min_share if min_share is None else min_share)
-        self.db.execute("INSERT OR REPLACE INTO learning_settings VALUES (?,?,?,?,?)",
-                        (self.app, self.robot, point, int(new.frozen), new.min_share))
+                       old.min_share if min_share is None else min_share,
+                       old.window if window is None else window)
+        self.db.execute("INSERT OR REPLACE INTO learning_settings (app, robot, point, frozen, "
+                        "min_share, window) VALUES (?,?,?,?,?,?)",
+                        (self.app, self.robot, point, int(new.frozen), new.min_share,
+                         new.window))
 
 
 def store_path(data_dir: str | Path, app: str) -> Path:

@@ -128,3 +128,37 @@ def test_a_contextual_choice_point_learns_the_best_alternative_per_context(tmp_p
     assert late[2].count("call") > 0.8 * len(late[2]), late[2]
     assert sum(n for _, n in store.counts("attract").values()) == 400
     assert set(store.contexts("attract")) == {"people.count=1", "people.count=2"}
+
+
+def _shifting_world(tmp_path, name, window):
+    """400 episodes where 'face' works (80 % / 20 %), then 400 where 'call' does: the share
+    of 'call' among the last 200 choices."""
+    from applications.appfolder import load_folder
+    from applications.learning.chooser import Chooser, LearnerOptions
+    from tests.applications.learning_app import survey_with_choice
+
+    points = load_folder(survey_with_choice(tmp_path / name)).dialog.choices
+    store = LearningStore(tmp_path / f"{name}.sqlite", "survey", "horos")
+    chooser = Chooser(points, store, LearnerOptions(seed=3, window=window))
+    world, chosen, t = np.random.default_rng(4), [], 0.0
+    for episode in range(800):
+        best = "face" if episode < 400 else "call"
+        picked = chooser.pick("CreateAttention", {}, t)
+        came = world.random() < (0.8 if picked.id == best else 0.2)
+        chooser.watch("Interaction" if came else "CreateAttention", {}, t + 2.0)
+        chooser.watch("Wait", {}, t + 20.0)
+        chosen.append(picked.id)
+        t += 30.0
+    assert chosen[300:400].count("face") > 80
+    return chosen[600:].count("call") / 200
+
+
+def test_a_window_lets_the_learner_follow_a_world_that_changes(tmp_path):
+    windowed = _shifting_world(tmp_path, "windowed", 100)
+    assert windowed > 0.8
+    store = LearningStore(tmp_path / "s.sqlite", "survey", "horos")
+    for i in range(5):
+        store.record(Episode("attract", "", "face" if i < 3 else "call", "learn", True, 1.0, i))
+    assert store.counts("attract", "", window=2) == {"call": (2, 2)}
+    store.set("attract", window=2)
+    assert store.settings("attract").window == 2
