@@ -28,6 +28,9 @@ class CampaignCommand:
                             help="run on Ray: `local` starts an instance here, `auto` joins "
                                  "the running cluster, or give its address "
                                  "(pip install 'interbot[cluster]')")
+        parser.add_argument("--retry-failed", action="store_true",
+                            help="run again the runs that ended with an error (by default a "
+                                 "finished run is never run again)")
         parser.add_argument("--list", action="store_true",
                             help="list the runs of the grid (done or to do) and stop")
 
@@ -40,7 +43,7 @@ class CampaignCommand:
         out = (args.out or args.spec.parent / f"{campaign.name}-results").resolve()
         results = Results(out / "results.sqlite")
         try:
-            done = results.finished()
+            done = results.finished(failed_too=not args.retry_failed)
             todo = [(run, out / "runs" / _folder_name(run.key)) for run in campaign.runs
                     if run.key not in done]
             if args.list:
@@ -69,6 +72,10 @@ class CampaignCommand:
             for line in lines:
                 print(line)
             print(f"summary: {out / 'summary.txt'}; curves: {out / 'curves.svg'}")
+            failed = len({r.key for r in campaign.runs} - results.finished(failed_too=False))
+            if failed:
+                print(f"{failed} run(s) of this campaign ended with an error (see each run's "
+                      "output.txt; --retry-failed runs them again)", file=sys.stderr)
             return 1 if failed else 0
         finally:
             results.close()

@@ -36,8 +36,10 @@ class Results:
     def close(self) -> None:
         self.db.close()
 
-    def finished(self) -> set[str]:
-        return {row[0] for row in self.db.execute("SELECT key FROM runs")}
+    def finished(self, failed_too: bool = True) -> set[str]:
+        """The keys of the runs that have a result (without `failed_too`: a clean one)."""
+        query = "SELECT key FROM runs" + ("" if failed_too else " WHERE exit_code = 0")
+        return {row[0] for row in self.db.execute(query)}
 
     def add(self, run: RunSpec, result: dict[str, Any], folder: Path) -> None:
         episodes = result["episodes"]

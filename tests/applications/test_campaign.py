@@ -94,9 +94,11 @@ def test_a_small_campaign_runs_locally_keeps_each_run_and_resumes(local_results,
     assert "2 done before, 0 to run" in capsys.readouterr().out
     db = sqlite3.connect(out / "results.sqlite")
     with db:
-        db.execute("DELETE FROM runs WHERE seed = 1")      # as if interrupted before seed 1 ended
+        db.execute("UPDATE runs SET exit_code = 4 WHERE seed = 1")    # as if it had crashed
     db.close()
-    assert campaign(path, "--out", out) == 0
+    assert campaign(path, "--out", out) == 1                # a failed run is kept, and reported
+    assert "2 done before, 0 to run" in capsys.readouterr().out
+    assert campaign(path, "--out", out, "--retry-failed") == 0
     assert "1 done before, 1 to run" in capsys.readouterr().out
     assert table(out / "results.sqlite") == (runs, episodes)
 
