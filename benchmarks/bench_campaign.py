@@ -27,8 +27,9 @@ ATTRACT = Path(__file__).resolve().parents[1] / "campaigns" / "attract"
 
 
 def measure(runs: int, duration: float, workers: int, folder: Path) -> dict:
-    grid = [(RunSpec(str(ATTRACT / "app"), None, None, str(ATTRACT / "visitors.toml"), seed,
-                     "learn", "thompson", False, duration), folder / f"run{seed}")
+    grid = [(RunSpec(app=str(ATTRACT / "app"), robot=None, map=None,
+                     scenario=str(ATTRACT / "visitors.toml"), seed=seed, choose="learn",
+                     learner="thompson", freeze=False, duration=duration), folder / f"run{seed}")
             for seed in range(runs)]
     start = time.perf_counter()
     results = [result for _, result in engine.local(grid, workers, os.environ.get("PYTHONPATH"))]
