@@ -63,6 +63,12 @@ def test_the_grid_of_a_spec(tmp_path):
     assert len({r.key for r in found.runs}) == 6
     argv = found.runs[0].argv(tmp_path / "r")
     assert argv[:3] == ["run", str(ATTRACT / "app"), "--fast"] and "--choose" in argv
+    kept = load_campaign(spec(tmp_path, extra="record = true"))
+    assert "--record" in kept.runs[0].argv(tmp_path / "r")
+    windowed = spec(tmp_path)
+    windowed.write_text(windowed.read_text() + "window = [0, 50]\n")
+    runs = load_campaign(windowed).runs
+    assert ["--window", "50"] == runs[-1].argv(tmp_path)[-2:] and len(runs) == 4
     bad = spec(tmp_path, choose='["best"]')
     with pytest.raises(ApplicationError, match=r"spec.toml: learner.choose: 'best' is not one of"):
         load_campaign(bad)
