@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from applications.alternatives import read_choices
 from applications.conditions import CompiledCondition, compile_condition
 from applications.exceptions import ApplicationError, ConditionError
 from applications.graph.diagnostics import Diagnostic, did_you_mean, error, warning
@@ -76,6 +77,7 @@ class Dialog:
     by_behavior: dict[str, Content] = field(default_factory=dict)
     by_state: dict[str, Content] = field(default_factory=dict)
     overrides: tuple[Override, ...] = ()
+    choices: tuple = ()            # ChoicePoint (applications.alternatives), in file order
     language: str | None = None
     voice: str | None = None
 
@@ -179,7 +181,7 @@ class _DialogReader:
             return dialog
         self.known_attributes(root, ("language", "voice"))
         dialog.language, dialog.voice = root.get("language"), root.get("voice")
-        overrides = []
+        overrides, choices = [], []
         for element in self.elements(root):
             if element.tag == "behavior":
                 self.known_attributes(element, ("name",))
@@ -197,12 +199,15 @@ class _DialogReader:
                 rule = self.override(element)
                 if rule is not None:
                     overrides.append(rule)
+            elif element.tag == "choice":
+                choices.append(element)
             else:
                 self.report(self.at(element), f"unknown element <{element.tag}>"
-                            f"{did_you_mean(element.tag, ('behavior', 'state', 'override'))}; "
-                            "allowed in <dialog>: <behavior>, <state>, <override>",
+                            f"{did_you_mean(element.tag, ('behavior', 'state', 'override', 'choice'))}; "
+                            "allowed in <dialog>: <behavior>, <state>, <override>, <choice>",
                             "dialog-element")
         dialog.overrides = tuple(overrides)
+        dialog.choices = read_choices(self, choices)
         return dialog
 
     # -- helpers ---------------------------------------------------------------------------

@@ -113,7 +113,8 @@ class Run:
                  trace: TraceWriter | None = None, database: AnswerDatabase | None = None,
                  echo: Callable[[str], None] | None = print,
                  reload: Callable[[], Any] | None = None,
-                 observers: Sequence[Callable[[dict[str, Any]], None]] = ()) -> None:
+                 observers: Sequence[Callable[[dict[str, Any]], None]] = (),
+                 chooser: Any | None = None) -> None:
         self.app = app
         self.robot = robot
         self.dialog: Dialog = dialog or load_dialog(app.folder / "dialog.xml", app.states)
@@ -135,6 +136,10 @@ class Run:
         # newest result per question: the percepts search.<id> and found.<id>
         self._searched = {q["id"]: q["search"] for q in self.dialog.questions if q.get("search")}
         self._search_results: dict[str, Any] = {}
+        # choice points of dialog.xml (applications.learning.chooser): its events go to _emit
+        self.chooser = chooser
+        if chooser is not None:
+            chooser.emit = self._emit
 
     def run(self) -> RunSummary:
         start_wall = time.perf_counter()
@@ -152,6 +157,8 @@ class Run:
             self.summary.duration = robot.now() - t0
             self.summary.fault = robot.fault
             self.summary.wall_seconds = time.perf_counter() - start_wall
+            if self.chooser is not None:
+                self.chooser.close(robot.now())
         return self.summary
 
     def record_closing(self) -> None:
@@ -179,6 +186,8 @@ class Run:
                 self._emit(event)
                 self.summary.transitions.append((now, fired.source, fired.target))
                 self._activate(machine, percepts)
+            if self.chooser is not None:
+                self.chooser.watch(machine.state.name, percepts, now)
             robot.act()
             for event in robot.events():
                 self._emit(event)
@@ -199,12 +208,19 @@ class Run:
             self._say_line(f"dialog manager: {choice.behavior} instead of {choice.suggested} "
                            f"(rule at {rule.location.file.rsplit('/', 1)[-1]}:"
                            f"{rule.location.line}: {rule.condition.text})")
+        behavior, content = choice.behavior, choice.params
+        picked = (self.chooser.pick(state.name, percepts, percepts.t)
+                  if self.chooser is not None and not choice.overridden else None)
+        if picked is not None:
+            behavior = picked.behavior
+            content = {**self.dialog.params_for(state.name, behavior, behavior == state.behavior),
+                       **picked.params}
         lookup = self.database.lookup if self.database is not None else None
-        params, notes = state_params(state, choice.behavior, choice.params, percepts,
+        params, notes = state_params(state, behavior, content, percepts,
                                      self.app.folder, lookup)
         for note in notes:
             self._say_line(f"  note: {note}")
-        self.robot.activate(choice.behavior, params)
+        self.robot.activate(behavior, params)
 
     def _keep_time(self, next_tick: float) -> None:
         behind = self.robot.now() - next_tick
@@ -226,6 +242,8 @@ class Run:
             return
         old_state = machine.state.name
         self.app, self.dialog = result.app, result.dialog
+        if self.chooser is not None:
+            self.chooser.points = result.dialog.choices
         moved = machine.replace(result.app, now)
         self._emit({"t": round(now, 3), "kind": "reload", "state": machine.state.name})
         if moved:
@@ -350,6 +368,12 @@ def _describe(event: dict[str, Any], robot: str) -> str | None:
         return (f"{t} LINK DOWN: {event['reason']} (the robot is stopped)"
                 if event["state"] == "down" else
                 f"{t} link back up after {event['after']:.1f} s")
+    if kind == "choice":
+        return (f"{t}   choice {event['point']}: {event['alternative']} ({event['by']}"
+                f"{', ' + event['context'] if event.get('context') else ''})")
+    if kind == "outcome":
+        verdict = {True: "success", False: "failure", None: "open at the end"}[event["success"]]
+        return f"{t}   outcome {event['point']}: {event['alternative']} {verdict} after {event['after']:.1f} s"
     if kind == "dropped":
         return f"{t}   dropped {event['count']} reading(s): {event['reason']}"
     return None

@@ -6,6 +6,7 @@ from pathlib import Path
 
 from applications import observing
 from applications.commands import arguments, devices, refusals
+from applications.learning import options as learning_options
 from applications.exceptions import (ApplicationError, UnknownScenarioError,
                                      UnsupportedOnRobotError)
 from applications.graph.loader import find_application
@@ -57,6 +58,7 @@ class RunCommand:
         devices.add_arguments(parser)         # --laser, --head, --camera, --wire
         # --inspect, --live, --record, --progress: applications.observing
         observing.add_arguments(parser)
+        learning_options.add_arguments(parser)       # --choose, --learner, --freeze
 
     def run(self, args) -> int:
         with SignalGuard() as guard:
@@ -94,6 +96,7 @@ class RunCommand:
             announce_interaction(robot)
             needed = {state.behavior for state in app.states.values()}
             needed |= {rule.behavior for rule in dialog.overrides}
+            needed |= learning_options.behaviors_of_choices(dialog)
             missing = robot.cannot_run(needed)
             if missing:
                 raise UnsupportedOnRobotError(
@@ -118,9 +121,11 @@ class RunCommand:
                       "initial_pose": (list(args.initial_pose) if args.initial_pose
                                        else None)})
             reload = _watcher(folder, robot_name) if args.watch else None
+            chooser, learning = learning_options.open_chooser(args, dialog, app.name, robot_name,
+                                                              data_dir)
             run = Run(app, robot, dialog=dialog, duration=args.duration, trace=trace,
                       database=database, echo=echo, reload=reload,
-                      observers=watching.observers)
+                      observers=watching.observers, chooser=chooser)
             summary = run.run()
             guard.closing()          # from here on a signal must not interrupt the closing
         except BaseException as exc:
@@ -129,6 +134,7 @@ class RunCommand:
         problems = close_all(("the robot", robot.close),
                              ("the closing's events", run.record_closing), ("the trace", trace.close),
                              ("the answer database", database.close),
+                             ("the learner's statistics", learning and learning.close),
                              ("the observers", lambda: watching.close(summary)))
         for line in summary.lines():
             print(line)

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
+from robots.sim import visitors
 from robots.sim.scenario import (Answer, Approach, Follow, Lead, Leave, MakeWay, Pause,
                                  PersonPlan, Point, Shop, Sync, Walk, WaitForCall)
 
@@ -534,3 +535,4 @@ def _sync(person: SimPerson, step: Sync, dt: float, world: "World") -> bool:
 _HANDLERS = {Walk: _walk, Pause: _pause, Approach: _approach, Answer: _answer,
              WaitForCall: _wait_for_call, Leave: _leave, Follow: _follow, MakeWay: _make_way,
              Shop: _shop, Lead: _lead, Sync: _sync}
+_HANDLERS[visitors.Visit] = visitors.visit        # passers-by with propensities (issue 27)

@@ -219,9 +219,10 @@ class _Reader:
         return ScenarioError(f"{self.where}: {field_name}: {why}")
 
     def scenario(self, data: dict) -> Scenario:
-        unknown = set(data) - {"scenario", "person"}
+        unknown = set(data) - {"scenario", "person", "visitors"}
         if unknown:
-            raise self.fail(sorted(unknown)[0], "unknown table; allowed: [scenario], [[person]]")
+            raise self.fail(sorted(unknown)[0], "unknown table; allowed: [scenario], [[person]], "
+                            "[visitors]")
         head = data.get("scenario", {})
         if not isinstance(head, dict):
             raise self.fail("scenario", "must be a table")
@@ -242,6 +243,9 @@ class _Reader:
             raise self.fail("person", "must be an array of tables: [[person]]")
         people = tuple(self.person(entry, index) for index, entry in enumerate(people_data))
         self.where = str(self.path)
+        if "visitors" in data:                # passers-by with hidden propensities (issue 27)
+            from robots.sim.visitors import visitor_plans
+            people += visitor_plans(data["visitors"], self)
         ids = [p.id for p in people]
         for pid in ids:
             if ids.count(pid) > 1:
