@@ -49,6 +49,7 @@ class RunSummary:
     device_links: dict[str, list] = field(default_factory=dict)  # device -> [downs, ups, s down]
     ended_by: str | None = None     # why the loop ended early: "SIGTERM", "an error", ...
     device_faults: list[str] = field(default_factory=list)   # `fault` events naming a device
+    plugin_failures: list[str] = field(default_factory=list)  # percept plugins that raised
 
     def count(self, event: dict[str, Any]) -> None:
         """Keep the link and dropped-reading counters from the events that pass by."""
@@ -92,6 +93,8 @@ class RunSummary:
         if self.dropped_readings:
             out.append(f"readings dropped (not described by the robot profile): "
                        f"{self.dropped_readings}")
+        for failure in self.plugin_failures:
+            out.append(failure)
         for fault in self.device_faults:
             out.append(f"device fault: {fault}; the robot was stopped")
         if self.ended_by:
@@ -241,6 +244,9 @@ class Run:
             observer(snapshot)
 
     def _emit(self, event: dict[str, Any]) -> None:
+        if event["kind"] == "plugin":
+            event["off"] = self._conditions_reading(set(event.get("percepts", ())))
+            self.summary.plugin_failures.append(_describe(event, self.robot.name).split("] ", 1)[-1])
         self.summary.count(event)
         if self.observers:
             self._tick_events.append(event)
@@ -298,11 +304,41 @@ class Run:
                     extra[f"found.{question}"] = result.found
         if not extra:
             return percepts
-        return type(percepts)({**percepts, **extra}, percepts.t)
+        return percepts.with_values(extra)
+
+    def _conditions_reading(self, percepts: set[str]) -> list[str]:
+        """Each transition (and dialog rule) whose condition reads one of `percepts`, as
+        "From -> To (file:line)": these are off once their percepts are disabled."""
+        found = []
+        for state in self.app.states.values():
+            for transition in state.transitions:
+                if transition.condition.names & percepts:
+                    found.append(f"{state.name} -> {transition.target} ({_where(transition)})")
+        for rule in getattr(self.dialog, "overrides", ()):
+            if rule.condition.names & percepts:
+                found.append(f"dialog rule of {rule.state} ({_where(rule)})")
+        return found
 
     def _say_line(self, text: str) -> None:
         if self.echo is not None:
             self.echo(text)
+
+
+def _where(item: Any) -> str:
+    location = getattr(item, "location", None)
+    if location is None:
+        return "?"
+    return f"{str(location.file).rsplit('/', 1)[-1]}:{location.line}"
+
+
+def _plugin_line(event: dict[str, Any]) -> str:
+    """One line naming the failed plugin, what it disabled, and what still runs."""
+    percepts = ", ".join(event.get("percepts", ())) or "none"
+    off = event.get("off") or []
+    conditions = (f"; {len(off)} condition(s) reading them are off: {', '.join(off)}" if off
+                  else "; no condition of the application reads them")
+    return (f"PERCEPT PLUGIN '{event['plugin']}' FAILED ({event['error']}): its percepts "
+            f"{percepts} are disabled{conditions}; the rest runs")
 
 
 def _describe(event: dict[str, Any], robot: str) -> str | None:
@@ -340,6 +376,8 @@ def _describe(event: dict[str, Any], robot: str) -> str | None:
         return (f"{t} LINK DOWN: {event['reason']} (the robot is stopped)"
                 if event["state"] == "down" else
                 f"{t} link back up after {event['after']:.1f} s")
+    if kind == "plugin":
+        return f"{t} {_plugin_line(event)}"
     if kind == "dropped":
         return f"{t}   dropped {event['count']} reading(s): {event['reason']}"
     return None

@@ -41,8 +41,18 @@ class CompiledCondition:
         return twin
 
     def evaluate(self, values: Mapping[str, Any], time_in_state: float) -> bool:
-        """True when the condition holds; `values` maps percept names to values, None = absent."""
+        """True when the condition holds; `values` maps percept names to values, None = absent.
+        A condition that reads a percept `values.disabled` names (its plugin failed) is off:
+        false, whatever its form (`not user.present` must not fire on a broken plugin)."""
+        disabled = getattr(values, "disabled", None)
+        if disabled and not self.names.isdisjoint(disabled):
+            return False
         return self._evaluate(values, time_in_state)
+
+    def is_off(self, values: Mapping[str, Any]) -> bool:
+        """True when the condition reads a disabled percept (see `evaluate`)."""
+        disabled = getattr(values, "disabled", None)
+        return bool(disabled) and not self.names.isdisjoint(disabled)
 
     __call__ = evaluate
 
