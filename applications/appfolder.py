@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from applications.conditions.condition import default_declarations
+from applications.conditions.constants import Constant
 from applications.database import ANSWERS_TABLE_SQL, SCHEMA_FILE, DatabaseContent
 from applications.dialog import Dialog, check_dialog
 from applications.exceptions import ApplicationError
@@ -77,6 +78,8 @@ def inspect_folder(name_or_path: str | Path, robot: str | None = None,
         read_bytes(graph_file), str(_shown(graph_file)), folder, graph_file, robot,
         catalog, declarations)
     found += graph_problems
+    if draft is not None and draft.params:       # the application's parameters: param.<name>
+        declarations = {**declarations, **draft.params}
     catalog = catalog or load_catalog(robot or (draft.robot if draft else None))
     states = {s.name: s.behavior for s in draft.states.values()} if draft else None
     dialog, dialog_problems = check_dialog(dialog_file, states, catalog.behaviors, choices,
@@ -175,6 +178,14 @@ def _check_param(param: Param, state: DraftState, declared: Mapping[str, Any],
         return [error(f"from=\"{param.source}\": unknown percept"
                       f"{did_you_mean(param.source, declarations)}", param.value_location,
                       "param-source")]
+    constant = declarations[param.source]
+    if isinstance(constant, Constant) and param.lookup is None:
+        try:
+            convert(parameter, constant.text)
+        except ParameterError as exc:
+            return [error(f"from=\"{param.source}\" ({constant.text}): parameter "
+                          f"'{param.name}' of '{state.behavior}' {exc}", param.value_location,
+                          "param-type")]
     if param.lookup is not None:
         return _check_lookup(param, content)
     return []

@@ -194,7 +194,7 @@ class Run:
                            f"{rule.location.line}: {rule.condition.text})")
         lookup = self.database.lookup if self.database is not None else None
         params, notes = state_params(state, choice.behavior, choice.params, percepts,
-                                     self.app.folder, lookup)
+                                     self.app.folder, lookup, self.app.params)
         for note in notes:
             self._say_line(f"  note: {note}")
         self.robot.activate(choice.behavior, params)

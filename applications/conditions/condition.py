@@ -6,6 +6,7 @@ from typing import Any
 
 from ..exceptions import ConditionError
 from . import typecheck
+from .constants import Constant, speed_problem, substitute
 from .compiler import compile_tree
 from .nodes import Node, Or
 from .parser import parse
@@ -95,11 +96,22 @@ def compile_condition(text: str, location: Any | None = None,
     """
     declarations = default_declarations() if declarations is None else declarations
     warnings: list[ConditionWarning] = []
+    used: dict[int, Constant] = {}
     try:
         syntax = parse(text)
-        tree = typecheck.check(syntax, text, declarations, warnings)
+        checked, used = substitute(syntax, declarations)
+        for offset, constant in used.items():
+            problem = speed_problem(constant)
+            if problem:
+                raise ConditionError(problem, offset, text)
+        tree = typecheck.check(checked, text, declarations, warnings)
     except ConditionError as problem:
-        if location is None:
+        reason = problem.reason
+        constant = used.get(problem.offset)
+        if constant is not None and not reason.startswith(f"'{constant.name}'"):
+            reason = f"{constant.name} is {constant.text} (graph.xml line " \
+                     f"{getattr(constant.location, 'line', '?')}): {reason}"
+        if location is None and reason == problem.reason:
             raise
-        raise ConditionError(problem.reason, problem.offset, text, location) from None
+        raise ConditionError(reason, problem.offset, text, location) from None
     return CompiledCondition(text, syntax, tree, location, tuple(warnings))
