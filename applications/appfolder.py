@@ -118,6 +118,14 @@ def answer_declarations(dialog: Dialog) -> dict[str, Any]:
                 f"found.{qid}", "str", doc=f"the {table} row (its name) the answer to "
                 f"\"{question['text']}\" names, exactly or closely; absent when none",
                 values=tuple(question["found"]) or None, provider=DIALOG_FILE)
+            specs[f"label.{qid}"] = PerceptSpec(
+                f"label.{qid}", "str", doc=f"the label of the {table} row found (what the "
+                "robot says and shows: in the run's language where the table has one)",
+                provider=DIALOG_FILE)
+            specs[f"suggestions.{qid}"] = PerceptSpec(
+                f"suggestions.{qid}", "str", doc=f"the labels of the {table} rows closest to "
+                "an answer that matched none or closely (\"A, B or C\"); absent when none is "
+                "near", provider=DIALOG_FILE)
             specs[f"search.{qid}"] = PerceptSpec(
                 f"search.{qid}", "str", doc=f"how the answer matched a row of {table}: exact, "
                 "close (ask \"did you mean …?\") or none", values=OUTCOMES, provider=DIALOG_FILE)

@@ -112,8 +112,10 @@ class Run:
                  trace: TraceWriter | None = None, database: AnswerDatabase | None = None,
                  echo: Callable[[str], None] | None = print,
                  reload: Callable[[], Any] | None = None,
-                 observers: Sequence[Callable[[dict[str, Any]], None]] = ()) -> None:
+                 observers: Sequence[Callable[[dict[str, Any]], None]] = (),
+                 language: str | None = None) -> None:
         self.app = app
+        self.language = language       # the run's language (--language): labels said in it
         self.robot = robot
         self.dialog: Dialog = dialog or load_dialog(app.folder / "dialog.xml", app.states)
         self.duration = duration or robot.scenario_duration or DEFAULT_DURATION
@@ -282,12 +284,15 @@ class Run:
         table = self._searched.get(question)
         if table is None or self.database is None:
             return
+        language = (self.language or self.dialog.language or "en").split("-")[0]
         result = self.database.search(table, event["answer"], robot=self.robot.name,
                                       session=event.get("session", 0), question=question,
-                                      robot_time=event["t"])
+                                      robot_time=event["t"], language=language)
         self._search_results[question] = result
-        found = f" -> {result.found}" if result.found else ""
-        more = f" (also: {', '.join(result.suggestions)})" if result.suggestions else ""
+        found = f" -> {result.found} \"{result.label}\"" if result.found else ""
+        shown = [f"{n} \"{label}\"" for n, label in zip(result.suggestions,
+                                                         result.suggestion_labels)]
+        more = f" (did you mean: {', '.join(shown)})" if shown else ""
         self._say_line(f"[{event['t']:7.1f} s]   search {question} '{event['answer']}': "
                        f"{result.outcome}{found}{more}")
 
@@ -302,6 +307,9 @@ class Run:
                 extra[f"search.{question}"] = result.outcome
                 if result.found is not None:
                     extra[f"found.{question}"] = result.found
+                    extra[f"label.{question}"] = result.label
+                if result.suggestion_labels:
+                    extra[f"suggestions.{question}"] = _either(result.suggestion_labels)
         if not extra:
             return percepts
         return percepts.with_values(extra)
@@ -322,6 +330,11 @@ class Run:
     def _say_line(self, text: str) -> None:
         if self.echo is not None:
             self.echo(text)
+
+
+def _either(labels: tuple[str, ...]) -> str:
+    """Suggestions as said and shown: "A", "A or B", "A, B or C"."""
+    return labels[0] if len(labels) == 1 else f"{', '.join(labels[:-1])} or {labels[-1]}"
 
 
 def _where(item: Any) -> str:

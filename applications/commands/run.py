@@ -117,7 +117,7 @@ class RunCommand:
             reload = _watcher(folder, robot_name) if args.watch else None
             run = Run(app, robot, dialog=dialog, duration=args.duration, trace=trace,
                       database=database, echo=echo, reload=reload,
-                      observers=watching.observers)
+                      observers=watching.observers, language=args.language)
             summary = run.run()
             guard.closing()          # from here on a signal must not interrupt the closing
         except BaseException as exc:
