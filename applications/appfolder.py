@@ -22,7 +22,7 @@ from applications.exceptions import ApplicationError
 from applications.search import OUTCOMES, SEARCH_LOG_COLUMNS, SEARCHES_TABLE, SEARCHES_TABLE_SQL
 from applications.graph.catalog import Catalog, load_catalog
 from applications.graph.diagnostics import (Diagnostic, did_you_mean, error, has_errors,
-                                            sort_diagnostics)
+                                            sort_diagnostics, warning)
 from applications.graph.loader import (_shown, find_application, graph_path, inspect_graph_bytes,
                                        refusal)
 from applications.graph.location import Location
@@ -87,6 +87,7 @@ def inspect_folder(name_or_path: str | Path, robot: str | None = None,
     found += dialog_problems
     if draft is not None and catalog.behaviors is not None:
         found += check_parameters(draft, dialog, catalog.behaviors, declarations, content, folder)
+        found += check_ways_out_of_questions(draft, catalog.behaviors)
         records = records_answers(draft, dialog, catalog.behaviors)
         if records:
             found += check_answer_storage(content, records, folder)
@@ -224,6 +225,31 @@ def _missing_message(state: DraftState, name: str, parameter) -> str:
 
 
 # -- answers and the database -------------------------------------------------------------------
+
+LEAVING = frozenset({"user.present", "user.left", "people.count"})   # the visitor went away
+
+
+def check_ways_out_of_questions(draft: Draft, behaviors: Mapping[str, Any]) -> list[Diagnostic]:
+    """A warning for each state that asks questions and can only be left by an answer: a
+    visitor who walks off without one would keep the robot waiting for ever. A way out is a
+    transition that reads the time in the state or whether the visitor is still there."""
+    found = []
+    for state in draft.states.values():
+        if state.final or not getattr(behaviors.get(state.behavior), "records_answers", False):
+            continue
+        conditions = [t.condition for t in state.transitions if t.condition is not None]
+        if any(c.uses_time or c.names & LEAVING for c in conditions):
+            continue
+        if len(conditions) < len(state.transitions):
+            continue            # a condition with an error: reported already
+        back = draft.initial or "Wait"
+        found.append(warning(
+            f"state '{state.name}' asks questions ({state.behavior}) and is left only by an "
+            f"answer: a visitor who walks away without answering keeps the robot waiting for "
+            f"ever; add a way out, e.g. <transition to=\"{back}\" when=\"not user.present or "
+            f"time_in_state > 40s\"/>", state.location, "no-timeout"))
+    return found
+
 
 def records_answers(draft: Draft, dialog: Dialog, behaviors: Mapping[str, Any]) -> str | None:
     """The first state whose behavior records answers, or None."""
