@@ -142,3 +142,16 @@ def test_the_checker_refuses_a_parameter_of_the_wrong_kind_passed_to_a_behavior(
     _, _, found = inspect_folder(folder_with(tmp_path, graph))
     assert any('from="param.near" (70cm): parameter \'speed\' of \'GoTo\' unit \'cm\' is not a speed'
                in str(d) for d in found), [str(d) for d in found]
+
+
+def test_parameters_survive_an_scxml_round_trip(tmp_path):
+    from applications.graph.scxml import export_scxml, import_scxml
+    from applications.graph.writer import graph_xml
+    _, loaded, _ = inspect_folder(folder_with(tmp_path, GRAPH))
+    chart = export_scxml(loaded.app)
+    assert "<data id=\"idle_timeout\" expr=\"'2min'\"/>" in chart
+    (tmp_path / "chart.scxml").write_text(chart)
+    back = import_scxml(tmp_path / "chart.scxml")
+    assert {n: c.text for n, c in back.params.items()} == {
+        "param.idle_timeout": "2min", "param.near": "70cm", "param.pace": "0.4m/s"}
+    assert '<param name="near" value="70cm"/>' in graph_xml(back)
