@@ -155,3 +155,10 @@ def test_parameters_survive_an_scxml_round_trip(tmp_path):
     assert {n: c.text for n, c in back.params.items()} == {
         "param.idle_timeout": "2min", "param.near": "70cm", "param.pace": "0.4m/s"}
     assert '<param name="near" value="70cm"/>' in graph_xml(back)
+
+
+def test_interbot_percepts_lists_the_parameters_of_an_application(tmp_path, capsys):
+    from applications.cli import main
+    assert main(["percepts", "--app", str(folder_with(tmp_path, GRAPH))]) == 0
+    listed = capsys.readouterr().out
+    assert "param.idle_timeout   float [min]" in listed and "application parameter, 2min" in listed
