@@ -33,13 +33,16 @@ FRESH_ONLY = frozenset({"people/tracks", "people/user", "people/user_distance",
 
 def describe(view: PerceptView, ages: dict[str, float]) -> dict[str, dict]:
     """Each percept's value, the age (s) of the blackboard entry it comes from (`ages`, by key)
-    and whether it is stale: older than STALE_AFTER where that makes it read as absent."""
+    and whether it is stale: older than STALE_AFTER where that makes it read as absent; a
+    percept whose plugin failed is marked `disabled`."""
     out = {}
     for name, value in view.items():
         source = SOURCES.get(name)
         age = ages.get(source)
         stale = age is None or (source in FRESH_ONLY and age > STALE_AFTER)
         out[name] = {"value": value, "age": age, "stale": stale}
+        if name in view.disabled:             # its plugin failed during the run
+            out[name]["disabled"] = True
     return out
 
 

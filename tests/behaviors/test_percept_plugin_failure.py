@@ -81,3 +81,10 @@ def test_the_robot_reports_a_failed_plugin_as_a_trace_event(broken):
     assert robot.events() == [{"t": 2.5, "kind": "plugin", "group": "percept",
                                "plugin": "wobbly", "error": "ZeroDivisionError: division by zero",
                                "percepts": ["wobbly.gap", "wobbly.near"]}]
+
+
+def test_the_snapshot_marks_disabled_percepts(broken):
+    from behaviors.percept_view import describe
+    view = PerceptTracker().view(skills(), 1.0)
+    described = describe(view, {})
+    assert described["wobbly.near"]["disabled"] and "disabled" not in described["fine.count"]
