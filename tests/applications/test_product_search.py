@@ -176,3 +176,45 @@ def test_found_values_are_checked_against_the_table(tmp_path):
     _, loaded, found = inspect_folder(_folder(tmp_path, sql + SEARCHES_TABLE_SQL))
     assert loaded is None
     assert any('"tea"' in d.message or "tea" in d.message for d in found if d.is_error)
+
+
+def searching_run(tmp_path, language):
+    from types import SimpleNamespace
+    from applications.runtime import Run
+    database = ApplicationDatabase(tmp_path / "shop.sqlite", SHOPPING / "database.sql")
+    dialog = SimpleNamespace(questions=[{"id": "product", "search": "catalogue"}], language="en")
+    lines = []
+    run = Run(SimpleNamespace(folder=SHOPPING), SimpleNamespace(name="perses"), dialog=dialog,
+              duration=1.0, database=database, echo=lines.append, language=language)
+    return run, database, lines
+
+
+@pytest.mark.parametrize("language,typed,label", [("de", "Milch", "Frische Milch 1 l"),
+                                                  ("en", "Milch", "Fresh milk 1 l")])
+def test_the_run_says_the_label_in_its_language(tmp_path, language, typed, label):
+    from behaviors.percepts import PerceptView
+    run, database, lines = searching_run(tmp_path, language)
+    try:
+        run._search({"t": 1.0, "question": "product", "answer": typed, "session": 1})
+        view = run._with_searches(PerceptView({"answer.product": typed}, 1.0,
+                                              frozenset({"x.y"})))
+    finally:
+        database.close()
+    assert (view["search.product"], view["found.product"]) == ("exact", "milk")
+    assert view["label.product"] == label
+    assert view.disabled == {"x.y"}                 # a disabled percept stays disabled
+    assert f'-> milk "{label}"' in lines[-1]
+
+
+def test_the_run_offers_the_suggestions_of_a_miss_by_label(tmp_path):
+    from behaviors.percepts import PerceptView
+    run, database, lines = searching_run(tmp_path, "en")
+    try:
+        run._search({"t": 1.0, "question": "product", "answer": "dog food", "session": 1})
+        view = run._with_searches(PerceptView({"answer.product": "dog food"}, 1.0))
+    finally:
+        database.close()
+    assert view["search.product"] == "none" and "found.product" not in view
+    assert view["suggestions.product"] == "Canned food or Cat food, 12 pouches"
+    assert lines[-1].endswith("'dog food': none (did you mean: canned \"Canned food\", "
+                              "cat food \"Cat food, 12 pouches\")")
