@@ -40,6 +40,7 @@ class RunSummary:
     surveys_completed: int = 0
     fault: str | None = None
     stalls: int = 0
+    plugin_failures: list[str] = field(default_factory=list)  # percept plugins that raised
     wall_seconds: float = 0.0
     link_downs: int = 0             # `link` events with state "down"
     link_ups: int = 0               # ... and "up" again (re-connected, data fresh)
@@ -49,7 +50,6 @@ class RunSummary:
     device_links: dict[str, list] = field(default_factory=dict)  # device -> [downs, ups, s down]
     ended_by: str | None = None     # why the loop ended early: "SIGTERM", "an error", ...
     device_faults: list[str] = field(default_factory=list)   # `fault` events naming a device
-    plugin_failures: list[str] = field(default_factory=list)  # percept plugins that raised
 
     def count(self, event: dict[str, Any]) -> None:
         """Keep the link and dropped-reading counters from the events that pass by."""
