@@ -15,13 +15,14 @@ from pathlib import Path
 from typing import Any
 
 from applications.conditions.condition import default_declarations
+from applications.conditions.constants import Constant
 from applications.database import ANSWERS_TABLE_SQL, SCHEMA_FILE, DatabaseContent
 from applications.dialog import Dialog, check_dialog
 from applications.exceptions import ApplicationError
 from applications.search import OUTCOMES, SEARCH_LOG_COLUMNS, SEARCHES_TABLE, SEARCHES_TABLE_SQL
 from applications.graph.catalog import Catalog, load_catalog
 from applications.graph.diagnostics import (Diagnostic, did_you_mean, error, has_errors,
-                                            sort_diagnostics)
+                                            sort_diagnostics, warning)
 from applications.graph.loader import (_shown, find_application, graph_path, inspect_graph_bytes,
                                        refusal)
 from applications.graph.location import Location
@@ -77,6 +78,8 @@ def inspect_folder(name_or_path: str | Path, robot: str | None = None,
         read_bytes(graph_file), str(_shown(graph_file)), folder, graph_file, robot,
         catalog, declarations)
     found += graph_problems
+    if draft is not None and draft.params:       # the application's parameters: param.<name>
+        declarations = {**declarations, **draft.params}
     catalog = catalog or load_catalog(robot or (draft.robot if draft else None))
     states = {s.name: s.behavior for s in draft.states.values()} if draft else None
     dialog, dialog_problems = check_dialog(dialog_file, states, catalog.behaviors, choices,
@@ -84,6 +87,7 @@ def inspect_folder(name_or_path: str | Path, robot: str | None = None,
     found += dialog_problems
     if draft is not None and catalog.behaviors is not None:
         found += check_parameters(draft, dialog, catalog.behaviors, declarations, content, folder)
+        found += check_ways_out_of_questions(draft, catalog.behaviors)
         records = records_answers(draft, dialog, catalog.behaviors)
         if records:
             found += check_answer_storage(content, records, folder)
@@ -115,6 +119,14 @@ def answer_declarations(dialog: Dialog) -> dict[str, Any]:
                 f"found.{qid}", "str", doc=f"the {table} row (its name) the answer to "
                 f"\"{question['text']}\" names, exactly or closely; absent when none",
                 values=tuple(question["found"]) or None, provider=DIALOG_FILE)
+            specs[f"label.{qid}"] = PerceptSpec(
+                f"label.{qid}", "str", doc=f"the label of the {table} row found (what the "
+                "robot says and shows: in the run's language where the table has one)",
+                provider=DIALOG_FILE)
+            specs[f"suggestions.{qid}"] = PerceptSpec(
+                f"suggestions.{qid}", "str", doc=f"the labels of the {table} rows closest to "
+                "an answer that matched none or closely (\"A, B or C\"); absent when none is "
+                "near", provider=DIALOG_FILE)
             specs[f"search.{qid}"] = PerceptSpec(
                 f"search.{qid}", "str", doc=f"how the answer matched a row of {table}: exact, "
                 "close (ask \"did you mean …?\") or none", values=OUTCOMES, provider=DIALOG_FILE)
@@ -175,6 +187,14 @@ def _check_param(param: Param, state: DraftState, declared: Mapping[str, Any],
         return [error(f"from=\"{param.source}\": unknown percept"
                       f"{did_you_mean(param.source, declarations)}", param.value_location,
                       "param-source")]
+    constant = declarations[param.source]
+    if isinstance(constant, Constant) and param.lookup is None:
+        try:
+            convert(parameter, constant.text)
+        except ParameterError as exc:
+            return [error(f"from=\"{param.source}\" ({constant.text}): parameter "
+                          f"'{param.name}' of '{state.behavior}' {exc}", param.value_location,
+                          "param-type")]
     if param.lookup is not None:
         return _check_lookup(param, content)
     return []
@@ -205,6 +225,31 @@ def _missing_message(state: DraftState, name: str, parameter) -> str:
 
 
 # -- answers and the database -------------------------------------------------------------------
+
+LEAVING = frozenset({"user.present", "user.left", "people.count"})   # the visitor went away
+
+
+def check_ways_out_of_questions(draft: Draft, behaviors: Mapping[str, Any]) -> list[Diagnostic]:
+    """A warning for each state that asks questions and can only be left by an answer: a
+    visitor who walks off without one would keep the robot waiting for ever. A way out is a
+    transition that reads the time in the state or whether the visitor is still there."""
+    found = []
+    for state in draft.states.values():
+        if state.final or not getattr(behaviors.get(state.behavior), "records_answers", False):
+            continue
+        conditions = [t.condition for t in state.transitions if t.condition is not None]
+        if any(c.uses_time or c.names & LEAVING for c in conditions):
+            continue
+        if len(conditions) < len(state.transitions):
+            continue            # a condition with an error: reported already
+        back = draft.initial or "Wait"
+        found.append(warning(
+            f"state '{state.name}' asks questions ({state.behavior}) and is left only by an "
+            f"answer: a visitor who walks away without answering keeps the robot waiting for "
+            f"ever; add a way out, e.g. <transition to=\"{back}\" when=\"not user.present or "
+            f"time_in_state > 40s\"/>", state.location, "no-timeout"))
+    return found
+
 
 def records_answers(draft: Draft, dialog: Dialog, behaviors: Mapping[str, Any]) -> str | None:
     """The first state whose behavior records answers, or None."""

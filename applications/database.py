@@ -145,10 +145,10 @@ class ApplicationDatabase:
         return lookup(self._db, table, column, key)
 
     def search(self, table: str, query: str, *, robot: str, session: int, question: str,
-               robot_time: float) -> SearchResult:
+               robot_time: float, language: str | None = None) -> SearchResult:
         """The row of `table` that `query` names (applications/search.py), logged in the
-        searches table with its outcome."""
-        result = search(entries(self._db, table), query)
+        searches table with its outcome; labels in `language` where the table has them."""
+        result = search(entries(self._db, table), query, language)
         with self._db:
             self._db.execute(
                 "INSERT INTO searches (run_id, robot, session, question, query, outcome, found,"

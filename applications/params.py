@@ -22,9 +22,13 @@ Lookup = Callable[[str, str, str], str | None]          # table, column, key -> 
 
 def state_params(state: State, behavior: str, content: dict[str, Any],
                  percepts: Mapping[str, Any], folder: Path,
-                 lookup: Lookup | None) -> tuple[dict[str, Any], list[str]]:
+                 lookup: Lookup | None,
+                 constants: Mapping[str, Any] | None = None) -> tuple[dict[str, Any], list[str]]:
     """The parameters for `behavior` on entering `state`, and a note for each one that could
-    not be set (its percept absent, no row in the database)."""
+    not be set (its percept absent, no row in the database). `constants` are the
+    application's parameters (`from="param.pace"` reads one as written, unit and all)."""
+    if constants:
+        percepts = {**percepts, **{name: c.text for name, c in constants.items()}}
     from behaviors.parameters import ParameterError, convert
     from behaviors.registry import get_behavior
 

@@ -40,6 +40,7 @@ class RunSummary:
     surveys_completed: int = 0
     fault: str | None = None
     stalls: int = 0
+    plugin_failures: list[str] = field(default_factory=list)  # percept plugins that raised
     wall_seconds: float = 0.0
     link_downs: int = 0             # `link` events with state "down"
     link_ups: int = 0               # ... and "up" again (re-connected, data fresh)
@@ -96,6 +97,8 @@ class RunSummary:
         if self.dropped_readings:
             out.append(f"readings dropped (not described by the robot profile): "
                        f"{self.dropped_readings}")
+        for failure in self.plugin_failures:
+            out.append(failure)
         for fault in self.device_faults:
             out.append(f"device fault: {fault}; the robot was stopped")
         if self.ended_by:
@@ -114,8 +117,10 @@ class Run:
                  echo: Callable[[str], None] | None = print,
                  reload: Callable[[], Any] | None = None,
                  observers: Sequence[Callable[[dict[str, Any]], None]] = (),
-                 chooser: Any | None = None) -> None:
+                 chooser: Any | None = None,
+                 language: str | None = None) -> None:
         self.app = app
+        self.language = language       # the run's language (--language): labels said in it
         self.robot = robot
         self.dialog: Dialog = dialog or load_dialog(app.folder / "dialog.xml", app.states)
         self.duration = duration or robot.scenario_duration or DEFAULT_DURATION
@@ -217,7 +222,7 @@ class Run:
                        **picked.params}
         lookup = self.database.lookup if self.database is not None else None
         params, notes = state_params(state, behavior, content, percepts,
-                                     self.app.folder, lookup)
+                                     self.app.folder, lookup, self.app.params)
         for note in notes:
             self._say_line(f"  note: {note}")
         self.robot.activate(behavior, params)
@@ -269,6 +274,9 @@ class Run:
             observer(snapshot)
 
     def _emit(self, event: dict[str, Any]) -> None:
+        if event["kind"] == "plugin":
+            event["off"] = self._conditions_reading(set(event.get("percepts", ())))
+            self.summary.plugin_failures.append(_describe(event, self.robot.name).split("] ", 1)[-1])
         self.summary.count(event)
         if self.observers:
             self._tick_events.append(event)
@@ -304,12 +312,15 @@ class Run:
         table = self._searched.get(question)
         if table is None or self.database is None:
             return
+        language = (self.language or self.dialog.language or "en").split("-")[0]
         result = self.database.search(table, event["answer"], robot=self.robot.name,
                                       session=event.get("session", 0), question=question,
-                                      robot_time=event["t"])
+                                      robot_time=event["t"], language=language)
         self._search_results[question] = result
-        found = f" -> {result.found}" if result.found else ""
-        more = f" (also: {', '.join(result.suggestions)})" if result.suggestions else ""
+        found = f" -> {result.found} \"{result.label}\"" if result.found else ""
+        shown = [f"{n} \"{label}\"" for n, label in zip(result.suggestions,
+                                                         result.suggestion_labels)]
+        more = f" (did you mean: {', '.join(shown)})" if shown else ""
         self._say_line(f"[{event['t']:7.1f} s]   search {question} '{event['answer']}': "
                        f"{result.outcome}{found}{more}")
 
@@ -324,13 +335,51 @@ class Run:
                 extra[f"search.{question}"] = result.outcome
                 if result.found is not None:
                     extra[f"found.{question}"] = result.found
+                    extra[f"label.{question}"] = result.label
+                if result.suggestion_labels:
+                    extra[f"suggestions.{question}"] = _either(result.suggestion_labels)
         if not extra:
             return percepts
-        return type(percepts)({**percepts, **extra}, percepts.t)
+        return percepts.with_values(extra)
+
+    def _conditions_reading(self, percepts: set[str]) -> list[str]:
+        """Each transition (and dialog rule) whose condition reads one of `percepts`, as
+        "From -> To (file:line)": these are off once their percepts are disabled."""
+        found = []
+        for state in self.app.states.values():
+            for transition in state.transitions:
+                if transition.condition.names & percepts:
+                    found.append(f"{state.name} -> {transition.target} ({_where(transition)})")
+        for rule in getattr(self.dialog, "overrides", ()):
+            if rule.condition.names & percepts:
+                found.append(f"dialog rule of {rule.state} ({_where(rule)})")
+        return found
 
     def _say_line(self, text: str) -> None:
         if self.echo is not None:
             self.echo(text)
+
+
+def _either(labels: tuple[str, ...]) -> str:
+    """Suggestions as said and shown: "A", "A or B", "A, B or C"."""
+    return labels[0] if len(labels) == 1 else f"{', '.join(labels[:-1])} or {labels[-1]}"
+
+
+def _where(item: Any) -> str:
+    location = getattr(item, "location", None)
+    if location is None:
+        return "?"
+    return f"{str(location.file).rsplit('/', 1)[-1]}:{location.line}"
+
+
+def _plugin_line(event: dict[str, Any]) -> str:
+    """One line naming the failed plugin, what it disabled, and what still runs."""
+    percepts = ", ".join(event.get("percepts", ())) or "none"
+    off = event.get("off") or []
+    conditions = (f"; {len(off)} condition(s) reading them are off: {', '.join(off)}" if off
+                  else "; no condition of the application reads them")
+    return (f"PERCEPT PLUGIN '{event['plugin']}' FAILED ({event['error']}): its percepts "
+            f"{percepts} are disabled{conditions}; the rest runs")
 
 
 def _describe(event: dict[str, Any], robot: str) -> str | None:
@@ -374,6 +423,8 @@ def _describe(event: dict[str, Any], robot: str) -> str | None:
     if kind == "outcome":
         verdict = {True: "success", False: "failure", None: "open at the end"}[event["success"]]
         return f"{t}   outcome {event['point']}: {event['alternative']} {verdict} after {event['after']:.1f} s"
+    if kind == "plugin":
+        return f"{t} {_plugin_line(event)}"
     if kind == "dropped":
         return f"{t}   dropped {event['count']} reading(s): {event['reason']}"
     return None

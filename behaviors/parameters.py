@@ -18,6 +18,7 @@ TYPES = {
     "place": "a place name of the robot's map (e.g. room_n2)",
     "distance": "a distance with its unit (e.g. 1.2m or 120cm)",
     "duration": "a duration with its unit (e.g. 30s, 500ms or 2min)",
+    "speed": "a speed with its unit (e.g. 0.4m/s, 40cm/s or 1.5km/h; a bare number is m/s)",
     "number": "a number (e.g. 3 or 0.5)",
     "bool": "true or false",
     "questions": "questions with their answers (given in dialog.xml)",
@@ -25,8 +26,11 @@ TYPES = {
 }
 
 _UNITS = {"distance": {"m": 1.0, "cm": 0.01, "mm": 0.001},
-          "duration": {"s": 1.0, "ms": 0.001, "min": 60.0}}
-_QUANTITY = re.compile(r"^\s*([0-9]+(?:\.[0-9]*)?|\.[0-9]+)\s*([a-z]*)\s*$")
+          "duration": {"s": 1.0, "ms": 0.001, "min": 60.0},
+          "speed": {"m/s": 1.0, "cm/s": 0.01, "km/h": 1 / 3.6}}
+BASE_UNITS = {"distance": "m", "duration": "s", "speed": "m/s"}   # what the behavior receives
+BARE_IN = {"speed": "m/s"}      # a bare number means this unit (pace was a number in m/s)
+_QUANTITY = re.compile(r"^\s*([0-9]+(?:\.[0-9]*)?|\.[0-9]+)\s*([a-z/]*)\s*$")
 
 
 class ParameterError(ValueError):
@@ -47,7 +51,8 @@ class ParameterSpec:
     def describe(self) -> str:
         need = "required" if self.required else (
             f"default {self.default!r}" if self.default is not None else "optional")
-        return f"{self.type}, {need}: {self.doc}" if self.doc else f"{self.type}, {need}"
+        kind = f"{self.type} in {BASE_UNITS[self.type]}" if self.type in BASE_UNITS else self.type
+        return f"{kind}, {need}: {self.doc}" if self.doc else f"{kind}, {need}"
 
 
 def convert(spec: ParameterSpec, text: str) -> Any:
@@ -83,6 +88,8 @@ def _quantity(kind: str, text: str) -> float:
     if match is None or "," in text:
         raise ParameterError(f"{text!r} is not {TYPES[kind]}")
     number, unit = match.groups()
+    if not unit and kind in BARE_IN:
+        unit = BARE_IN[kind]
     if not unit:
         raise ParameterError(f"{text!r} has no unit; write {TYPES[kind]}")
     if unit not in units:

@@ -99,13 +99,20 @@ def percept_specs() -> dict[str, PerceptSpec]:
 
 
 class PerceptView(Mapping[str, Any]):
-    """A read-only snapshot of percept values for one tick."""
+    """A read-only snapshot of percept values for one tick. `disabled` names the percepts whose
+    plugin failed during the run: they read as absent, and a condition that reads one is off."""
 
-    __slots__ = ("_values", "t")
+    __slots__ = ("_values", "t", "disabled")
 
-    def __init__(self, values: dict[str, Any], t: float) -> None:
+    def __init__(self, values: dict[str, Any], t: float,
+                 disabled: frozenset[str] = frozenset()) -> None:
         self._values = dict(values)
         self.t = t
+        self.disabled = disabled
+
+    def with_values(self, extra: Mapping[str, Any]) -> "PerceptView":
+        """The same snapshot with `extra` values added (L3 adds what it provides itself)."""
+        return PerceptView({**self._values, **extra}, self.t, self.disabled)
 
     def __getitem__(self, name: str) -> Any:
         return self._values[name]

@@ -87,6 +87,10 @@ class Robot:
     def sense(self) -> PerceptView:
         now = self.skills.sense()
         self._view = self.percepts.view(self.skills, now, self.active.status)
+        for failure in self.percepts.new_failures():
+            self._events.append({"t": round(now, 3), "kind": "plugin", "group": "percept",
+                                 "plugin": failure.plugin, "error": failure.error,
+                                 "percepts": list(failure.percepts)})
         return self._view
 
     def start_snapshots(self, inputs: bool = True) -> None:

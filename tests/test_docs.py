@@ -58,6 +58,24 @@ def test_application_examples_check_clean(tmp_path, name):
     assert "0 errors, 0 warnings" in result.stdout
 
 
+def test_the_kiosk_example_asks_again_and_its_visitor_answers_again(tmp_path):
+    """docs/applications.md: parameters in conditions, an "another question?" loop, and a
+    simulated visitor answering the same question twice."""
+    folder = tmp_path / "kiosk"
+    write(examples()["kiosk"], folder)
+    trace = tmp_path / "run.jsonl"
+    ran = cli("run", str(folder), "--fast", "--quiet", "--trace", str(trace),
+              "--data", str(tmp_path / "data"))
+    assert ran.returncode == 0, ran.stdout + ran.stderr
+    events = [json.loads(line) for line in trace.read_text().splitlines()]
+    states = [e["to"] for e in events if e["kind"] == "transition"]
+    assert states == ["Wait", "Greet", "Ask", "Hours", "Again", "Ask", "Hours", "Again", "Wait"]
+    answers = [(e["question"], e["answer"]) for e in events if e["kind"] == "answer"]
+    assert answers == [("topic", "hours"), ("again", "yes"), ("topic", "hours"), ("again", "no")]
+    greeted = next(e for e in events if e["kind"] == "transition" and e["to"] == "Ask")
+    assert greeted["when"] == "user.distance < param.near"
+
+
 def test_the_plugin_package_installs_and_runs_an_application(tmp_path):
     write(examples()["plugin"], tmp_path)
     site = tmp_path / "site"

@@ -12,7 +12,8 @@ class PerceptsCommand:
 
     def add_arguments(self, parser) -> None:
         parser.add_argument("--robot", help="mark the percepts this robot cannot provide")
-        parser.add_argument("--app", help="also list an application's answer.<id> percepts")
+        parser.add_argument("--app", help="also list an application's answer.<id> percepts "
+                            "and its parameters (param.<name>)")
 
     def run(self, args) -> int:
         catalog = percept_catalog()
@@ -49,4 +50,13 @@ def _answers(app: str):
     folder = find_application(app)
     content = DatabaseContent(folder)
     dialog, _ = check_dialog(folder / DIALOG_FILE, choices=content.choices if content.usable else None)
-    return [spec for name, spec in answer_declarations(dialog).items() if name != "dialog.answer"]
+    answers = [spec for name, spec in answer_declarations(dialog).items()
+               if name != "dialog.answer"]
+    return answers + list(_parameters(app).values())
+
+
+def _parameters(app: str) -> dict:
+    """The application's parameters (param.<name>), as declared in its graph.xml."""
+    from applications.appfolder import inspect_folder
+    draft, _, _ = inspect_folder(app)
+    return dict(draft.params) if draft is not None else {}

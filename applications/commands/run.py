@@ -125,7 +125,8 @@ class RunCommand:
                                                               data_dir)
             run = Run(app, robot, dialog=dialog, duration=args.duration, trace=trace,
                       database=database, echo=echo, reload=reload,
-                      observers=watching.observers, chooser=chooser)
+                      observers=watching.observers, chooser=chooser,
+                      language=args.language)
             summary = run.run()
             guard.closing()          # from here on a signal must not interrupt the closing
         except BaseException as exc:

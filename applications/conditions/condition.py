@@ -6,6 +6,7 @@ from typing import Any
 
 from ..exceptions import ConditionError
 from . import typecheck
+from .constants import Constant, speed_problem, substitute
 from .compiler import compile_tree
 from .nodes import Node, Or
 from .parser import parse
@@ -41,8 +42,18 @@ class CompiledCondition:
         return twin
 
     def evaluate(self, values: Mapping[str, Any], time_in_state: float) -> bool:
-        """True when the condition holds; `values` maps percept names to values, None = absent."""
+        """True when the condition holds; `values` maps percept names to values, None = absent.
+        A condition that reads a percept `values.disabled` names (its plugin failed) is off:
+        false, whatever its form (`not user.present` must not fire on a broken plugin)."""
+        disabled = getattr(values, "disabled", None)
+        if disabled and not self.names.isdisjoint(disabled):
+            return False
         return self._evaluate(values, time_in_state)
+
+    def is_off(self, values: Mapping[str, Any]) -> bool:
+        """True when the condition reads a disabled percept (see `evaluate`)."""
+        disabled = getattr(values, "disabled", None)
+        return bool(disabled) and not self.names.isdisjoint(disabled)
 
     __call__ = evaluate
 
@@ -85,11 +96,22 @@ def compile_condition(text: str, location: Any | None = None,
     """
     declarations = default_declarations() if declarations is None else declarations
     warnings: list[ConditionWarning] = []
+    used: dict[int, Constant] = {}
     try:
         syntax = parse(text)
-        tree = typecheck.check(syntax, text, declarations, warnings)
+        checked, used = substitute(syntax, declarations)
+        for offset, constant in used.items():
+            problem = speed_problem(constant)
+            if problem:
+                raise ConditionError(problem, offset, text)
+        tree = typecheck.check(checked, text, declarations, warnings)
     except ConditionError as problem:
-        if location is None:
+        reason = problem.reason
+        constant = used.get(problem.offset)
+        if constant is not None and not reason.startswith(f"'{constant.name}'"):
+            reason = f"{constant.name} is {constant.text} (graph.xml line " \
+                     f"{getattr(constant.location, 'line', '?')}): {reason}"
+        if location is None and reason == problem.reason:
             raise
-        raise ConditionError(problem.reason, problem.offset, text, location) from None
+        raise ConditionError(reason, problem.offset, text, location) from None
     return CompiledCondition(text, syntax, tree, location, tuple(warnings))

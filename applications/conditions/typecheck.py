@@ -10,6 +10,7 @@ from typing import Any, NamedTuple
 
 from ..exceptions import ConditionError
 from ..graph.diagnostics import did_you_mean
+from .constants import PREFIX, unknown_parameter
 from .hints import BOOLEAN_WORDS, NUMBER_WORDS, unit_alias
 from .nodes import And, Compare, Literal, Name, Node, Not, Or
 from .typed import All, AnyOf, Cmp, Const, Flag, Neg, Typed, Value, Var
@@ -88,6 +89,8 @@ class _Checker:
         return Var(node.name, spec.type, spec.unit, spec.range, values)
 
     def unknown_name(self, name: str, other: Var | None, op: str | None) -> str:
+        if name.startswith(PREFIX):
+            return unknown_parameter(name, self.declarations)
         suffix = re.fullmatch(r"(.+?)[._]([^._]+)", name)
         if suffix and suffix.group(1) in self.declarations and (
                 suffix.group(2) in UNITS or unit_alias(suffix.group(2))):

@@ -160,7 +160,8 @@ def build_model(draft: Draft, folder: Path, graph_file: Path) -> Application:
                           params=tuple(state.params))
               for name, state in draft.states.items()}
     return Application(name=draft.name, initial=draft.initial, robot=draft.robot, states=states,
-                       folder=folder, graph_file=graph_file, foreign=draft.foreign)
+                       folder=folder, graph_file=graph_file, foreign=draft.foreign,
+                       params=dict(draft.params))
 
 
 def _shown(path: Path) -> Path:

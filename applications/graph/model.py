@@ -80,6 +80,7 @@ class Application:
     folder: Path = field(compare=False)
     graph_file: Path = field(compare=False)
     foreign: Foreign = field(default=Foreign(), compare=False, repr=False)
+    params: dict = field(default_factory=dict, compare=False)   # "param.x" -> Constant
 
     def __hash__(self) -> int:
         return hash((self.name, self.graph_file))

@@ -12,6 +12,8 @@ from typing import Any
 from lxml import etree
 
 from ..conditions import CompiledCondition, compile_condition
+from ..conditions.condition import default_declarations
+from ..conditions.constants import PREFIX, Constant, ConstantError, parse_constant
 from ..exceptions import ConditionError
 from .diagnostics import Diagnostic, did_you_mean, error, warning
 from .location import Location
@@ -21,7 +23,7 @@ from .schema import schema_problems
 from .source import SourceMap
 
 ROOT = "application"
-ELEMENTS = {"application": ("state",), "state": ("transition", "param"), "transition": (),
+ELEMENTS = {"application": ("state", "param"), "state": ("transition", "param"), "transition": (),
             "param": ()}
 ATTRIBUTES = {"application": ("name", "initial", "robot"),
               "state": ("name", "behavior", "final"),
@@ -70,6 +72,7 @@ class Draft:
     robot_location: Location
     states: dict[str, DraftState] = field(default_factory=dict)
     foreign: Foreign = Foreign()
+    params: dict[str, Constant] = field(default_factory=dict)   # "param.x" -> its value
 
 
 def read_graph(tree: etree._ElementTree, text: str, filename: str,
@@ -113,7 +116,14 @@ class _Reader:
                       initial_location=self.source.value(root, "initial"),
                       robot_location=self.source.value(root, "robot"),
                       foreign=self.foreign(root))
-        for child in self.children(root):
+        children = self.children(root)
+        draft.params = self.application_params([c for c in children if c.tag == "param"])
+        if draft.params:
+            base = default_declarations() if self.declarations is None else self.declarations
+            self.declarations = {**base, **draft.params}
+        for child in children:
+            if child.tag != "state":
+                continue
             state = self.state(child)
             if state is None:
                 continue
@@ -204,6 +214,36 @@ class _Reader:
                           location=location,
                           behavior_location=self.source.value(element, "behavior"),
                           transitions=transitions, foreign=self.foreign(element), params=params)
+
+    def application_params(self, elements: list[etree._Element]) -> dict[str, Constant]:
+        """The application's parameters (<param name value> inside <application>): fixed values
+        that conditions read as `param.<name>`, written once for a deployment."""
+        found: dict[str, Constant] = {}
+        for element in elements:
+            complete = self.check_attributes(element)
+            self.children(element)
+            if element.get("from") is not None or element.get("lookup") is not None:
+                self.report("a parameter of the application is a fixed value: write "
+                            "value=\"…\" (from=\"…\" and lookup=\"…\" belong to a state's "
+                            "<param>)", self.source.element(element), "param")
+                continue
+            if not complete or element.get("value") is None:
+                if complete:
+                    self.report("<param> inside <application> needs value=\"…\" (e.g. "
+                                "value=\"30s\")", self.source.element(element), "param")
+                continue
+            name = element.get("name").strip()
+            where = self.source.value(element, "value")
+            if PREFIX + name in found:
+                first = found[PREFIX + name].location
+                self.report(f"duplicate parameter '{name}' (first given at line {first.line}): "
+                            "give it once", self.source.element(element), "duplicate-param")
+                continue
+            try:
+                found[PREFIX + name] = parse_constant(name, element.get("value"), where)
+            except ConstantError as problem:
+                self.report(f"parameter '{name}': {problem}", where, "param-type")
+        return found
 
     def param(self, element: etree._Element) -> Param | None:
         """<param name="place" value="room_n2"/>, or from="answer.office" [lookup="rooms.place"]."""

@@ -7,7 +7,8 @@ interbot attribute); <onentry><send event="Behavior" type="urn:interbot:behavior
 state's behavior, and the state's parameters are that send's <param>s: a written value as
 expr="'text'" (a string literal), a value taken from a percept as location="answer.office",
 its database lookup as interbot:lookup. Markup in other namespaces (e.g. Qt's layout data) is
-kept both ways.
+kept both ways. The application's parameters are SCXML's data model: <datamodel><data
+id="idle_timeout" expr="'30s'"/></datamodel>.
 """
 from __future__ import annotations
 
@@ -20,6 +21,7 @@ from lxml import etree
 
 from ..conditions import ConditionError, compile_condition
 from ..conditions.condition import default_declarations
+from ..conditions.constants import PREFIX, Constant, ConstantError, parse_constant
 from ..exceptions import ApplicationError
 from .diagnostics import Diagnostic, error
 from .model import Application, Foreign, Param, State, Transition
@@ -46,6 +48,11 @@ def export_scxml(application: Application) -> str:
     if application.robot:
         root.set(_I + "robot", application.robot)
     _add_foreign(root, application.foreign)
+    if application.params:          # the application's parameters: SCXML's own data model
+        datamodel = etree.SubElement(root, _S + "datamodel")
+        for name, constant in application.params.items():
+            etree.SubElement(datamodel, _S + "data", id=name[len(PREFIX):],
+                             expr=_literal(constant.text))
     for state in application.states.values():
         as_final = state.final and not state.transitions
         element = etree.SubElement(root, _S + ("final" if as_final else "state"), id=state.name)
@@ -143,8 +150,16 @@ class _Importer:
             self.report(f"not an SCXML document: the root must be <scxml xmlns=\"{SCXML}\">", root)
             return None
         states = {}
+        params = {}
         for child in root:
-            if not isinstance(child.tag, str) or _foreign(child.tag):
+            if child.tag == _S + "datamodel":
+                params.update(self.datamodel(child))
+        if params:
+            declared = getattr(self.declarations, "declared", self.declarations)
+            self.declarations = _OpenAnswers({**declared, **params})
+        for child in root:
+            if (not isinstance(child.tag, str) or _foreign(child.tag)
+                    or child.tag == _S + "datamodel"):
                 continue
             if child.tag in (_S + "state", _S + "final"):
                 state = self.state(child)
@@ -155,7 +170,26 @@ class _Importer:
         first = next(iter(states), "")
         return Application(name=root.get("name") or default_name, initial=root.get("initial") or first,
                    robot=root.get(_I + "robot"), states=states, folder=path.parent,
-                   graph_file=path, foreign=_foreign_of(root))
+                   graph_file=path, foreign=_foreign_of(root), params=params)
+
+    def datamodel(self, element: etree._Element) -> dict[str, Constant]:
+        """<data id="idle_timeout" expr="'30s'"/>: the application's parameters."""
+        found = {}
+        for child in element:
+            if not isinstance(child.tag, str) or _foreign(child.tag):
+                continue
+            text = _string_literal(child.get("expr") or "") if child.tag == _S + "data" else None
+            if text is None or not child.get("id"):
+                self.report("the data model holds the application's parameters only: "
+                            "<data id=\"idle_timeout\" expr=\"'30s'\"/>", child)
+                continue
+            try:
+                constant = parse_constant(child.get("id"), text, self.source.element(child))
+            except ConstantError as problem:
+                self.report(f"parameter '{child.get('id')}': {problem}", child)
+                continue
+            found[constant.name] = constant
+        return found
 
     def unsupported(self, element: etree._Element) -> None:
         local = etree.QName(element).localname

@@ -18,6 +18,8 @@ def graph_xml(application: Application, comment: str | None = None) -> str:
     _add_foreign(root, application.foreign)
     if comment:
         root.addprevious(etree.Comment(f" {comment} "))
+    for name, constant in application.params.items():
+        etree.SubElement(root, "param", name=name[len("param."):], value=constant.text)
     for state in application.states.values():
         element = etree.SubElement(root, "state", name=state.name, behavior=state.behavior)
         if state.final:

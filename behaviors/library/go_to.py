@@ -32,5 +32,5 @@ GO_TO = BehaviorSpec(
                 "say": ParameterSpec("text", "said before driving off"),
                 "excuse": ParameterSpec("text", "said to people standing in the way",
                                         default=EXCUSE),
-                "speed": ParameterSpec("number", "top speed in m/s (default: the robot's)")},
+                "speed": ParameterSpec("speed", "top speed (default: the robot's)")},
 )

@@ -64,7 +64,7 @@ GUIDE_PERSON = BehaviorSpec(
                                          default=FOLLOW_DISTANCE),
         "give_up_after": ParameterSpec("duration", "how long to wait for a user who fell "
                                        "behind before giving up", default=GIVE_UP_AFTER),
-        "pace": ParameterSpec("number", "top speed in m/s while leading (default: the robot's "
+        "pace": ParameterSpec("speed", "top speed while leading (default: the robot's "
                               "max_speed, 0.6 m/s on HOROS and PERSES; near people the profile's "
                               "lower cap applies)"),
     },

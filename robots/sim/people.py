@@ -66,7 +66,7 @@ class SimPerson:
         self.index = -1               # current step; -1 before appearing
         self.step_started = 0.0
         self.step_state: dict = {}
-        self.answered: set[str] = set()
+        self.answered: set[tuple[str, float]] = set()   # (prompt id, when it was shown)
         self.pressed: list[tuple[float, str, str]] = []   # (t, prompt_id, button), for tests
         self.calls_heard = 0          # utterances while away, since last near the robot
         self._utterances_seen = 0
@@ -277,8 +277,9 @@ def _approach(person: SimPerson, step: Approach, dt: float, world: "World") -> b
 
 
 def _answer(person: SimPerson, step: Answer, dt: float, world: "World") -> bool:
-    """Press the next button on each prompt not yet answered, `delay` s after it appeared; on
-    a typed prompt a value that is not a button is typed, `typing` s per character more."""
+    """Press the next button on each showing of a prompt not yet answered, `delay` s after it
+    appeared (a question the robot asks again, "another one?", is answered again); on a typed
+    prompt a value that is not a button is typed, `typing` s per character more."""
     state = person.step_state
     given = state.setdefault("given", 0)
     if given >= len(step.buttons):
@@ -297,10 +298,11 @@ def _answer(person: SimPerson, step: Answer, dt: float, world: "World") -> bool:
     delay = step.delay
     if screen.typed and button not in buttons:
         delay += step.typing * len(button)        # typing takes longer than a press
-    if prompt_id in person.answered or world.t - screen.shown_at < delay - 1e-9:
+    showing = (prompt_id, screen.shown_at)      # a question asked again is a new showing
+    if showing in person.answered or world.t - screen.shown_at < delay - 1e-9:
         return False
     screen.press(prompt_id, button)
-    person.answered.add(prompt_id)
+    person.answered.add(showing)
     person.pressed.append((world.t, prompt_id, button))
     state["given"] = given + 1
     return state["given"] >= len(step.buttons)

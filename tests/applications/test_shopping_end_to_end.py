@@ -3,6 +3,8 @@ HOROS, every bundled scenario, the searches logged, the customer followed, found
 given up on with a reason."""
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 START = ["Wait", "Attract", "AskWhat"]
@@ -53,10 +55,10 @@ def a_misspelt_product_is_confirmed_found_and_logged(trace, answers, searches):
                        ("more", "no")]
     assert searches == [("product", "expresso", "close", "espresso")]
     asks = {e["question"]: e for e in trace if e["kind"] == "ask"}
-    assert asks["confirm"]["text"] == "Did you mean espresso?"
+    assert asks["confirm"]["text"] == "Did you mean Espresso beans 1 kg?"    # the label
     assert asks["product"]["buttons"][:2] == ["Bread and bakery", "Breakfast cereals"]
     says = [e["text"] for e in trace if e["kind"] == "say"]
-    assert "Please follow me, I will take you to the espresso." in says
+    assert "Please follow me, I will take you to Espresso beans 1 kg." in says
     # GuideToProduct: on arrival the robot says what and where, from the database
     assert "Espresso beans 1 kg: here in aisle A2, at eye level, for 12.99 euros." in says
 
@@ -90,3 +92,24 @@ CHECKS = {"product": a_misspelt_product_is_confirmed_found_and_logged,
           "follow_me": the_customer_is_followed_to_the_end,
           "hidden": the_hidden_customer_is_found_again_within_5_s,
           "walks_off": a_customer_who_walks_off_is_searched_for_called_and_given_up_on}
+
+
+SUGGEST = Path(__file__).resolve().parent / "scenarios" / "shopping_suggest.toml"
+
+
+@pytest.mark.slow
+def test_a_miss_is_offered_suggestions_and_the_question_is_answered_again(app_runs):
+    """"dog food": the robot says and shows the nearest labels, asks again, and the customer
+    (a simulated person answering the same question a second time) types "cat food"."""
+    done = app_runs.run("shopping", "perses", str(SUGGEST))
+    assert done.code == 0
+    assert states(done.trace) == START + ["AskProduct", "Suggest", "AskProduct",
+                                          "GuideToProduct"] + END
+    searches = done.rows("shopping", "SELECT query, outcome, found FROM searches ORDER BY id")
+    assert searches == [("dog food", "none", None), ("cat food", "exact", "cat food")]
+    says = [e["text"] for e in done.trace if e["kind"] == "say"]
+    assert ("I could not find dog food. Did you mean Canned food or Cat food, 12 pouches?"
+            in says)
+    assert "Please follow me, I will take you to Cat food, 12 pouches." in says
+    asked = [e["question"] for e in done.trace if e["kind"] == "ask"]
+    assert asked.count("product") == 2

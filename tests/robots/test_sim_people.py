@@ -89,6 +89,28 @@ def test_answer_presses_one_button_per_new_prompt_after_the_delay():
     assert [(p, b) for _, p, b in person.pressed] == [("q1", "yes"), ("q2", "3")]
 
 
+def test_a_question_asked_again_is_answered_again():
+    """"Another one?" loops: the robot clears the screen and asks the same question again; a
+    later answer step answers the new showing (the same showing is never answered twice)."""
+    world = world_with([{"approach": 0.5}, {"answer": ["Find a product"], "delay": 1.0},
+                        {"answer": ["Follow me"], "delay": 1.0}, {"pause": 100.0}])
+    person = world.people[0]
+    run_until(world, lambda w: person.index == 1)
+    buttons = ("Find a product", "Follow me")
+    world.screen.show("what", "How can I help?", buttons, world.t)
+    run_until(world, lambda w: len(w.screen.presses) == 1)
+    assert world.screen.take_press() == ("what", "Find a product")
+    world.step(3.0)                              # still the same showing: no second press
+    assert world.screen.take_press() is None and person.index == 2
+    world.screen.clear()
+    world.step(1.0)
+    world.screen.show("what", "How can I help?", buttons, world.t)   # asked again
+    run_until(world, lambda w: len(w.screen.presses) == 1)
+    assert world.screen.take_press() == ("what", "Follow me")
+    assert [(p, b) for _, p, b in person.pressed] == [("what", "Find a product"),
+                                                      ("what", "Follow me")]
+
+
 def test_answer_waits_for_a_prompt_and_steps_closer_when_out_of_reach():
     world = world_with([{"answer": ["no"], "delay": 0.0}], at=(2.0, -0.75))
     person = world.people[0]

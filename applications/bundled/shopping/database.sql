@@ -99,16 +99,61 @@ INSERT OR REPLACE INTO products (name, label, category, aisle, place, board, pri
     ('yoghurt',         'Natural yoghurt 500 g', 'dairy', 'back wall', 'shelf_dairy', 'in the fridge', 0.99, 'yogurt'),
     ('bananas',         'Bananas, per kg',       'produce', 'produce', 'shelf_produce', 'on the island', 1.69, 'banana');
 
--- What a customer can ask for, one name each: the categories, then the products. The robot
--- searches this view (dialog.xml search="catalogue") and takes the place and the words it
--- says on arrival from it.
+-- German names of the categories and products (the row's name is the key): `label` is what
+-- a German customer reads and hears, `aliases` what they may type. The search finds a row by
+-- these too ("Milch", "Bananen"), and says and shows the German label in a German run. A row
+-- without one here is known by its English names only. A table of its own, so an older
+-- database file keeps working when this file runs on it again.
+CREATE TABLE IF NOT EXISTS names_de (
+    name    TEXT PRIMARY KEY,
+    label   TEXT NOT NULL,
+    aliases TEXT NOT NULL DEFAULT ''
+);
+INSERT OR REPLACE INTO names_de (name, label, aliases) VALUES
+    ('bakery',          'Brot und Backwaren',        'Brot,Backwaren,Kuchen,Bäckerei'),
+    ('breakfast',       'Frühstücksflocken',         'Frühstück,Flocken,Cerealien'),
+    ('coffee',          'Kaffee und Tee',            'Kaffee,Tee'),
+    ('pasta',           'Nudeln und Reis',           'Nudeln,Reis,Teigwaren'),
+    ('canned',          'Konserven',                 'Dosen,Dosenessen'),
+    ('snacks',          'Snacks und Süßigkeiten',    'Süßigkeiten,Knabbereien'),
+    ('drinks',          'Getränke',                  'Wasser,Saft'),
+    ('household',       'Haushalt',                  'Putzmittel,Reinigung'),
+    ('dairy',           'Milchprodukte',             'Molkereiprodukte'),
+    ('produce',         'Obst und Gemüse',           'Obst,Gemüse'),
+    ('wholemeal bread', 'Vollkornbrot 500 g',        'Vollkornbrot,Schwarzbrot'),
+    ('croissants',      'Croissants, 4 Stück',       'Hörnchen'),
+    ('muesli',          'Müsli 750 g',               'Müsli'),
+    ('cornflakes',      'Cornflakes 500 g',          ''),
+    ('espresso',        'Espressobohnen 1 kg',       'Kaffeebohnen'),
+    ('ground coffee',   'Gemahlener Kaffee 500 g',   'Filterkaffee,Kaffeepulver'),
+    ('green tea',       'Grüner Tee, 20 Beutel',     'Grüntee'),
+    ('spaghetti',       'Spaghetti 500 g',           ''),
+    ('basmati rice',    'Basmatireis 1 kg',          'Basmati'),
+    ('tomatoes',        'Gehackte Tomaten, Dose',    'Tomaten,Tomate'),
+    ('chickpeas',       'Kichererbsen, Dose',        'Kichererbsen'),
+    ('paprika',         'Paprikapulver',             'Paprika,Gewürze'),
+    ('chocolate',       'Zartbitterschokolade 100 g', 'Schokolade'),
+    ('crisps',          'Kartoffelchips 200 g',      'Chips'),
+    ('orange juice',    'Orangensaft 1 l',           'Orangensaft,O-Saft'),
+    ('mineral water',   'Mineralwasser, 6 x 1,5 l',  'Mineralwasser,Sprudel'),
+    ('dish soap',       'Spülmittel 500 ml',         'Spülmittel'),
+    ('cat food',        'Katzenfutter, 12 Beutel',   'Katzenfutter,Tierfutter'),
+    ('milk',            'Frische Milch 1 l',         'Milch,Vollmilch'),
+    ('yoghurt',         'Naturjoghurt 500 g',        'Joghurt,Jogurt'),
+    ('bananas',         'Bananen, pro kg',           'Bananen,Banane');
+
+-- What a customer can ask for, one name each: the categories, then the products, with their
+-- German names. The robot searches this view (dialog.xml search="catalogue") and takes the
+-- place and the words it says on arrival from it.
 DROP VIEW IF EXISTS catalogue;
 CREATE VIEW catalogue AS
-    SELECT name, label, name AS category, aliases, place,
-           label || ': here in aisle ' || aisle || '.' AS here
-      FROM categories
+    SELECT c.name, c.label, c.name AS category, c.aliases, c.place,
+           c.label || ': here in aisle ' || c.aisle || '.' AS here,
+           d.label AS label_de, d.aliases AS aliases_de
+      FROM categories c LEFT JOIN names_de d ON d.name = c.name
     UNION ALL
-    SELECT name, label, category, aliases, place,
-           label || ': here in aisle ' || aisle || ', ' || board || ', for ' ||
-           printf('%.2f', price) || ' euros.' AS here
-      FROM products;
+    SELECT p.name, p.label, p.category, p.aliases, p.place,
+           p.label || ': here in aisle ' || p.aisle || ', ' || p.board || ', for ' ||
+           printf('%.2f', p.price) || ' euros.' AS here,
+           d.label AS label_de, d.aliases AS aliases_de
+      FROM products p LEFT JOIN names_de d ON d.name = p.name;
