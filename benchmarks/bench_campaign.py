@@ -2,7 +2,7 @@
 
 Runs the same small grid twice, measured in the same invocation: one run at a time (the
 baseline: what running the seeds one after another does) and `--workers` at once (local
-processes, the default engine). Each run is an `interbot run` of campaigns/attract (visitors
+processes, the default engine). Each run is an `interbot run` of benchmarks/campaigns/attract (visitors
 with hidden propensities, the learner choosing) for `--duration` s of robot time. Prints per
 set-up runs per minute, the median wall time of a run, robot seconds per wall second, and the
 ratio of the two.

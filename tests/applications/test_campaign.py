@@ -11,7 +11,7 @@ from applications.campaign.spec import load_campaign
 from applications.cli import build_parser
 from applications.exceptions import ApplicationError
 
-ATTRACT = Path(__file__).resolve().parents[2] / "campaigns" / "attract"
+ATTRACT = Path(__file__).resolve().parents[2] / "benchmarks" / "campaigns" / "attract"
 
 # Passers-by every 12-14 s who come when looked at (95 %) and almost never when called (5 %),
 # then walk on at once: many short episodes.
