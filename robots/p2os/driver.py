@@ -15,6 +15,12 @@ Safety, in real time:
   the way out (the line may still carry it), then reconnects with back-off, and on success sends
   zero before ENABLE; the old command is forgotten. The state says why the link went down
   (`extra["link_error"]`); the log says it once per episode, and again when it is back.
+- The reader takes everything that has arrived in one call and decodes only the newest
+  FLOOD_KEEP bytes of a flood (`robots.link.arrival`); a SIP's age is the age of its arrival,
+  so silence after a flood is noticed as soon as silence after nothing.
+- Motors that go off after they were on (SIP FLAGS bit 0 clear, or the e-stop bit 5) are a
+  drive fault: zero at once, commands ignored, `link_up` False and `extra["fault_device"]`,
+  `fault_code`, `fault_meaning` for the trace's `fault` event, until the driver is closed.
 - A reading the profile does not describe (a sonar number beyond the profile's ring, a range
   beyond twice the sensor's reach) is dropped and counted (`extra["dropped_readings"]`, with
   the newest reason in `extra["dropped_reason"]`), never passed up.

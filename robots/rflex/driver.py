@@ -13,6 +13,13 @@ Odometry: the two axes report in separate frames; a pose update happens only whe
 fresh, with signed 32-bit wrapping deltas, the heading from the bearing axis (synchro drive)
 and the translation applied along the mid-step heading.
 
+Link and faults: everything that has arrived is read in one call and only the newest
+FLOOD_KEEP bytes of a flood are decoded (`robots.link.arrival`); a motor report older than
+LINK_TIMEOUT means the link is stale: the command is zeroed at once (the stale-link stop) and
+commands are kept out until reports return. SYS_STATUS is asked once a second; a brake the
+controller set by itself after we released it is a drive fault (zero, commands ignored,
+`extra["fault_device"]` for the trace's `fault` event) until the driver is closed.
+
 Two ways to run: in real time an I/O thread reads, resends and reconnects while the watchdog
 has its own thread; on a simulated clock (lock-step with an in-process emulator) `poll()` does
 the same work deterministically, waiting (real-time timeout) for the emulator's bytes.

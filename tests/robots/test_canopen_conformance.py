@@ -219,3 +219,21 @@ def test_the_other_objects_a_402_drive_has(bus):
     assert node.sdo[0x6041].raw & 0x0800
     node.sdo[0x60FF].raw = 500
     assert not node.sdo[0x6041].raw & 0x0800
+
+
+def test_sdo_access_length_and_transfer_kinds_as_a_remote_node_sees_them(bus):
+    """The checks the library's own LocalNode/RemoteNode tests make of an SDO server, made of
+    the emulated drive by the library's RemoteNode: access rights and lengths are refused with
+    CiA 301's abort codes, and a value goes through expedited and segmented transfers alike."""
+    network, node, emulator, _ = bus
+    node.nmt.send_command(0x82)
+    node.nmt.wait_for_bootup(2.0)
+    sdo = node.sdo
+    assert aborted(lambda: sdo.download(0x6041, 0, b"\x00\x00")) == 0x06010002   # statusword: ro
+    assert aborted(lambda: sdo.download(0x6060, 0, b"\x03\x00")) == 0x06070010   # i8 given 2 bytes
+    assert aborted(lambda: sdo.download(0x6083, 0, b"\x03")) == 0x06070010       # u32 given 1 byte
+    sdo.download(0x6083, 0, struct.pack("<I", 12345), force_segment=True)        # segmented ...
+    assert struct.unpack("<I", sdo.upload(0x6083, 0))[0] == 12345                # ... read back
+    sdo.download(0x6083, 0, struct.pack("<I", 54321))                            # expedited
+    with sdo.open(0x6083, 0, "rb") as stream:                                    # read as a stream
+        assert struct.unpack("<I", stream.read())[0] == 54321
