@@ -1,10 +1,19 @@
 """`AnswerRecognizer`: hears one of the answers on the screen, offline, with pocketsphinx.
 
-The decoder only knows the current answers (a JSGF grammar built from the buttons) plus a
-*filler*: any sequence of English phones. Speech that is not one of the answers fits the filler
-better and is rejected; `threshold` is the filler's price per phone (the word insertion penalty):
-lower accepts fewer answers and rejects more wrong words. Only the English model ships inside the
-pocketsphinx wheel, so only English answers can be recognised. Decoding runs in its own thread.
+Engine: pocketsphinx, because its PyPI wheel ships a US-English acoustic model, dictionary and
+language model, so nothing is fetched at run time (Vosk's and Whisper's models are downloads;
+Debian packages only the same US-English pocketsphinx model, and no German one).
+
+For each question the decoder gets a grammar of the answers on the screen (each as espeak-ng
+and, for English, the dictionary say it: `pronounce.py`) and of *rival* words (`rivals.py`):
+the most frequent English words, and for German common German words. An utterance is taken as
+the answer it matched; one that matched rivals is rejected. `threshold` is how much better,
+in decades of grammar weight, an answer must fit than the best string of rivals (the rivals
+weigh 10**threshold against the answers' 1; default -20: the answers get a head start of 20
+decades): **raise it to accept fewer** — fewer wrong words slip through, more real answers are
+missed; lower it to accept more. Decoding runs in its
+own thread; languages other than English are heard with the English acoustic model through
+espeak-ng's pronunciation of the answers (see docs/tablet-and-voice.md for the measured rates).
 """
 from __future__ import annotations
 
@@ -14,20 +23,21 @@ import re
 import threading
 from collections import deque
 
+from robots.audio.pronounce import base_language, pronounce
+from robots.audio.rivals import english_rivals, rivals_for, spoken_rivals
 from robots.devices import AudioSource, SpeechRecognizer
 from robots.exceptions import RobotError
 
 log = logging.getLogger("interbot.listening")
 
-DEFAULT_THRESHOLD = 1e-2
+DEFAULT_THRESHOLD = -20.0    # decades; see the module's doc and docs/tablet-and-voice.md
 CHUNK = 1024                  # samples per decoder call (64 ms at 16 kHz)
-PHONES = ("AA AE AH AO AW AY B CH D DH EH ER EY F G HH IH IY JH K L M N NG OW OY P R S SH T TH "
-          "UH UW V W Y Z ZH").split()
 NUMBERS = ("zero", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten")
 
 
 def spoken_forms(choice: str) -> str:
-    """How an answer is said: lower case words, digits as English numbers ('3' -> 'three')."""
+    """How an answer is written for the English dictionary: lower case words, digits as
+    English numbers ('3' -> 'three')."""
     words = []
     for word in re.findall(r"[\w']+", choice.lower()):
         if word.isdigit() and int(word) < len(NUMBERS):
@@ -36,11 +46,26 @@ def spoken_forms(choice: str) -> str:
     return " ".join(words)
 
 
+def sayings(choice: str) -> list[str]:
+    """The ways a button may be said: its whole text and, for "Room S1 (seminar room)", also
+    the part before the brackets and the part inside them."""
+    forms = [choice]
+    match = re.fullmatch(r"\s*(.*?)\s*\((.*)\)\s*", choice)
+    if match:
+        forms += [part for part in match.groups() if part.strip()]
+    return list(dict.fromkeys(f for f in forms if re.search(r"\w", f)))
+
+
 def check_language(language: str) -> None:
-    """Refuse, with the reason, a language the shipped model cannot recognise."""
-    if not language.lower().startswith("en"):
-        raise RobotError(f"speech recognition has an English model only (pocketsphinx's "
-                         f"wheel); language '{language}' cannot be recognised")
+    """Refuse, with the reason, a language espeak-ng cannot pronounce answers in."""
+    from robots.audio.espeak import espeak_voices
+    try:
+        voices = espeak_voices(language)
+    except OSError as exc:
+        raise RobotError(f"spoken answers need espeak-ng to pronounce them: {exc}") from exc
+    if not voices:
+        raise RobotError(f"spoken answers in '{language}' cannot be recognised: espeak-ng, "
+                         f"which pronounces the answers, has no voice for it")
 
 
 class AnswerRecognizer(SpeechRecognizer):
@@ -52,10 +77,19 @@ class AnswerRecognizer(SpeechRecognizer):
         except ImportError as exc:
             raise RobotError("speech recognition needs pocketsphinx (pip install "
                              "pocketsphinx)") from exc
+        from pocketsphinx import get_model_path
         self.source = source
-        self.decoder = Decoder(lm=None, loglevel="FATAL", samprate=source.rate, wip=threshold)
-        for phone in PHONES:
-            self.decoder.add_word(f"filler_{phone.lower()}", phone, False)
+        self.language = language
+        self.threshold = float(threshold)
+        if not -300 <= self.threshold <= 300:
+            raise RobotError(f"threshold must lie between -300 and 300 (decades of grammar "
+                             f"weight; higher accepts fewer), not {threshold}")
+        self.decoder = Decoder(lm=None, loglevel="FATAL", samprate=source.rate)
+        rivals = english_rivals(str(get_model_path() + "/en-us")) + spoken_rivals(language)
+        self.rivals = rivals
+        for word, phones in spoken_rivals(language):
+            self.decoder.add_word(word, phones, False)
+        self._words = 0
         self._lock = threading.Lock()
         self._wanted: tuple[str, tuple[str, ...]] | None = None
         self._generation = 0
@@ -82,6 +116,21 @@ class AnswerRecognizer(SpeechRecognizer):
             return self._heard.get_nowait()
         except queue.Empty:
             return None
+
+    def hear_utterance(self, audio: bytes, choices: tuple[str, ...]) -> str | None:
+        """The choice one whole utterance (16 kHz samples, silence either side) says, or None;
+        decoded at once, with the grammar and rivals the listening thread uses (benchmarks)."""
+        wanted = self._sayable(("utterance", tuple(choices)))
+        if wanted is None:
+            return None
+        self.decoder.add_fsg("answers", self._grammar(wanted[1]))
+        self.decoder.activate_search("answers")
+        self.decoder.start_utt()
+        self.decoder.process_raw(audio, False, True)
+        self.decoder.end_utt()
+        self._judge(wanted)
+        heard = self.take_heard()
+        return heard[1] if heard is not None else None
 
     def wait(self, timeout: float) -> None:
         """Wait until the source has ended and everything heard is decoded (tests, files)."""
@@ -111,8 +160,9 @@ class AnswerRecognizer(SpeechRecognizer):
                         decoder.end_utt()
                         decoding = False
                     if wanted is not None:
-                        decoder.add_jsgf_string("answers", _grammar(wanted[1]))
+                        decoder.add_fsg("answers", self._grammar(wanted[1]))
                         decoder.activate_search("answers")
+                        self.source.cue()
             chunk = self.source.read(CHUNK)
             if chunk is None:
                 break
@@ -140,33 +190,62 @@ class AnswerRecognizer(SpeechRecognizer):
             self._judge(wanted)
 
     def _sayable(self, wanted) -> tuple[str, dict[str, str]] | None:
-        """(prompt_id, {spoken form: choice}) for the choices in the dictionary, or None."""
+        """(prompt_id, {grammar word: choice}) for the choices that can be pronounced, or None.
+        Each way of saying a choice (`sayings`) is a word of its own, with espeak-ng's
+        pronunciation in the run's language and, in English, the dictionary's too."""
         if wanted is None:
             return None
         prompt_id, choices = wanted
-        forms = {}
+        words: dict[str, str] = {}
         for choice in choices:
-            form = spoken_forms(choice)
-            if form and all(self.decoder.lookup_word(w) for w in form.split()):
-                forms[form] = choice
-            else:
-                log.info("listening: '%s' cannot be said (not in the English dictionary)", choice)
-        return (prompt_id, forms) if forms else None
+            for phones in self._pronunciations(choice):
+                self._words += 1
+                word = f"answer_{self._words}"
+                self.decoder.add_word(word, " ".join(phones), False)
+                words[word] = choice
+        if not words:
+            log.info("listening: none of the answers to %s can be said", prompt_id)
+        return (prompt_id, words) if words else None
+
+    def _pronunciations(self, choice: str) -> list[tuple[str, ...]]:
+        found: list[tuple[str, ...]] = []
+        for saying in sayings(choice):
+            try:
+                found.append(tuple(pronounce(saying, self.language)))
+            except (ValueError, RobotError) as exc:
+                log.info("listening: '%s' cannot be pronounced: %s", saying, exc)
+            if base_language(self.language) == "en":
+                form = spoken_forms(saying).split()
+                looked_up = [self.decoder.lookup_word(w) for w in form]
+                if form and all(looked_up):
+                    found.append(tuple(" ".join(looked_up).split()))
+        return [p for p in dict.fromkeys(found) if p]
+
+    def _grammar(self, words: dict[str, str]):
+        """A finite-state grammar: one answer, or a string of rivals. The rivals' weight is
+        10**threshold against the answers' 1, so an answer is taken only when it fits at least
+        `threshold` decades of grammar weight better than the best rivals (a hub state keeps
+        the rival loop linear in the number of rivals)."""
+        phones = {self.decoder.lookup_word(w) for w in words}
+        spelled = {w for choice in words.values() for w in spoken_forms(choice).split()}
+        rivals = [word for word, _ in rivals_for(phones, spelled, self.rivals)]
+        rival_share = 10.0 ** self.threshold
+        answer = 1.0 / (1.0 + rival_share) / len(words)
+        rival = rival_share / (1.0 + rival_share) / max(1, len(rivals))
+        start, final, said, hub = 0, 1, 2, 3
+        transitions = [(start, final, answer, word) for word in sorted(words)]
+        if rivals:
+            transitions += [(start, said, rival, word) for word in rivals]
+            transitions += [(said, final, 0.5), (said, hub, 0.5)]
+            transitions += [(hub, said, 1.0 / len(rivals), word) for word in rivals]
+        return self.decoder.create_fsg("answers", start, final, transitions)
 
     def _judge(self, wanted: tuple[str, dict[str, str]]) -> None:
         hypothesis = self.decoder.hyp()
         said = hypothesis.hypstr.strip() if hypothesis is not None else ""
-        prompt_id, forms = wanted
-        if said in forms:
-            log.info("heard '%s' for %s", forms[said], prompt_id)
-            self._heard.put((prompt_id, forms[said]))
+        prompt_id, words = wanted
+        if said in words:
+            log.info("heard '%s' for %s", words[said], prompt_id)
+            self._heard.put((prompt_id, words[said]))
         else:
             self.rejected.append(said)
-
-
-def _grammar(forms: dict[str, str]) -> str:
-    answers = " | ".join(sorted(forms))
-    filler = " | ".join(f"filler_{phone.lower()}" for phone in PHONES)
-    return ("#JSGF V1.0;\ngrammar answers;\n"
-            f"public <utterance> = {answers} | <filler> ;\n"
-            f"<filler> = ( {filler} )+ ;\n")
