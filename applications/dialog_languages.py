@@ -251,3 +251,49 @@ def language_for_run(dialog, requested: str | None) -> tuple[object, str]:
             f"{language_name(requested)} to <dialog languages=\"…\"> in dialog.xml and give "
             f"every text in it (xml:lang=\"{base_language(requested)}\")")
     return dialog.in_language(requested), requested
+
+
+def translated_lookup(lookup, dialog):
+    """The database look-up for a run in `dialog.language`: column X is read from X_<lang>
+    where the table has it (texts: directions_de), else from X itself (places, names)."""
+    default = dialog.languages[0] if dialog.languages else "en"
+    language = base_language(dialog.language or default)
+    if lookup is None or language == default:
+        return lookup
+
+    def in_language(table: str, column: str, key: str):
+        try:
+            found = lookup(table, translated_column(column, language), key)
+        except Exception:          # sqlite3.OperationalError: no such column (not a text)
+            found = None
+        return found if found is not None else lookup(table, column, key)
+    return in_language
+
+
+TEXT_PARAMS = ("say", "closing", "show")
+
+
+def missing_lookup_translations(draft, dialog, content) -> list:
+    """A text a state looks up in the database (`<param name="say" lookup="rooms.directions">`)
+    needs the column directions_<lang> for every other declared language."""
+    from applications.graph.diagnostics import error
+
+    found = []
+    if not getattr(content, "usable", False):
+        return found
+    for state in draft.states.values():
+        for param in getattr(state, "params", ()):
+            if param.name not in TEXT_PARAMS or not param.lookup:
+                continue
+            table, _, column = param.lookup.partition(".")
+            if table not in content.tables():
+                continue
+            for language in dialog.languages[1:]:
+                wanted = translated_column(column, language)
+                if wanted not in content.columns(table):
+                    found.append(error(
+                        f"lookup=\"{param.lookup}\" gives a text, which has no "
+                        f"{language_name(language)} version: add a column {wanted} to table "
+                        f"{table} (the application's languages: {' '.join(dialog.languages)})",
+                        param.location, "dialog-translation"))
+    return found

@@ -17,6 +17,7 @@ from typing import Any, Callable, Sequence
 
 from applications.database import AnswerDatabase
 from applications.dialog import Dialog, load_dialog
+from applications.dialog_languages import translated_lookup
 from applications.graph.model import Application
 from applications.params import state_params
 from applications.statemachine import StateMachine
@@ -190,6 +191,7 @@ class Run:
                            f"(rule at {rule.location.file.rsplit('/', 1)[-1]}:"
                            f"{rule.location.line}: {rule.condition.text})")
         lookup = self.database.lookup if self.database is not None else None
+        lookup = translated_lookup(lookup, self.dialog)        # texts in the run's language
         params, notes = state_params(state, choice.behavior, choice.params, percepts,
                                      self.app.folder, lookup)
         for note in notes:
