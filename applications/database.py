@@ -144,6 +144,9 @@ class ApplicationDatabase:
     def lookup(self, table: str, column: str, key: str) -> str | None:
         return lookup(self._db, table, column, key)
 
+    def columns(self, table: str) -> list[str]:
+        return [row[1] for row in self._db.execute(f"PRAGMA table_info({_quote(table)})")]
+
     def search(self, table: str, query: str, *, robot: str, session: int, question: str,
                robot_time: float) -> SearchResult:
         """The row of `table` that `query` names (applications/search.py), logged in the

@@ -253,20 +253,19 @@ def language_for_run(dialog, requested: str | None) -> tuple[object, str]:
     return dialog.in_language(requested), requested
 
 
-def translated_lookup(lookup, dialog):
+def translated_lookup(lookup, dialog, columns):
     """The database look-up for a run in `dialog.language`: column X is read from X_<lang>
-    where the table has it (texts: directions_de), else from X itself (places, names)."""
+    where the table has it (texts: directions_de), else from X itself (places, names).
+    `columns(table)` lists a table's columns (SQLite would read an unknown quoted column name
+    as a string, so the column is looked for, not tried)."""
     default = dialog.languages[0] if dialog.languages else "en"
     language = base_language(dialog.language or default)
     if lookup is None or language == default:
         return lookup
 
     def in_language(table: str, column: str, key: str):
-        try:
-            found = lookup(table, translated_column(column, language), key)
-        except Exception:          # sqlite3.OperationalError: no such column (not a text)
-            found = None
-        return found if found is not None else lookup(table, column, key)
+        translated = translated_column(column, language)
+        return lookup(table, translated if translated in columns(table) else column, key)
     return in_language
 
 

@@ -191,7 +191,9 @@ class Run:
                            f"(rule at {rule.location.file.rsplit('/', 1)[-1]}:"
                            f"{rule.location.line}: {rule.condition.text})")
         lookup = self.database.lookup if self.database is not None else None
-        lookup = translated_lookup(lookup, self.dialog)        # texts in the run's language
+        if lookup is not None:                                   # texts in the run's language
+            lookup = translated_lookup(lookup, self.dialog,
+                                       getattr(self.database, "columns", lambda table: []))
         params, notes = state_params(state, choice.behavior, choice.params, percepts,
                                      self.app.folder, lookup)
         for note in notes:

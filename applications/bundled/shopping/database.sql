@@ -49,19 +49,20 @@ CREATE TABLE IF NOT EXISTS categories (
     label   TEXT NOT NULL,
     aisle   TEXT NOT NULL,
     place   TEXT NOT NULL,
-    aliases TEXT NOT NULL DEFAULT ''   -- other words for it, comma-separated
+    aliases TEXT NOT NULL DEFAULT '',  -- other words for it, comma-separated
+    label_de TEXT NOT NULL DEFAULT ''  -- the button in German (dialog.xml languages="en de")
 );
-INSERT OR REPLACE INTO categories (name, label, aisle, place, aliases) VALUES
-    ('bakery',    'Bread and bakery',  'A1', 'shelf_bakery',    'bread,cakes'),
-    ('breakfast', 'Breakfast cereals', 'A1', 'shelf_cereal',    'cereal,cereals,muesli'),
-    ('coffee',    'Coffee and tea',    'A2', 'shelf_coffee',    'tea'),
-    ('pasta',     'Pasta and rice',    'A2', 'shelf_pasta',     'noodles,rice'),
-    ('canned',    'Canned food',       'A3', 'shelf_canned',    'tins,cans'),
-    ('snacks',    'Snacks and sweets', 'A4', 'shelf_snacks',    'sweets,candy,chips'),
-    ('drinks',    'Drinks',            'A4', 'shelf_drinks',    'beverages,water,juice'),
-    ('household', 'Household',         'A5', 'shelf_household', 'cleaning'),
-    ('dairy',     'Dairy',             'back wall', 'shelf_dairy', 'milk products'),
-    ('produce',   'Fruit and vegetables', 'produce', 'shelf_produce', 'fruit,vegetables');
+INSERT OR REPLACE INTO categories (name, label, aisle, place, aliases, label_de) VALUES
+    ('bakery',    'Bread and bakery',  'A1', 'shelf_bakery',    'bread,cakes', 'Brot und Backwaren'),
+    ('breakfast', 'Breakfast cereals', 'A1', 'shelf_cereal',    'cereal,cereals,muesli', 'Frühstücksflocken'),
+    ('coffee',    'Coffee and tea',    'A2', 'shelf_coffee',    'tea', 'Kaffee und Tee'),
+    ('pasta',     'Pasta and rice',    'A2', 'shelf_pasta',     'noodles,rice', 'Nudeln und Reis'),
+    ('canned',    'Canned food',       'A3', 'shelf_canned',    'tins,cans', 'Konserven'),
+    ('snacks',    'Snacks and sweets', 'A4', 'shelf_snacks',    'sweets,candy,chips', 'Snacks und Süßigkeiten'),
+    ('drinks',    'Drinks',            'A4', 'shelf_drinks',    'beverages,water,juice', 'Getränke'),
+    ('household', 'Household',         'A5', 'shelf_household', 'cleaning', 'Haushalt'),
+    ('dairy',     'Dairy',             'back wall', 'shelf_dairy', 'milk products', 'Milchprodukte'),
+    ('produce',   'Fruit and vegetables', 'produce', 'shelf_produce', 'fruit,vegetables', 'Obst und Gemüse');
 
 -- The products: `name` is what the robot records and says, `label` how it is written, the
 -- category, the aisle and the shelf place on the map, which shelf board, the price in euros,
@@ -105,10 +106,13 @@ INSERT OR REPLACE INTO products (name, label, category, aisle, place, board, pri
 DROP VIEW IF EXISTS catalogue;
 CREATE VIEW catalogue AS
     SELECT name, label, name AS category, aliases, place,
-           label || ': here in aisle ' || aisle || '.' AS here
+           label || ': here in aisle ' || aisle || '.' AS here,
+           label_de || ': hier im Gang ' || aisle || '.' AS here_de
       FROM categories
     UNION ALL
     SELECT name, label, category, aliases, place,
            label || ': here in aisle ' || aisle || ', ' || board || ', for ' ||
-           printf('%.2f', price) || ' euros.' AS here
+           printf('%.2f', price) || ' euros.' AS here,
+           label || ': hier im Gang ' || aisle || ', für ' ||
+           replace(printf('%.2f', price), '.', ',') || ' Euro.' AS here_de
       FROM products;
