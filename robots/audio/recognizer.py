@@ -9,7 +9,7 @@ and, for English, the dictionary say it: `pronounce.py`) and of *rival* words (`
 the most frequent English words, and for German common German words. An utterance is taken as
 the answer it matched; one that matched rivals is rejected. `threshold` is how much better,
 in decades of grammar weight, an answer must fit than the best string of rivals (the rivals
-weigh 10**threshold against the answers' 1; default -20: the answers get a head start of 20
+weigh 10**threshold against the answers' 1; default -30: the answers get a head start of 30
 decades): **raise it to accept fewer** — fewer wrong words slip through, more real answers are
 missed; lower it to accept more. Decoding runs in its
 own thread; languages other than English are heard with the English acoustic model through
@@ -30,7 +30,7 @@ from robots.exceptions import RobotError
 
 log = logging.getLogger("interbot.listening")
 
-DEFAULT_THRESHOLD = -20.0    # decades; see the module's doc and docs/tablet-and-voice.md
+DEFAULT_THRESHOLD = -30.0    # decades; see the module's doc and docs/tablet-and-voice.md
 CHUNK = 1024                  # samples per decoder call (64 ms at 16 kHz)
 NUMBERS = ("zero", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten")
 
@@ -85,9 +85,9 @@ class AnswerRecognizer(SpeechRecognizer):
             raise RobotError(f"threshold must lie between -300 and 300 (decades of grammar "
                              f"weight; higher accepts fewer), not {threshold}")
         self.decoder = Decoder(lm=None, loglevel="FATAL", samprate=source.rate)
-        rivals = english_rivals(str(get_model_path() + "/en-us")) + spoken_rivals(language)
-        self.rivals = rivals
-        for word, phones in spoken_rivals(language):
+        own = spoken_rivals(language)
+        self.rivals = english_rivals(str(get_model_path() + "/en-us")) + own
+        for word, phones in own:
             self.decoder.add_word(word, phones, False)
         self._words = 0
         self._lock = threading.Lock()
