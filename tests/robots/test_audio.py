@@ -154,3 +154,15 @@ def test_german_and_english_voices_exist_and_an_unknown_language_is_refused(tmp_
     speaker.close()
     with pytest.raises(RobotError, match="no voice for language 'xx'"):
         EspeakSpeaker(RealClock(), "xx")
+
+
+def test_listening_to_files_needs_no_microphone_and_speaks_the_runs_language(tmp_path):
+    from robots.hardware import open_hardware
+    wav = spoken(tmp_path, "yes")
+    hardware = open_hardware("perses", fast=True, listen=str(wav), language="de")
+    try:
+        assert isinstance(hardware.recognizer, AnswerRecognizer)
+        assert isinstance(hardware.recognizer.source, WavQueueSource)
+        assert hardware.recognizer.language == "de"
+    finally:
+        hardware.close()
