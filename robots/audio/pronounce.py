@@ -102,3 +102,10 @@ def espeak_ipa(text: str, voice: str) -> str:
 def pronounce(text: str, language: str) -> list[str]:
     """ARPAbet phones for `text` as espeak-ng says it in `language` (en, de, en-us…)."""
     return ipa_to_phones(espeak_ipa(text, language), language)
+
+
+def pronounce_words(text: str, language: str) -> list[list[str]]:
+    """ARPAbet phones per spoken word of `text` (espeak-ng separates words by spaces), so the
+    recognizer lets a pause fall between words."""
+    words = [ipa_to_phones(word, language) for word in espeak_ipa(text, language).split()]
+    return [phones for phones in words if phones]

@@ -7,11 +7,12 @@ Debian packages only the same US-English pocketsphinx model, and no German one).
 For each question the decoder gets a grammar of the answers on the screen (each as espeak-ng
 and, for English, the dictionary say it: `pronounce.py`) and of *rival* words (`rivals.py`):
 the most frequent English words, and for German common German words. An utterance is taken as
-the answer it matched; one that matched rivals is rejected. `threshold` is how much better,
-in decades of grammar weight, an answer must fit than the best string of rivals (the rivals
-weigh 10**threshold against the answers' 1; default -30: the answers get a head start of 30
-decades): **raise it to accept fewer** — fewer wrong words slip through, more real answers are
-missed; lower it to accept more. Decoding runs in its
+the answer it matched; one that matched rivals is rejected. `threshold` is the grammar weight,
+in decades, that each rival word carries against an answer's 1 (default -25: every rival word
+heard costs 25 decades, so an answer wins unless rivals fit far better): **raise it to accept
+fewer** — fewer wrong words slip through, more real answers are missed; lower it to accept
+more. An answer is a path of its words, so the pauses people (and espeak-ng) make between
+words fit it. Decoding runs in its
 own thread; languages other than English are heard with the English acoustic model through
 espeak-ng's pronunciation of the answers (see docs/tablet-and-voice.md for the measured rates).
 """
@@ -23,14 +24,14 @@ import re
 import threading
 from collections import deque
 
-from robots.audio.pronounce import base_language, pronounce
+from robots.audio.pronounce import base_language, pronounce_words
 from robots.audio.rivals import english_rivals, rivals_for, spoken_rivals
 from robots.devices import AudioSource, SpeechRecognizer
 from robots.exceptions import RobotError
 
 log = logging.getLogger("interbot.listening")
 
-DEFAULT_THRESHOLD = -30.0    # decades; see the module's doc and docs/tablet-and-voice.md
+DEFAULT_THRESHOLD = -25.0    # decades; see the module's doc and docs/tablet-and-voice.md
 CHUNK = 1024                  # samples per decoder call (64 ms at 16 kHz)
 NUMBERS = ("zero", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten")
 
@@ -81,8 +82,8 @@ class AnswerRecognizer(SpeechRecognizer):
         self.source = source
         self.language = language
         self.threshold = float(threshold)
-        if not -300 <= self.threshold <= 300:
-            raise RobotError(f"threshold must lie between -300 and 300 (decades of grammar "
+        if not -150 <= self.threshold <= 150:
+            raise RobotError(f"threshold must lie between -150 and 150 (decades of grammar "
                              f"weight; higher accepts fewer), not {threshold}")
         self.decoder = Decoder(lm=None, loglevel="FATAL", samprate=source.rate)
         own = spoken_rivals(language)
@@ -190,60 +191,80 @@ class AnswerRecognizer(SpeechRecognizer):
             self._judge(wanted)
 
     def _sayable(self, wanted) -> tuple[str, dict[str, str]] | None:
-        """(prompt_id, {grammar word: choice}) for the choices that can be pronounced, or None.
-        Each way of saying a choice (`sayings`) is a word of its own, with espeak-ng's
-        pronunciation in the run's language and, in English, the dictionary's too."""
+        """(prompt_id, {grammar path: choice}) for the choices that can be pronounced, or None.
+        Each way of saying a choice (`sayings`) is a path of words, with espeak-ng's
+        pronunciation in the run's language and, in English, the dictionary's too; a path is
+        written as its words joined by spaces, as the decoder's hypothesis reads."""
         if wanted is None:
             return None
         prompt_id, choices = wanted
-        words: dict[str, str] = {}
+        paths = {}
         for choice in choices:
-            for phones in self._pronunciations(choice):
+            for pronunciation in self._pronunciations(choice):
                 self._words += 1
-                word = f"answer_{self._words}"
-                self.decoder.add_word(word, " ".join(phones), False)
-                words[word] = choice
-        if not words:
-            log.info("listening: none of the answers to %s can be said", prompt_id)
-        return (prompt_id, words) if words else None
+                names = []
+                for index, phones in enumerate(pronunciation):
+                    name = f"answer_{self._words}_{index}"
+                    self.decoder.add_word(name, phones, False)
+                    names.append(name)
+                paths[" ".join(names)] = choice
+        return (prompt_id, paths) if paths else None
 
     def _pronunciations(self, choice: str) -> list[tuple[str, ...]]:
+        """Each way of saying `choice`, as the phones of each of its words."""
         found: list[tuple[str, ...]] = []
         for saying in sayings(choice):
             try:
-                found.append(tuple(pronounce(saying, self.language)))
+                found.append(tuple(" ".join(p) for p in pronounce_words(saying, self.language)))
             except (ValueError, RobotError) as exc:
                 log.info("listening: '%s' cannot be pronounced: %s", saying, exc)
             if base_language(self.language) == "en":
                 form = spoken_forms(saying).split()
                 looked_up = [self.decoder.lookup_word(w) for w in form]
                 if form and all(looked_up):
-                    found.append(tuple(" ".join(looked_up).split()))
+                    found.append(tuple(looked_up))
         return [p for p in dict.fromkeys(found) if p]
 
-    def _grammar(self, words: dict[str, str]):
-        """A finite-state grammar: one answer, or a string of rivals. The rivals' weight is
-        10**threshold against the answers' 1, so an answer is taken only when it fits at least
-        `threshold` decades of grammar weight better than the best rivals (a hub state keeps
-        the rival loop linear in the number of rivals)."""
-        phones = {self.decoder.lookup_word(w) for w in words}
-        spelled = {w for choice in words.values() for w in spoken_forms(choice).split()}
-        rivals = [word for word, _ in rivals_for(phones, spelled, self.rivals)]
-        rival_share = 10.0 ** self.threshold
-        answer = 1.0 / (1.0 + rival_share) / len(words)
-        rival = rival_share / (1.0 + rival_share) / max(1, len(rivals))
+    def _sounds(self, path: str) -> str:
+        """A path's phones, word by word: the decoder may name a path by the words of another
+        with the same sound (its lexicon tree shares them), so paths are compared by sound."""
+        return "|".join(self.decoder.lookup_word(w) or w for w in path.split())
+
+    def _grammar(self, paths: dict[str, str]):
+        """A finite-state grammar: one answer (a path of its words), or a string of rivals,
+        each rival word weighing 10**threshold (a hub state keeps the rival loop linear in the
+        number of rivals: a JSGF loop was quadratic, 32 s per utterance for 150 rivals)."""
+        sounds = {" ".join(self.decoder.lookup_word(w) for w in path.split()) for path in paths}
+        spelled = {w for choice in paths.values() for w in spoken_forms(choice).split()}
+        rivals = [word for word, _ in rivals_for(sounds, spelled, self.rivals)]
+        answer = 1.0 / len(paths)
+        rival = 10.0 ** self.threshold
         start, final, said, hub = 0, 1, 2, 3
-        transitions = [(start, final, answer, word) for word in sorted(words)]
+        transitions, state = [], hub
+        for path in sorted(paths):
+            words = path.split()
+            here, weight = start, answer
+            for index, word in enumerate(words):
+                if index == len(words) - 1:
+                    after = final
+                else:
+                    state += 1
+                    after = state
+                transitions.append((here, after, weight, word))
+                here, weight = after, 1.0
         if rivals:
             transitions += [(start, said, rival, word) for word in rivals]
             transitions += [(said, final, 0.5), (said, hub, 0.5)]
-            transitions += [(hub, said, 1.0 / len(rivals), word) for word in rivals]
+            transitions += [(hub, said, rival, word) for word in rivals]
         return self.decoder.create_fsg("answers", start, final, transitions)
 
     def _judge(self, wanted: tuple[str, dict[str, str]]) -> None:
         hypothesis = self.decoder.hyp()
         said = hypothesis.hypstr.strip() if hypothesis is not None else ""
         prompt_id, words = wanted
+        sounds = {self._sounds(path): choice for path, choice in words.items()}
+        if said and said not in words and self._sounds(said) in sounds:
+            said = next(p for p, c in words.items() if self._sounds(p) == self._sounds(said))
         if said in words:
             log.info("heard '%s' for %s", words[said], prompt_id)
             self._heard.put((prompt_id, words[said]))

@@ -59,7 +59,7 @@ def test_raising_the_threshold_accepts_fewer(tmp_path):
     answer is let through only when the threshold is very low."""
     yes = spoken(tmp_path, "yes")
     banana = spoken(tmp_path, "banana")
-    low, default, high = -60.0, DEFAULT_THRESHOLD, 50.0
+    low, default, high = -80.0, DEFAULT_THRESHOLD, 50.0
     assert hear(yes, ("yes", "no"), threshold=low)[0] == ("q1", "yes")
     assert hear(yes, ("yes", "no"), threshold=high)[0] is None
     assert hear(banana, ("yes", "no"), threshold=default)[0] is None
