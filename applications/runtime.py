@@ -219,7 +219,10 @@ class Run:
                 self._say_line(f"  {problem}")
             return
         old_state = machine.state.name
+        language = self.dialog.language
         self.app, self.dialog = result.app, result.dialog
+        if language and language in self.dialog.languages:      # the run keeps its language
+            self.dialog = self.dialog.in_language(language)
         moved = machine.replace(result.app, now)
         self._emit({"t": round(now, 3), "kind": "reload", "state": machine.state.name})
         if moved:
