@@ -11,6 +11,9 @@ The recognizer decodes each whole utterance with the grammar and rivals it liste
     python benchmarks/bench_voice.py [--apps survey,guide] [--languages en,de]
                                      [--threshold -20] [--voices 3]
 
+The engine is pocketsphinx (robots/audio/recognizer.py says why); figures in
+docs/tablet-and-voice.md.
+
 Benchmarks are not a layer: this script reads the applications (L3) and the recognizer (L0).
 """
 from __future__ import annotations
