@@ -18,6 +18,7 @@ from applications.conditions.condition import default_declarations
 from applications.conditions.constants import Constant
 from applications.database import ANSWERS_TABLE_SQL, SCHEMA_FILE, DatabaseContent
 from applications.dialog import Dialog, check_dialog
+from applications.dialog_languages import missing_lookup_translations
 from applications.exceptions import ApplicationError
 from applications.search import OUTCOMES, SEARCH_LOG_COLUMNS, SEARCHES_TABLE, SEARCHES_TABLE_SQL
 from applications.graph.catalog import Catalog, load_catalog
@@ -92,6 +93,7 @@ def inspect_folder(name_or_path: str | Path, robot: str | None = None,
         if records:
             found += check_answer_storage(content, records, folder)
         found += check_search_log(content, dialog, folder)
+        found += missing_lookup_translations(draft, dialog, content)
     else:
         records = False
     found = sort_diagnostics(found)

@@ -70,6 +70,7 @@ def run_script(db: sqlite3.Connection, path: Path) -> list[Diagnostic]:
     for statement in statements(text):
         try:
             db.execute(statement.sql)
+            _add_new_columns(db, statement)
         except sqlite3.Error as exc:
             line, column = _where_near(statement, str(exc))
             return [error(f"{exc} in: {statement.sql.splitlines()[0][:60]}"
@@ -77,6 +78,40 @@ def run_script(db: sqlite3.Connection, path: Path) -> list[Diagnostic]:
                              f" (the statement starts at line {statement.line})"),
                           Location(str(path), line, column), "database")]
     return []
+
+
+_CREATE_TABLE = re.compile(r'(?:\s*--[^\n]*\n)*\s*CREATE\s+TABLE\s+IF\s+NOT\s+EXISTS\s+"?(\w+)"?',
+                           re.IGNORECASE)          # after the comments that may lead
+
+
+def _add_new_columns(db: sqlite3.Connection, statement: Statement) -> None:
+    """Give a table an older database file already has the columns `database.sql` now
+    declares (a new language's texts, say): `CREATE TABLE IF NOT EXISTS` leaves the old table
+    as it was, and the rows the script inserts next would fail on it. The rows kept are not
+    touched; a column that cannot be added (a key, NOT NULL without a default) is an error
+    that says how to add it by hand."""
+    match = _CREATE_TABLE.match(statement.sql)
+    if not match:
+        return
+    table = match.group(1)
+    have = {row[1] for row in db.execute(f"PRAGMA table_info({_quote(table)})")}
+    scratch = sqlite3.connect(":memory:")
+    try:
+        scratch.execute(statement.sql)
+        wanted = list(scratch.execute(f"PRAGMA table_info({_quote(table)})"))
+    finally:
+        scratch.close()
+    for _, name, kind, not_null, default, key in wanted:
+        if name in have:
+            continue
+        if key or (not_null and default is None):
+            raise sqlite3.OperationalError(
+                f"the database file's table {table} has no column {name}, which this "
+                f"statement declares and which cannot be added to kept rows; add it with "
+                f"ALTER TABLE {table} ADD COLUMN … (with a default), or move the file away")
+        db.execute(f"ALTER TABLE {_quote(table)} ADD COLUMN {_quote(name)} {kind}"
+                   + (" NOT NULL" if not_null else "")
+                   + (f" DEFAULT {default}" if default is not None else ""))
 
 
 def _where_near(statement: Statement, message: str) -> tuple[int, int]:
@@ -143,6 +178,9 @@ class ApplicationDatabase:
 
     def lookup(self, table: str, column: str, key: str) -> str | None:
         return lookup(self._db, table, column, key)
+
+    def columns(self, table: str) -> list[str]:
+        return [row[1] for row in self._db.execute(f"PRAGMA table_info({_quote(table)})")]
 
     def search(self, table: str, query: str, *, robot: str, session: int, question: str,
                robot_time: float, language: str | None = None) -> SearchResult:

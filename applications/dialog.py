@@ -31,11 +31,13 @@ from typing import Any
 
 from applications.alternatives import read_choices
 from applications.conditions import CompiledCondition, compile_condition
+from applications.dialog_languages import TRANSLATABLE, TranslationReader, dialog_in_language
 from applications.exceptions import ApplicationError, ConditionError
 from applications.graph.diagnostics import Diagnostic, did_you_mean, error, warning
 from applications.graph.location import Location
 from applications.graph.source import SourceMap
 from applications.graph.xmlsafe import parse_xml_bytes, read_bytes, source_text
+from applications.languages import XML_LANG
 
 PLACEHOLDER = re.compile(r"\{([A-Za-z][A-Za-z0-9_]*(?:\.[A-Za-z][A-Za-z0-9_]*)*)\}")
 TEXT_ELEMENTS = ("say", "closing", "show")
@@ -70,6 +72,7 @@ class Content:
     params: dict[str, Any] = field(default_factory=dict)
     locations: dict[str, Location] = field(default_factory=dict)
     location: Location | None = None
+    translations: dict[str, dict[str, str]] = field(default_factory=dict)  # language -> texts
 
 
 @dataclass
@@ -80,6 +83,11 @@ class Dialog:
     choices: tuple = ()            # ChoicePoint (applications.alternatives), in file order
     language: str | None = None
     voice: str | None = None
+    languages: tuple[str, ...] = ("en",)     # declared; the default (texts without xml:lang) first
+
+    def in_language(self, language: str) -> "Dialog":
+        """This dialog with its texts in `language` (applications/dialog_languages.py)."""
+        return dialog_in_language(self, language)
 
     def params_for(self, state: str | None, behavior: str, principal: bool = True) -> dict[str, Any]:
         """The behavior's defaults, overlaid by the state's own content when the behavior is the
@@ -154,7 +162,7 @@ def check_dialog(path: Path, states: Mapping[str, str] | Iterable[str] | None = 
     return reader.dialog(root), reader.problems
 
 
-class _DialogReader:
+class _DialogReader(TranslationReader):
     def __init__(self, source: SourceMap, states, behaviors, choices: Choices | None,
                  declarations: Mapping[str, Any] | None) -> None:
         self.source = source
@@ -179,8 +187,9 @@ class _DialogReader:
             self.report(self.at(root), f"the root element must be <dialog>, not <{root.tag}>",
                         "dialog-root")
             return dialog
-        self.known_attributes(root, ("language", "voice"))
+        self.known_attributes(root, ("language", "voice", "languages"))
         dialog.language, dialog.voice = root.get("language"), root.get("voice")
+        self.read_languages(root, dialog)
         overrides, choices = [], []
         for element in self.elements(root):
             if element.tag == "behavior":
@@ -223,6 +232,8 @@ class _DialogReader:
 
     def known_attributes(self, element, allowed: tuple[str, ...]) -> None:
         for name in element.attrib:
+            if name == XML_LANG and element.tag in TRANSLATABLE:
+                continue                  # checked by TranslationReader.element_language
             if name not in allowed:
                 self.report(self.source.attribute(element, name),
                             f"unknown attribute '{name}' on <{element.tag}>"
@@ -276,10 +287,13 @@ class _DialogReader:
                             "allowed: <say>, <question>, <closing>, <show>", "dialog-element")
         if questions:
             content.params["questions"] = questions
+        self.missing_text_translations(element, content)
         self.parameters_fit(element, content, behavior)
         return content
 
     def text_content(self, child, content: Content) -> None:
+        if self.translated_text(child, content):
+            return
         self.known_attributes(child, ("picture",) if child.tag == "show" else ())
         text = " ".join((child.text or "").split())
         if any(isinstance(c.tag, str) for c in child):
@@ -324,6 +338,7 @@ class _DialogReader:
                             "digits, _; starting with a letter): conditions read it as "
                             f"answer.<id>", "dialog-question-id")
             self.question_ids[qid] = self.at(element, "id")
+        self._translations: dict = {}
         buttons, values = self.answers(element)
         if not buttons and not typed:
             self.report(self.at(element), "<question> needs at least one <answer> (or "
@@ -335,6 +350,7 @@ class _DialogReader:
                     "typed": typed, "line": self.at(element).line}
         if search:
             question["search"], question["found"] = search, found
+        self.missing_question_translations(element, question, self._translations)
         return question
 
     def search_table(self, element) -> tuple[str | None, list[str]]:
@@ -361,6 +377,8 @@ class _DialogReader:
     def answers(self, question) -> tuple[list[str], list[str]]:
         buttons, values = [], []
         for child in self.elements(question):
+            if self.question_translation(child, self._translations):
+                continue
             if child.tag == "answer":
                 self.known_attributes(child, ("value",))
                 label = " ".join((child.text or "").split())
@@ -375,6 +393,7 @@ class _DialogReader:
                 for value, label in self.answers_from(child):
                     buttons.append(label)
                     values.append(value)
+                self.translated_answers_from(child, self._translations)
             else:
                 self.report(self.at(child), f"unknown element <{child.tag}> in <question>"
                             f"{did_you_mean(child.tag, ('answer', 'answers'))}; allowed: "

@@ -17,6 +17,7 @@ from typing import Any, Callable, Sequence
 
 from applications.database import AnswerDatabase
 from applications.dialog import Dialog, load_dialog
+from applications.dialog_languages import translated_lookup
 from applications.graph.model import Application
 from applications.params import state_params
 from applications.statemachine import StateMachine
@@ -221,6 +222,9 @@ class Run:
             content = {**self.dialog.params_for(state.name, behavior, behavior == state.behavior),
                        **picked.params}
         lookup = self.database.lookup if self.database is not None else None
+        if lookup is not None:                                   # texts in the run's language
+            lookup = translated_lookup(lookup, self.dialog,
+                                       getattr(self.database, "columns", lambda table: []))
         params, notes = state_params(state, behavior, content, percepts,
                                      self.app.folder, lookup, self.app.params)
         for note in notes:
@@ -246,9 +250,12 @@ class Run:
                 self._say_line(f"  {problem}")
             return
         old_state = machine.state.name
+        language = self.dialog.language
         self.app, self.dialog = result.app, result.dialog
         if self.chooser is not None:
             self.chooser.points = result.dialog.choices
+        if language and language in self.dialog.languages:      # the run keeps its language
+            self.dialog = self.dialog.in_language(language)
         moved = machine.replace(result.app, now)
         self._emit({"t": round(now, 3), "kind": "reload", "state": machine.state.name})
         if moved:

@@ -130,6 +130,10 @@ class AudioSource(ABC):
     def read(self, frames: int) -> bytes | None:
         """Up to `frames` samples (2 bytes each); b"" when none are ready yet, None at the end."""
 
+    def cue(self) -> None:
+        """A question appeared. A microphone hears on regardless (nothing to do); a source of
+        recorded answers plays its next one."""
+
     def close(self) -> None:
         """Release the device or file."""
 

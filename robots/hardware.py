@@ -199,7 +199,7 @@ class Interaction:
     speech_wav: str | Path | None = None   # write speech to numbered WAV files in this folder
     language: str = "en"                   # speech language (espeak-ng's name: de, en, en-us…)
     voice: str | None = None               # an espeak-ng voice; default: the language's
-    listen: bool = False                   # recognise spoken answers from the microphone
+    listen: bool | str | Path = False       # spoken answers: True the microphone; a WAV or folder
 
 
 @dataclass
@@ -227,7 +227,7 @@ def open_hardware(robot: str | Path, *, port: str | None = None, scenario: str |
                   fast: bool = False, seed: int = 0, emulate: bool = True,
                   floor: str | Path | None = None, gui: str | None = None,
                   speech_wav: str | Path | None = None, language: str = "en",
-                  voice: str | None = None, listen: bool = False,
+                  voice: str | None = None, listen: bool | str | Path = False,
                   replay=None, reset_faults: bool = False,
                   devices: dict[str, str | None] | None = None, wire: bool = False) -> Hardware:
     """Open `robot` (a profile name or path). `port` drives a real base; otherwise simulate.
@@ -460,7 +460,9 @@ def _speaker(hardware: Hardware, interaction: Interaction, simulated: bool) -> S
 def _recognizer(hardware: Hardware, interaction: Interaction) -> SpeechRecognizer | None:
     """The microphone and the answer recognizer, or None with a note saying why not."""
     from robots.audio.recognizer import AnswerRecognizer, check_language
-    from robots.audio.source import MicrophoneSource
+    from robots.audio.source import MicrophoneSource, WavQueueSource
+    if interaction.listen is not True:       # WAV files: no microphone needed, errors are errors
+        return AnswerRecognizer(WavQueueSource(interaction.listen), interaction.language)
     if not hardware.profile.speech_input:
         hardware.notes.append(f"robot '{hardware.profile.name}' has no microphone in its profile "
                               f"([speech] input): --listen is ignored")

@@ -24,12 +24,16 @@ class Question:
     buttons: tuple[str, ...]
     values: tuple[str, ...] = ()
     typed: bool = False
+    aliases: tuple[tuple[str, str], ...] = ()   # (label in another language, value)
 
     def value_of(self, given: str) -> str | None:
         """The answer a press or typed text means, or None when it is no answer to this question."""
         if given in self.buttons:
             index = self.buttons.index(given)
             return self.values[index] if index < len(self.values) and self.values[index] else given
+        for label, value in self.aliases:
+            if given == label:           # the same button in another of the application's languages
+                return value
         if self.typed and given.strip():
             return " ".join(given.split())
         return None

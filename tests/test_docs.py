@@ -192,9 +192,9 @@ def test_the_walkthrough_from_a_slam_map_to_a_guide_run(tmp_path):
             ("room_b", "arrived")]
     # the page's two error lines, for the closed store room and a kitchen the map lacks
     database.write_text(database.read_text().replace(
-        "    ('B', 'Room B', 'room_b');",
-        "    ('B', 'Room B', 'room_b'),\n    ('X', 'Store room', 'store_room'),\n"
-        "    ('K', 'Kitchen', 'kitchen');"))
+        "    ('B', 'Room B', 'room_b', 'Raum B');",
+        "    ('B', 'Room B', 'room_b', 'Raum B'),\n    ('X', 'Store room', 'store_room', 'Lager'),\n"
+        "    ('K', 'Kitchen', 'kitchen', 'Küche');"))
     refused = cli(*check[0].split()[1:], env={**os.environ, "PYTHONPATH": str(ROOT)},
                   cwd=tmp_path)
     assert refused.returncode == 1

@@ -68,6 +68,7 @@ class RunCommand:
         # Imported here, not at the top: they pull in the whole robot stack, which the other
         # subcommands (check, show, …) do not need to start.
         from applications.appfolder import load_folder
+        from applications.dialog_languages import language_for_run
         from applications.database import ApplicationDatabase
         from applications.runtime import Run, default_data_dir
         from applications.trace import TraceWriter
@@ -80,7 +81,8 @@ class RunCommand:
         if args.robot:
             robot_capabilities(args.robot)        # an unknown robot: one line naming the known ones
         loaded = load_folder(folder, robot=args.robot)     # refuses an application with errors
-        app, dialog = loaded.app, loaded.dialog
+        app = loaded.app
+        dialog, language = language_for_run(loaded.dialog, args.language)   # issue 25
         robot_name = args.robot or app.robot or DEFAULT_ROBOT
         refusals.refuse_goto_without_a_map(args, loaded, robot_name)
         devices.refuse_bad_addresses(args, robot_name)
@@ -92,7 +94,8 @@ class RunCommand:
             robot = open_robot(robot_name, port=args.port, scenario=scenario, fast=args.fast,
                                seed=args.seed, map=args.map, initial_pose=args.initial_pose,
                                reset_faults=args.reset_faults,
-                               **interaction_options(args), **devices.options(args))
+                               **interaction_options(args, language, dialog.voice),
+                               **devices.options(args))
             announce_interaction(robot)
             needed = {state.behavior for state in app.states.values()}
             needed |= {rule.behavior for rule in dialog.overrides}
@@ -126,7 +129,7 @@ class RunCommand:
             run = Run(app, robot, dialog=dialog, duration=args.duration, trace=trace,
                       database=database, echo=echo, reload=reload,
                       observers=watching.observers, chooser=chooser,
-                      language=args.language)
+                      language=language)
             summary = run.run()
             guard.closing()          # from here on a signal must not interrupt the closing
         except BaseException as exc:
@@ -193,17 +196,24 @@ def add_interaction_arguments(parser) -> None:
     parser.add_argument("--speech-wav", metavar="DIR", type=refusals.wav_folder,
                         help="write what the robot says to numbered WAV files in DIR instead "
                              "of the sound card")
-    parser.add_argument("--language", default="en",
-                        help="speech language, as espeak-ng names it (en, en-us, de, …; "
-                             "default en); spoken answers are recognised in English only")
-    parser.add_argument("--voice", help="an espeak-ng voice (default: the language's own)")
-    parser.add_argument("--listen", action="store_true",
-                        help="also take answers said aloud (microphone; English only)")
+    parser.add_argument("--language", default=None,
+                        help="the language the robot speaks, shows and hears: one of the "
+                             "application's (dialog.xml languages=…; en, de, en-us, …); "
+                             "default: the application's own")
+    parser.add_argument("--voice", help="an espeak-ng voice (default: the application's "
+                                        "voice=…, else the language's own)")
+    parser.add_argument("--listen", nargs="?", const=True, default=None, metavar="WAV",
+                        help="also take answers said aloud: from the microphone, or (with a "
+                             "WAV file or a folder of them) from those files, one per question "
+                             "asked, in name order")
 
 
-def interaction_options(args) -> dict:
-    return {"gui": args.gui, "speech_wav": args.speech_wav, "language": args.language,
-            "voice": args.voice, "listen": args.listen}
+def interaction_options(args, language: str | None = None, voice: str | None = None) -> dict:
+    """The tablet and speech options for open_robot; `language` and `voice` as the run chose
+    them (the command line first, else the application's dialog.xml)."""
+    return {"gui": args.gui, "speech_wav": args.speech_wav,
+            "language": language or args.language or "en", "voice": args.voice or voice,
+            "listen": args.listen or False}
 
 
 def announce_interaction(robot) -> None:

@@ -20,7 +20,8 @@ THANKS = "Thank you very much. Have a nice day!"
 def questions_from(params: dict) -> tuple[Question, ...]:
     """The questions of the `questions` parameter (dicts as the application's dialog gives them)."""
     return tuple(Question(str(q["id"]), str(q["text"]), tuple(str(b) for b in q["buttons"]),
-                          tuple(str(v) for v in q.get("values", ())), bool(q.get("typed")))
+                          tuple(str(v) for v in q.get("values", ())), bool(q.get("typed")),
+                          tuple((str(k), str(v)) for k, v in q.get("aliases", {}).items()))
                  for q in params.get("questions", ()))
 
 

@@ -1,10 +1,20 @@
 """`AnswerRecognizer`: hears one of the answers on the screen, offline, with pocketsphinx.
 
-The decoder only knows the current answers (a JSGF grammar built from the buttons) plus a
-*filler*: any sequence of English phones. Speech that is not one of the answers fits the filler
-better and is rejected; `threshold` is the filler's price per phone (the word insertion penalty):
-lower accepts fewer answers and rejects more wrong words. Only the English model ships inside the
-pocketsphinx wheel, so only English answers can be recognised. Decoding runs in its own thread.
+Engine: pocketsphinx, because its PyPI wheel ships a US-English acoustic model, dictionary and
+language model, so nothing is fetched at run time (Vosk's and Whisper's models are downloads;
+Debian packages only the same US-English pocketsphinx model, and no German one).
+
+For each question the decoder gets a grammar of the answers on the screen (each as espeak-ng
+and, for English, the dictionary say it: `pronounce.py`) and of *rival* words (`rivals.py`):
+the most frequent English words, and for German common German words. An utterance is taken as
+the answer it matched; one that matched rivals is rejected. `threshold` is the grammar weight,
+in decades, that each rival word carries against an answer's 1 (default -25: every rival word
+heard costs 25 decades, so an answer wins unless rivals fit far better): **raise it to accept
+fewer** — fewer wrong words slip through, more real answers are missed; lower it to accept
+more. An answer is a path of its words, so the pauses people (and espeak-ng) make between
+words fit it. Decoding runs in its
+own thread; languages other than English are heard with the English acoustic model through
+espeak-ng's pronunciation of the answers (see docs/tablet-and-voice.md for the measured rates).
 """
 from __future__ import annotations
 
@@ -14,20 +24,21 @@ import re
 import threading
 from collections import deque
 
+from robots.audio.pronounce import base_language, pronounce_words
+from robots.audio.rivals import english_rivals, rivals_for, spoken_rivals
 from robots.devices import AudioSource, SpeechRecognizer
 from robots.exceptions import RobotError
 
 log = logging.getLogger("interbot.listening")
 
-DEFAULT_THRESHOLD = 1e-2
+DEFAULT_THRESHOLD = -25.0    # decades; see the module's doc and docs/tablet-and-voice.md
 CHUNK = 1024                  # samples per decoder call (64 ms at 16 kHz)
-PHONES = ("AA AE AH AO AW AY B CH D DH EH ER EY F G HH IH IY JH K L M N NG OW OY P R S SH T TH "
-          "UH UW V W Y Z ZH").split()
 NUMBERS = ("zero", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten")
 
 
 def spoken_forms(choice: str) -> str:
-    """How an answer is said: lower case words, digits as English numbers ('3' -> 'three')."""
+    """How an answer is written for the English dictionary: lower case words, digits as
+    English numbers ('3' -> 'three')."""
     words = []
     for word in re.findall(r"[\w']+", choice.lower()):
         if word.isdigit() and int(word) < len(NUMBERS):
@@ -36,11 +47,26 @@ def spoken_forms(choice: str) -> str:
     return " ".join(words)
 
 
+def sayings(choice: str) -> list[str]:
+    """The ways a button may be said: its whole text and, for "Room S1 (seminar room)", also
+    the part before the brackets and the part inside them."""
+    forms = [choice]
+    match = re.fullmatch(r"\s*(.*?)\s*\((.*)\)\s*", choice)
+    if match:
+        forms += [part for part in match.groups() if part.strip()]
+    return list(dict.fromkeys(f for f in forms if re.search(r"\w", f)))
+
+
 def check_language(language: str) -> None:
-    """Refuse, with the reason, a language the shipped model cannot recognise."""
-    if not language.lower().startswith("en"):
-        raise RobotError(f"speech recognition has an English model only (pocketsphinx's "
-                         f"wheel); language '{language}' cannot be recognised")
+    """Refuse, with the reason, a language espeak-ng cannot pronounce answers in."""
+    from robots.audio.espeak import espeak_voices
+    try:
+        voices = espeak_voices(language)
+    except OSError as exc:
+        raise RobotError(f"spoken answers need espeak-ng to pronounce them: {exc}") from exc
+    if not voices:
+        raise RobotError(f"spoken answers in '{language}' cannot be recognised: espeak-ng, "
+                         f"which pronounces the answers, has no voice for it")
 
 
 class AnswerRecognizer(SpeechRecognizer):
@@ -52,10 +78,19 @@ class AnswerRecognizer(SpeechRecognizer):
         except ImportError as exc:
             raise RobotError("speech recognition needs pocketsphinx (pip install "
                              "pocketsphinx)") from exc
+        from pocketsphinx import get_model_path
         self.source = source
-        self.decoder = Decoder(lm=None, loglevel="FATAL", samprate=source.rate, wip=threshold)
-        for phone in PHONES:
-            self.decoder.add_word(f"filler_{phone.lower()}", phone, False)
+        self.language = language
+        self.threshold = float(threshold)
+        if not -150 <= self.threshold <= 150:
+            raise RobotError(f"threshold must lie between -150 and 150 (decades of grammar "
+                             f"weight; higher accepts fewer), not {threshold}")
+        self.decoder = Decoder(lm=None, loglevel="FATAL", samprate=source.rate)
+        own = spoken_rivals(language)
+        self.rivals = english_rivals(str(get_model_path() + "/en-us")) + own
+        for word, phones in own:
+            self.decoder.add_word(word, phones, False)
+        self._words = 0
         self._lock = threading.Lock()
         self._wanted: tuple[str, tuple[str, ...]] | None = None
         self._generation = 0
@@ -82,6 +117,21 @@ class AnswerRecognizer(SpeechRecognizer):
             return self._heard.get_nowait()
         except queue.Empty:
             return None
+
+    def hear_utterance(self, audio: bytes, choices: tuple[str, ...]) -> str | None:
+        """The choice one whole utterance (16 kHz samples, silence either side) says, or None;
+        decoded at once, with the grammar and rivals the listening thread uses (benchmarks)."""
+        wanted = self._sayable(("utterance", tuple(choices)))
+        if wanted is None:
+            return None
+        self.decoder.add_fsg("answers", self._grammar(wanted[1]))
+        self.decoder.activate_search("answers")
+        self.decoder.start_utt()
+        self.decoder.process_raw(audio, False, True)
+        self.decoder.end_utt()
+        self._judge(wanted)
+        heard = self.take_heard()
+        return heard[1] if heard is not None else None
 
     def wait(self, timeout: float) -> None:
         """Wait until the source has ended and everything heard is decoded (tests, files)."""
@@ -111,8 +161,9 @@ class AnswerRecognizer(SpeechRecognizer):
                         decoder.end_utt()
                         decoding = False
                     if wanted is not None:
-                        decoder.add_jsgf_string("answers", _grammar(wanted[1]))
+                        decoder.add_fsg("answers", self._grammar(wanted[1]))
                         decoder.activate_search("answers")
+                        self.source.cue()
             chunk = self.source.read(CHUNK)
             if chunk is None:
                 break
@@ -140,33 +191,82 @@ class AnswerRecognizer(SpeechRecognizer):
             self._judge(wanted)
 
     def _sayable(self, wanted) -> tuple[str, dict[str, str]] | None:
-        """(prompt_id, {spoken form: choice}) for the choices in the dictionary, or None."""
+        """(prompt_id, {grammar path: choice}) for the choices that can be pronounced, or None.
+        Each way of saying a choice (`sayings`) is a path of words, with espeak-ng's
+        pronunciation in the run's language and, in English, the dictionary's too; a path is
+        written as its words joined by spaces, as the decoder's hypothesis reads."""
         if wanted is None:
             return None
         prompt_id, choices = wanted
-        forms = {}
+        paths = {}
         for choice in choices:
-            form = spoken_forms(choice)
-            if form and all(self.decoder.lookup_word(w) for w in form.split()):
-                forms[form] = choice
-            else:
-                log.info("listening: '%s' cannot be said (not in the English dictionary)", choice)
-        return (prompt_id, forms) if forms else None
+            for pronunciation in self._pronunciations(choice):
+                self._words += 1
+                names = []
+                for index, phones in enumerate(pronunciation):
+                    name = f"answer_{self._words}_{index}"
+                    self.decoder.add_word(name, phones, False)
+                    names.append(name)
+                paths[" ".join(names)] = choice
+        return (prompt_id, paths) if paths else None
+
+    def _pronunciations(self, choice: str) -> list[tuple[str, ...]]:
+        """Each way of saying `choice`, as the phones of each of its words."""
+        found: list[tuple[str, ...]] = []
+        for saying in sayings(choice):
+            try:
+                found.append(tuple(" ".join(p) for p in pronounce_words(saying, self.language)))
+            except (ValueError, RobotError) as exc:
+                log.info("listening: '%s' cannot be pronounced: %s", saying, exc)
+            if base_language(self.language) == "en":
+                form = spoken_forms(saying).split()
+                looked_up = [self.decoder.lookup_word(w) for w in form]
+                if form and all(looked_up):
+                    found.append(tuple(looked_up))
+        return [p for p in dict.fromkeys(found) if p]
+
+    def _sounds(self, path: str) -> str:
+        """A path's phones, word by word: the decoder may name a path by the words of another
+        with the same sound (its lexicon tree shares them), so paths are compared by sound."""
+        return "|".join(self.decoder.lookup_word(w) or w for w in path.split())
+
+    def _grammar(self, paths: dict[str, str]):
+        """A finite-state grammar: one answer (a path of its words), or a string of rivals,
+        each rival word weighing 10**threshold (a hub state keeps the rival loop linear in the
+        number of rivals: a JSGF loop was quadratic, 32 s per utterance for 150 rivals)."""
+        sounds = {" ".join(self.decoder.lookup_word(w) for w in path.split()) for path in paths}
+        spelled = {w for choice in paths.values() for w in spoken_forms(choice).split()}
+        rivals = [word for word, _ in rivals_for(sounds, spelled, self.rivals)]
+        answer = 1.0 / len(paths)
+        rival = 10.0 ** self.threshold
+        start, final, said, hub = 0, 1, 2, 3
+        transitions, state = [], hub
+        for path in sorted(paths):
+            words = path.split()
+            here, weight = start, answer
+            for index, word in enumerate(words):
+                if index == len(words) - 1:
+                    after = final
+                else:
+                    state += 1
+                    after = state
+                transitions.append((here, after, weight, word))
+                here, weight = after, 1.0
+        if rivals:
+            transitions += [(start, said, rival, word) for word in rivals]
+            transitions += [(said, final, 0.5), (said, hub, 0.5)]
+            transitions += [(hub, said, rival, word) for word in rivals]
+        return self.decoder.create_fsg("answers", start, final, transitions)
 
     def _judge(self, wanted: tuple[str, dict[str, str]]) -> None:
         hypothesis = self.decoder.hyp()
         said = hypothesis.hypstr.strip() if hypothesis is not None else ""
-        prompt_id, forms = wanted
-        if said in forms:
-            log.info("heard '%s' for %s", forms[said], prompt_id)
-            self._heard.put((prompt_id, forms[said]))
+        prompt_id, words = wanted
+        sounds = {self._sounds(path): choice for path, choice in words.items()}
+        if said and said not in words and self._sounds(said) in sounds:
+            said = next(p for p, c in words.items() if self._sounds(p) == self._sounds(said))
+        if said in words:
+            log.info("heard '%s' for %s", words[said], prompt_id)
+            self._heard.put((prompt_id, words[said]))
         else:
             self.rejected.append(said)
-
-
-def _grammar(forms: dict[str, str]) -> str:
-    answers = " | ".join(sorted(forms))
-    filler = " | ".join(f"filler_{phone.lower()}" for phone in PHONES)
-    return ("#JSGF V1.0;\ngrammar answers;\n"
-            f"public <utterance> = {answers} | <filler> ;\n"
-            f"<filler> = ( {filler} )+ ;\n")

@@ -51,6 +51,46 @@ class WavFileSource(AudioSource):
         return chunk
 
 
+class WavQueueSource(AudioSource):
+    """WAV files heard one per question (`--listen FILE.wav` or `--listen FOLDER`): the
+    recognizer calls `cue()` when a question appears, and the next file (in name order) plays,
+    padded with silence; between files the source is silent. After the last file it ends."""
+
+    WAIT = 0.05     # s to pause when there is nothing to play (no busy loop)
+
+    def __init__(self, path: str | Path) -> None:
+        path = Path(path)
+        if path.is_dir():
+            self.paths = sorted(p for p in path.iterdir() if p.suffix.lower() == ".wav")
+            if not self.paths:
+                raise RobotError(f"{path}: the folder holds no .wav files to listen to")
+        elif path.is_file():
+            self.paths = [path]
+        else:
+            raise RobotError(f"{path}: no such WAV file or folder to listen to")
+        self._next = 0
+        self._playing: WavFileSource | None = None
+        self.played: list[Path] = []
+
+    def cue(self) -> None:
+        """A question appeared: play the next file (the rest of the one playing is dropped)."""
+        if self._next < len(self.paths):
+            self._playing = WavFileSource(self.paths[self._next])
+            self.played.append(self.paths[self._next])
+            self._next += 1
+
+    def read(self, frames: int) -> bytes | None:
+        if self._playing is not None:
+            chunk = self._playing.read(frames)
+            if chunk is not None:
+                return chunk
+            self._playing = None
+        if self._next >= len(self.paths):
+            return None
+        time.sleep(self.WAIT)
+        return b""
+
+
 def _resample(samples: np.ndarray, rate: int) -> np.ndarray:
     if rate == RATE:
         return samples.astype(np.float64)

@@ -123,3 +123,11 @@ def test_yes_said_aloud_answers_the_question_on_screen(tmp_path):
     ears.close()
     answers = [e.fields for e in events.drain() if e.kind == "answer"]
     assert [(a["question"], a["answer"], a["source"]) for a in answers] == [("q1", "yes", "voice")]
+
+
+def test_a_button_named_in_another_language_answers_with_its_value():
+    german = Question("q1", "Kaffee?", ("ja", "nein"), ("yes", "no"),
+                      aliases=(("yes", "yes"), ("no", "no")))
+    assert german.value_of("ja") == "yes"
+    assert german.value_of("no") == "no"          # a scenario written in English still answers
+    assert german.value_of("maybe") is None

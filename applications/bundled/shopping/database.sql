@@ -49,19 +49,20 @@ CREATE TABLE IF NOT EXISTS categories (
     label   TEXT NOT NULL,
     aisle   TEXT NOT NULL,
     place   TEXT NOT NULL,
-    aliases TEXT NOT NULL DEFAULT ''   -- other words for it, comma-separated
+    aliases TEXT NOT NULL DEFAULT '',  -- other words for it, comma-separated
+    label_de TEXT NOT NULL DEFAULT ''  -- the button in German (dialog.xml languages="en de")
 );
-INSERT OR REPLACE INTO categories (name, label, aisle, place, aliases) VALUES
-    ('bakery',    'Bread and bakery',  'A1', 'shelf_bakery',    'bread,cakes'),
-    ('breakfast', 'Breakfast cereals', 'A1', 'shelf_cereal',    'cereal,cereals,muesli'),
-    ('coffee',    'Coffee and tea',    'A2', 'shelf_coffee',    'tea'),
-    ('pasta',     'Pasta and rice',    'A2', 'shelf_pasta',     'noodles,rice'),
-    ('canned',    'Canned food',       'A3', 'shelf_canned',    'tins,cans'),
-    ('snacks',    'Snacks and sweets', 'A4', 'shelf_snacks',    'sweets,candy,chips'),
-    ('drinks',    'Drinks',            'A4', 'shelf_drinks',    'beverages,water,juice'),
-    ('household', 'Household',         'A5', 'shelf_household', 'cleaning'),
-    ('dairy',     'Dairy',             'back wall', 'shelf_dairy', 'milk products'),
-    ('produce',   'Fruit and vegetables', 'produce', 'shelf_produce', 'fruit,vegetables');
+INSERT OR REPLACE INTO categories (name, label, aisle, place, aliases, label_de) VALUES
+    ('bakery',    'Bread and bakery',  'A1', 'shelf_bakery',    'bread,cakes', 'Brot und Backwaren'),
+    ('breakfast', 'Breakfast cereals', 'A1', 'shelf_cereal',    'cereal,cereals,muesli', 'Frühstücksflocken'),
+    ('coffee',    'Coffee and tea',    'A2', 'shelf_coffee',    'tea', 'Kaffee und Tee'),
+    ('pasta',     'Pasta and rice',    'A2', 'shelf_pasta',     'noodles,rice', 'Nudeln und Reis'),
+    ('canned',    'Canned food',       'A3', 'shelf_canned',    'tins,cans', 'Konserven'),
+    ('snacks',    'Snacks and sweets', 'A4', 'shelf_snacks',    'sweets,candy,chips', 'Snacks und Süßigkeiten'),
+    ('drinks',    'Drinks',            'A4', 'shelf_drinks',    'beverages,water,juice', 'Getränke'),
+    ('household', 'Household',         'A5', 'shelf_household', 'cleaning', 'Haushalt'),
+    ('dairy',     'Dairy',             'back wall', 'shelf_dairy', 'milk products', 'Milchprodukte'),
+    ('produce',   'Fruit and vegetables', 'produce', 'shelf_produce', 'fruit,vegetables', 'Obst und Gemüse');
 
 -- The products: `name` is what the robot records and says, `label` how it is written, the
 -- category, the aisle and the shelf place on the map, which shelf board, the price in euros,
@@ -149,11 +150,15 @@ DROP VIEW IF EXISTS catalogue;
 CREATE VIEW catalogue AS
     SELECT c.name, c.label, c.name AS category, c.aliases, c.place,
            c.label || ': here in aisle ' || c.aisle || '.' AS here,
-           d.label AS label_de, d.aliases AS aliases_de
+           COALESCE(d.label, NULLIF(c.label_de, '')) AS label_de, d.aliases AS aliases_de,
+           COALESCE(d.label, NULLIF(c.label_de, ''), c.label) || ': hier im Gang ' || c.aisle
+               || '.' AS here_de
       FROM categories c LEFT JOIN names_de d ON d.name = c.name
     UNION ALL
     SELECT p.name, p.label, p.category, p.aliases, p.place,
            p.label || ': here in aisle ' || p.aisle || ', ' || p.board || ', for ' ||
            printf('%.2f', p.price) || ' euros.' AS here,
-           d.label AS label_de, d.aliases AS aliases_de
+           d.label AS label_de, d.aliases AS aliases_de,
+           COALESCE(d.label, p.label) || ': hier im Gang ' || p.aisle || ', für ' ||
+           replace(printf('%.2f', p.price), '.', ',') || ' Euro.' AS here_de
       FROM products p LEFT JOIN names_de d ON d.name = p.name;
