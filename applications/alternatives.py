@@ -43,6 +43,8 @@ class Alternative:
     behavior: str
     params: dict[str, Any] = field(default_factory=dict, compare=False)
     location: Location | None = field(default=None, compare=False)
+    # its texts in the dialog's other languages: language -> {parameter: text}
+    translations: dict[str, dict[str, Any]] = field(default_factory=dict, compare=False)
 
 
 @dataclass(frozen=True)
@@ -274,7 +276,8 @@ class _ChoiceReader:
                 values[name] = value
         if not alternative_id or not behavior:
             return None
-        return Alternative(alternative_id, behavior, values, r.at(element))
+        return Alternative(alternative_id, behavior, values, r.at(element),
+                           dict(getattr(content, "translations", {}) or {}))
 
     def param(self, element, behavior: str | None) -> tuple[str | None, Any]:
         """`<param name="speed" value="0.4"/>`: checked against the behavior's declaration."""

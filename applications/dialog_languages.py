@@ -24,6 +24,7 @@ A database column `X_de` holds column `X` in German, for answer labels and looke
 from __future__ import annotations
 
 import copy
+import dataclasses
 from typing import Any
 
 from applications.languages import (XML_LANG, base_language, declared_languages, is_language,
@@ -202,7 +203,17 @@ def dialog_in_language(dialog, language: str):
     chosen.by_behavior = {k: _content_in(c, language, default)
                           for k, c in dialog.by_behavior.items()}
     chosen.by_state = {k: _content_in(c, language, default) for k, c in dialog.by_state.items()}
+    chosen.choices = tuple(_choice_in(point, language, default) for point in dialog.choices)
     return chosen
+
+
+def _choice_in(point, language: str, default: str):
+    """A choice point whose alternatives say their texts in `language` (issue 27's choices)."""
+    if language == default:
+        return point
+    return dataclasses.replace(point, alternatives=tuple(
+        dataclasses.replace(a, params={**a.params, **a.translations.get(language, {})})
+        for a in point.alternatives))
 
 
 def _content_in(content, language: str, default: str):

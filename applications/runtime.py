@@ -252,10 +252,10 @@ class Run:
         old_state = machine.state.name
         language = self.dialog.language
         self.app, self.dialog = result.app, result.dialog
-        if self.chooser is not None:
-            self.chooser.points = result.dialog.choices
         if language and language in self.dialog.languages:      # the run keeps its language
             self.dialog = self.dialog.in_language(language)
+        if self.chooser is not None:
+            self.chooser.points = self.dialog.choices
         moved = machine.replace(result.app, now)
         self._emit({"t": round(now, 3), "kind": "reload", "state": machine.state.name})
         if moved:

@@ -13,6 +13,7 @@ CHOICE = """<choice id="attract" state="CreateAttention" by="{by}"{context}>
     <alternative id="face" behavior="FaceUser"/>
     <alternative id="call" behavior="AttractAttention">
       <say>Hi! Over here, please!</say>
+      <say xml:lang="de">Hallo! Hier herüber, bitte!</say>
     </alternative>
     <success when='state == "Interaction"' within="15s"/>
   </choice>"""

@@ -109,3 +109,13 @@ def test_context_keys():
     assert context_key(("people.count", "user.present"), {"people.count": 2}) == (
         "people.count=2,user.present=absent")
     assert context_key((), {"people.count": 2}) == ""
+
+
+def test_an_alternative_says_its_text_in_the_run_s_language(tmp_path):
+    """The survey speaks English and German: a choice's alternatives carry both texts, and a
+    German run's choice point says the German one."""
+    loaded = load_folder(survey_with_choice(tmp_path / "app"))
+    english, german = (loaded.dialog.in_language(language).choices[0].alternative("call")
+                       for language in ("en", "de"))
+    assert english.params["say"] == "Hi! Over here, please!"
+    assert german.params["say"] == "Hallo! Hier herüber, bitte!"
