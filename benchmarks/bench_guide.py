@@ -22,7 +22,7 @@ Then the cost of the robot's whole tick (sense + act: every skill, the behavior 
 simulated world stepped) while guiding with 10 people around.
 
     python benchmarks/bench_guide.py [--tours N] [--robot horos|perses] [--ticks N]
-    python benchmarks/bench_guide.py --buildings B [--tours N] [--robot R] [--clearance-beyond-path]
+    python benchmarks/bench_guide.py --buildings B [--tours N] [--robot R]
 
 With `--buildings B` the tours run in B generated office buildings (`benchmarks/buildings.py`,
 seeds 0 .. B-1; map_server maps simulated from their cells), N tours each: the robot at
@@ -51,7 +51,6 @@ from skills.navigation.planner import GlobalPlanner
 ROOMS = [f"room_{side}{n}" for side in "ns" for n in range(1, 5)]
 WITH_USER = 2.5            # m: the visitor counts as arrived with the robot within this
 TOUR_LIMIT = 150.0         # s of robot time per tour
-CLEARANCE_BEYOND_PATH = False   # --clearance-beyond-path: the controller experiment of issue 22
 
 
 def building_tour(folder: Path, map_path: Path, rooms: list[str], shortest, seed: int
@@ -120,11 +119,6 @@ def run_tour(robot_name: str, folder: Path, seed: int, shortest, plan_ms: list,
     path, room = scenario or tour_scenario(folder, seed)
     robot = open_robot(robot_name, fast=True, scenario=path, seed=seed)
     skills = robot.skills
-    if CLEARANCE_BEYOND_PATH:
-        from dataclasses import replace
-        nav = skills.navigation
-        nav.params = replace(nav.params, controller=replace(nav.params.controller,
-                                                            clearance_beyond_path=True))
     world = skills.hardware.simulation.world
     nav = skills.navigation
     nav.planner.plan = Timed(nav.planner.plan, plan_ms)
@@ -294,11 +288,7 @@ def main() -> None:
     parser.add_argument("--ticks", type=int, default=300, help="ticks of the 10-people run")
     parser.add_argument("--buildings", type=int, default=0,
                         help="tour generated buildings instead of the office (N tours each)")
-    parser.add_argument("--clearance-beyond-path", action="store_true",
-                        help="turn on ControllerParams.clearance_beyond_path (off by default)")
     args = parser.parse_args()
-    global CLEARANCE_BEYOND_PATH
-    CLEARANCE_BEYOND_PATH = args.clearance_beyond_path
     print(f"load average before: {os.getloadavg()}")
     if args.buildings:
         bench_buildings(args)

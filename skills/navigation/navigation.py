@@ -25,10 +25,12 @@ import numpy as np
 
 from robots.profile import RobotProfile
 from skills.localization import Localization
+from skills.obstacles import explained_echoes
 from skills.motion import Goal, Motion
 from skills.navigation.controller import (ControllerParams, LocalController, Person,
                                           PERSON_RADIUS, MOVING)
-from skills.navigation.costmap import CostMap, cost_map
+from skills.navigation.costmap import CostMap, robot_cost_map
+from skills.navigation.footprint import Footprint
 from skills.navigation.gridmap import GridMap, MapError
 from skills.navigation.planner import GlobalPlanner, Plan
 from skills.perception import PeoplePerception
@@ -126,9 +128,13 @@ class Navigation(Skill):
         motion.navigator = self
 
     @cached_property
+    def footprint(self) -> Footprint:
+        return Footprint.of(self.profile)
+
+    @cached_property
     def costmap(self) -> CostMap:
         """Made on the first goal (cached per map), so opening a robot stays cheap."""
-        return cost_map(self.grid, self.profile.radius)
+        return robot_cost_map(self.grid, self.footprint, self.params.controller.safety_margin)
 
     @cached_property
     def planner(self) -> GlobalPlanner:
@@ -136,7 +142,8 @@ class Navigation(Skill):
 
     @cached_property
     def controller(self) -> LocalController:
-        return LocalController(self.costmap, self.limits, self.params.controller)
+        return LocalController(self.costmap, self.limits, self.params.controller,
+                               self.footprint)
 
     # -- the API for behaviors -------------------------------------------------------------
 
@@ -456,7 +463,10 @@ class Navigation(Skill):
         if len(state.sonar) and len(self._sonar_poses):
             ranges = np.asarray(state.sonar, dtype=float)[: len(self._sonar_poses)]
             poses = self._sonar_poses[: len(ranges)]
-            echo = np.isfinite(ranges) & (ranges <= SONAR_RANGE)
+            # an echo the laser explains is where the laser sees it (on the cone's axis, a
+            # door's jamb would stand before a robot passing the door)
+            explained = explained_echoes(ranges, poses, self.profile.sonar.cone, laser_points)
+            echo = np.isfinite(ranges) & (ranges <= SONAR_RANGE) & ~explained
             r, poses = ranges[echo], poses[echo]
             sonar_points = np.column_stack([poses[:, 0] + r * np.cos(poses[:, 2]),
                                             poses[:, 1] + r * np.sin(poses[:, 2])])
