@@ -16,10 +16,6 @@ A wall explains an echo when any of five rays across the sonar's cone meets it n
 than 0.10 m beyond the echo's range (a sonar hears the nearest thing anywhere in its cone): a
 person standing in a doorway, with the jambs a body's depth behind their front, is not the
 wall's echo (with 0.25 m they were, and a visitor waiting in a doorway was "lost").
-4. the track's memory: an echo of a rear sonar within `MEMORY_MATCH` of where the follower was
-   seen a moment ago is the follower still, even where a wall could explain it (a visitor
-   standing beside a wall behind the robot).
-
 Other people walking behind the robot look like the follower to these sources (a known limit).
 
 The behavior owns the decisions (lead, stop and wait, give up); this skill owns the state that
@@ -60,7 +56,6 @@ SONAR_REACH = 3.0                  # m; farther rear echoes are too wide to tell
 CONE_RAYS = (-0.5, -0.25, 0.0, 0.25, 0.5)   # rays across a sonar's cone, in cone widths
 MARCH_STEP = 0.05                  # m between the points checked along a ray
 WALL_SLACK = 0.10                  # m beyond the echo a wall may be and still explain it
-MEMORY_MATCH = 0.35                # m from the follower's last place an echo is theirs still
 WALL_HIT = 0.08                    # m: a ray point this close to a wall has met it
 AHEAD = 0.5                        # m along the path ahead of the robot that gives its way
 NEAR_GOAL = 1.0                    # m left: around the goal a track counts in any direction
@@ -167,7 +162,7 @@ class Guiding(Skill):
         self._forward = self._way(pose)
         seen = self._own_track(pose)
         if seen is None:       # the nearest of a track behind the robot and a rear echo
-            found = [f for f in (self._track_behind(pose), self._from_sonar(pose, now)) if f]
+            found = [f for f in (self._track_behind(pose), self._from_sonar(pose)) if f]
             seen = min(found, key=lambda f: f[0], default=None)
         if seen is not None:
             self._seen_at = now
@@ -201,7 +196,7 @@ class Guiding(Skill):
         nearest = min(behind, key=lambda t: math.hypot(t.x - pose.x, t.y - pose.y), default=None)
         return None if nearest is None else _seen(nearest, pose)
 
-    def _from_sonar(self, pose, now: float):
+    def _from_sonar(self, pose):
         if self.grid is None or not len(pose.sonar) or not len(self._sonar_poses):
             return None
         ranges = np.asarray(pose.sonar, dtype=float)[: len(self._sonar_poses)]
@@ -226,7 +221,6 @@ class Guiding(Skill):
             open_ &= (self.grid.clearance(wx, wy) > WALL_HIT).all(axis=1)
         lx, ly = p[:, 0] + r * np.cos(p[:, 2]), p[:, 1] + r * np.sin(p[:, 2])
         d = np.hypot(lx, ly)
-        open_ |= self._remembered(pose, lx, ly, d, now)
         if not open_.any():
             return None
         d[~open_] = np.inf
@@ -236,19 +230,6 @@ class Guiding(Skill):
         x = pose.x + centre * math.cos(pose.th + bearing)
         y = pose.y + centre * math.sin(pose.th + bearing)
         return float(centre), bearing, (x, y), "sonar"
-
-    def _remembered(self, pose, lx, ly, d, now: float) -> np.ndarray:
-        """Echoes (robot frame, range d from the centre) that put a body where the follower
-        was seen a moment ago."""
-        last = self.state.user_xy
-        if last is None or self._seen_at is None or now - self._seen_at >= FORGET_AFTER:
-            return np.zeros(len(d), dtype=bool)
-        centre = d + BODY_RADIUS
-        scale = centre / np.maximum(d, 1e-9)
-        bx, by = lx * scale, ly * scale
-        c, s = math.cos(pose.th), math.sin(pose.th)
-        x, y = pose.x + c * bx - s * by, pose.y + s * bx + c * by
-        return np.hypot(x - last[0], y - last[1]) < MEMORY_MATCH
 
     def _in_sight(self, x: float, y: float, pose) -> bool:
         """No wall of the map between the robot and (x, y): a track through a wall is a ghost."""

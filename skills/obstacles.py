@@ -20,6 +20,7 @@ import numpy as np
 from robots.devices import Laser
 from robots.profile import RobotProfile
 from skills.localization import Localization
+from skills.navigation.footprint import Footprint, inside
 from skills.skill import Skill
 
 
@@ -31,6 +32,7 @@ class ObstacleSensing(Skill):
         super().__init__(blackboard, events)
         self.localization = localization
         self.laser = laser
+        self.footprint = Footprint.of(profile)
         self.half_width = profile.width / 2
         self.front = profile.length / 2 if profile.shape == "rectangle" else profile.radius
         sonar = profile.sonar
@@ -52,6 +54,8 @@ class ObstacleSensing(Skill):
                 ranges, angles = scan.ranges[hit], scan.angles[hit]
                 laser_points = np.column_stack([scan.origin[0] + ranges * np.cos(angles),
                                                 scan.origin[1] + ranges * np.sin(angles)])
+                # a reading within the body is the robot itself or a stray return
+                laser_points = laser_points[~inside(self.footprint, laser_points)]
         ranges = np.asarray(sonar, dtype=float)[: len(self._sonar_poses)]
         if len(laser_points) and len(ranges):
             ranges = np.where(explained_echoes(ranges, self._sonar_poses[: len(ranges)],

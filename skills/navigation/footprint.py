@@ -98,6 +98,15 @@ class Footprint:
         return box_gap(along, across, self.length / 2, self.width / 2).min(axis=-1)
 
 
+def inside(footprint: Footprint, points: np.ndarray) -> np.ndarray:
+    """(k,) True for points (k, 2) in the robot frame that lie within the footprint: a range
+    reading there is the robot itself or a stray return, never an obstacle."""
+    points = np.asarray(points, float).reshape(-1, 2)
+    if footprint.is_round:
+        return np.hypot(points[:, 0], points[:, 1]) < footprint.radius
+    return box_gap(points[:, 0], points[:, 1], footprint.length / 2, footprint.width / 2) < 0.0
+
+
 def box_gap(along: np.ndarray, across: np.ndarray, half_length: float,
             half_width: float) -> np.ndarray:
     """Signed distance from points (body frame) to a centred box: outside positive, inside

@@ -181,23 +181,23 @@ STALL = """
 name = "stall"
 duration = 120.0
 map = "door.yaml"
-robot = [4.0, 0.5, 0]
+robot = [3.5, 0.5, 0]
 [[person]]
 id = "bob"
-at = [6.0, 1.1]
-steps = [ {{ pause = 600.0 }} ]
+at = [6.0, 3.0]
+steps = [ {{ walk = [[6.0, 1.1]] }}, {{ pause = 600.0 }} ]
 [[person]]
 id = "uma"
-at = [4.6, 0.5]
-steps = [ {{ follow = 1.2, after_call = true, until = 14.0 }}, {{ leave = [{away}, 0.5] }} ]
+at = [2.3, 0.5]
+steps = [ {{ follow = 1.2, until = 14.0 }}, {{ leave = [{away}, 0.5] }} ]
 """
 
 
 def test_a_robot_held_up_in_a_door_reports_the_stall_not_a_lost_user(tmp_path):
-    """Issue 22, point 3: bob stands in the only door to the room; uma, asked to follow, follows
-    for 14 s and walks off about when the robot comes to stand before bob. The run ends as a
-    navigation failure ("blocked"), not as "user lost" (before, the held-up guide stopped to
-    wait for uma and gave her up first, which hid the stall)."""
+    """Issue 22, point 3: bob walks into the only door to the room and stands there; uma
+    follows the robot for 14 s, then walks off while the robot stands before bob. The run ends
+    as a navigation failure ("blocked"), not as "user lost" (before, the held-up guide stopped
+    to wait for uma and gave her up first, which hid the stall)."""
     from tests.skills.test_navigation_doors import write_door_map
     write_door_map(tmp_path, 0.8)
     path = tmp_path / "stall.toml"
