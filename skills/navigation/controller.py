@@ -141,7 +141,9 @@ class LocalController:
                 cap, cap_why = stop_cap, "obstruction"
         target = _point_along(path, p.lookahead) if len(path) else np.array([x, y])
         bearing = math.atan2(target[1] - y, target[0] - x)
-        if abs(_wrap(bearing - th)) > p.rotate_first and math.hypot(target[0] - x, target[1] - y) > 0.05:
+        turning = (abs(_wrap(bearing - th)) > p.rotate_first
+                   and math.hypot(target[0] - x, target[1] - y) > 0.05)
+        if turning:
             cap, cap_why = min(cap, 0.0), cap_why or "turning"
 
         commands = self._samples(v0, w0, cap)
@@ -156,7 +158,7 @@ class LocalController:
                            blocker=blocker or _nearest(x, y, near, crowd), speed_cap=cap,
                            reason="no collision-free command within the horizon")
         score = self._score(commands, poses, long_poses, gap, gap0, crowd, path, target, cap,
-                            p.lookahead)
+                            p.lookahead, turning)
         score[~ok] = np.inf
         best = int(np.argmin(score))
         v, w = (float(c) for c in commands[best])
@@ -358,7 +360,7 @@ class LocalController:
         return np.hypot(poses[..., 0, None] - fx, poses[..., 1, None] - fy)
 
     def _score(self, commands, poses, long_poses, gap, gap0, crowd, path, target,
-               cap, lookahead: float) -> np.ndarray:
+               cap, lookahead: float, turning: bool = False) -> np.ndarray:
         """Lower is better: progress along the path, heading along it, distance from it,
         clearance, people's personal space, speed."""
         p = self.params
@@ -390,6 +392,10 @@ class LocalController:
         floor = min(CLEAR, needed)
         closer = np.clip((floor - gap.min(axis=1)) / CLEAR, 0.0, 1.0)
         clearance = np.maximum(closer - np.clip((floor - gap0) / CLEAR, 0.0, 1.0), 0.0)
+        if turning:
+            # turning on the spot to face the way: a rectangle's corners sweep nearer a wall
+            # and back, which must not make standing still best (the safety check stays)
+            clearance = np.zeros(len(commands))
         intrusion = 0.0
         if len(crowd):
             intrusion = self._intrusion(long_poses, crowd, path)
