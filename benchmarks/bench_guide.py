@@ -258,7 +258,7 @@ def bench_buildings(args) -> None:
     sys.modules["buildings"] = generator
     spec.loader.exec_module(generator)
     from robots.profile import load_profile
-    pooled, plan_ms = [], []
+    pooled, plan_ms, worst = [], [], []
     started = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
@@ -274,11 +274,14 @@ def bench_buildings(args) -> None:
             print(f"\n== building {b} ({grid.shape[1] * grid.resolution:.0f} m × "
                   f"{grid.shape[0] * grid.resolution:.0f} m, {len(rooms)} rooms)")
             report(results, building_ms)
+            worst.append((sum(r["success"] for r in results) / len(results), b))
             pooled += results
             plan_ms += building_ms
     print(f"\n== pooled: {args.buildings} buildings × {args.tours} tours, "
           f"{time.perf_counter() - started:.0f} s wall; load average {os.getloadavg()}")
     report(pooled, plan_ms)
+    share, b = min(worst)
+    print(f"worst building: {b}, {100 * share:.0f} % arrived with the visitor (target >= 98 %)")
 
 
 def main() -> None:

@@ -12,6 +12,11 @@ near the path, keep clear of walls, keep out of people's personal space, go fast
 speed is capped at the profile's `max_speed_near_people`, and the robot slows to stop on the goal
 and before anything that blocks its path (then it reports itself blocked, with the blocker).
 
+The body is the robot's footprint (`footprint.Footprint`): a circle, or a rectangle checked
+along its outline; people keep their distance from its circumscribed circle. Where the path
+ahead leaves less than CLEAR either side (a door a little wider than the robot), the speed is
+capped at `narrow_speed`, and closeness the path itself needs costs nothing.
+
 Commands are forward only (v >= 0): the robots' sensors look ahead; turning on the spot is
 always among the samples. The controller is stateless: the skill passes the remaining path.
 """
@@ -158,7 +163,7 @@ class LocalController:
                            blocker=blocker or _nearest(x, y, near, crowd), speed_cap=cap,
                            reason="no collision-free command within the horizon")
         score = self._score(commands, poses, long_poses, gap, gap0, crowd, path, target, cap,
-                            p.lookahead, turning)
+                            turning)
         score[~ok] = np.inf
         best = int(np.argmin(score))
         v, w = (float(c) for c in commands[best])
@@ -360,7 +365,7 @@ class LocalController:
         return np.hypot(poses[..., 0, None] - fx, poses[..., 1, None] - fy)
 
     def _score(self, commands, poses, long_poses, gap, gap0, crowd, path, target,
-               cap, lookahead: float, turning: bool = False) -> np.ndarray:
+               cap, turning: bool = False) -> np.ndarray:
         """Lower is better: progress along the path, heading along it, distance from it,
         clearance, people's personal space, speed."""
         p = self.params
@@ -370,7 +375,7 @@ class LocalController:
             along, _ = _project(end[:, :2], window)
             _, off = _project(poses[:, 1::2, :2].reshape(-1, 2), window)
             off_path = off.reshape(len(poses), -1).max(axis=1)
-            ahead = np.minimum(along + lookahead / 2, 0.05 * (len(window) - 1))
+            ahead = np.minimum(along + p.lookahead / 2, 0.05 * (len(window) - 1))
             index = np.rint(ahead / 0.05).astype(int)
             aim = window[index]
             progress = (self.limits.max_speed * p.horizon - along) / max(
