@@ -102,7 +102,9 @@ class Lead(SkillLeaf):
     SUCCESS on arrival; FAILURE when the user did not come (guide.user_lost) or navigation
     failed (navigation.failure), with the reason as feedback. With `turn_back` (a robot without
     a head) the robot turns round to look for the user (towards where it last saw them) once
-    per wait. On the goal, turning to the place's heading, it arrives before it waits."""
+    per wait. On the goal, turning to the place's heading, it arrives before it waits; while
+    the way is blocked it does not wait for the user either (a stall ends as a navigation
+    failure, not as a lost user)."""
 
     def __init__(self, ctx: BehaviorContext, place: str, *, pace: float | None,
                  follow_distance: float, give_up_after: float, turn_back: bool) -> None:
@@ -139,7 +141,9 @@ class Lead(SkillLeaf):
         distance = state.user_distance
         if state.phase == LEADING:
             behind = distance is None or distance > self.follow_distance + WAIT_SLACK
-            if not behind or nav.state.phase == TURNING:     # on the goal: arrive first
+            # on the goal it arrives first; held up, it leaves nobody behind: the stall is the
+            # navigation's to report (blocked, then failed), never a visitor lost
+            if not behind or nav.state.phase in (TURNING, BLOCKED):
                 self._behind_since = None
             elif self._behind_since is None:
                 self._behind_since = now

@@ -13,8 +13,10 @@ does not look and the camera (240°) barely does. So the follower is estimated e
    its range plus a person's body radius.
 
 A wall explains an echo when any of five rays across the sonar's cone meets it no farther
-than 0.25 m beyond the echo's range (a sonar hears the nearest thing anywhere in its cone).
-Other people walking behind the robot look like the follower to both sources (a known limit).
+than 0.10 m beyond the echo's range (a sonar hears the nearest thing anywhere in its cone): a
+person standing in a doorway, with the jambs a body's depth behind their front, is not the
+wall's echo (with 0.25 m they were, and a visitor waiting in a doorway was "lost").
+Other people walking behind the robot look like the follower to these sources (a known limit).
 
 The behavior owns the decisions (lead, stop and wait, give up); this skill owns the state that
 conditions read (`guide/state`) and the log event of a finished guide run (`guide`, with
@@ -53,7 +55,7 @@ BODY_RADIUS = 0.2                  # m, a person's body circle (sonar echoes com
 SONAR_REACH = 3.0                  # m; farther rear echoes are too wide to tell a person
 CONE_RAYS = (-0.5, -0.25, 0.0, 0.25, 0.5)   # rays across a sonar's cone, in cone widths
 MARCH_STEP = 0.05                  # m between the points checked along a ray
-WALL_SLACK = 0.25                  # m beyond the echo a wall may be and still explain it
+WALL_SLACK = 0.10                  # m beyond the echo a wall may be and still explain it
 WALL_HIT = 0.08                    # m: a ray point this close to a wall has met it
 AHEAD = 0.5                        # m along the path ahead of the robot that gives its way
 NEAR_GOAL = 1.0                    # m left: around the goal a track counts in any direction
@@ -217,10 +219,10 @@ class Guiding(Skill):
             ly = p[:, 1, None] + t * np.sin(a)[:, None]
             wx, wy = pose.x + c * lx - s * ly, pose.y + s * lx + c * ly
             open_ &= (self.grid.clearance(wx, wy) > WALL_HIT).all(axis=1)
-        if not open_.any():
-            return None
         lx, ly = p[:, 0] + r * np.cos(p[:, 2]), p[:, 1] + r * np.sin(p[:, 2])
         d = np.hypot(lx, ly)
+        if not open_.any():
+            return None
         d[~open_] = np.inf
         i = int(np.argmin(d))
         bearing = math.atan2(ly[i], lx[i])

@@ -4,6 +4,12 @@ The free distance counts every sonar and laser reading that falls inside the cor
 body sweeps when driving forward (backward); the safety arbiter stops forward (backward)
 motion when it is short. A robot with no sonar facing backwards reports no free space behind
 (0 m): it cannot see there, so it does not back up.
+
+A sonar only says something lies somewhere in its cone at its range, so an echo counts as lying
+on the sonar's axis, unless the laser explains it: a laser reading inside the cone at that range
+(the same wall or jamb, placed precisely). Only unexplained echoes (glass, a low object) keep
+the axis placement: a door jamb seen by a 40-degree sonar otherwise stood in the way of a robot
+passing through the door centred.
 """
 from __future__ import annotations
 
@@ -14,6 +20,7 @@ import numpy as np
 from robots.devices import Laser
 from robots.profile import RobotProfile
 from skills.localization import Localization
+from skills.navigation.footprint import Footprint, inside
 from skills.skill import Skill
 
 
@@ -25,26 +32,37 @@ class ObstacleSensing(Skill):
         super().__init__(blackboard, events)
         self.localization = localization
         self.laser = laser
+        self.footprint = Footprint.of(profile)
         self.half_width = profile.width / 2
         self.front = profile.length / 2 if profile.shape == "rectangle" else profile.radius
         sonar = profile.sonar
         self._sonar_poses = sonar.poses if sonar is not None else np.zeros((0, 3))
         self._sees_behind = bool(np.any(np.cos(self._sonar_poses[:, 2]) < -0.5))
+        self._cone = sonar.cone if sonar is not None else 0.0
 
     def sense(self, now: float) -> None:
         state = self.localization.state
         sonar = state.sonar if state is not None else ()
         self.write("sensors/sonar", tuple(sonar), now)
-        free = self._free_ahead_sonar(sonar)
         self.write("obstacles/rear", self._free_behind_sonar(sonar), now)
+        laser_points = np.zeros((0, 2))
         if self.laser is not None:
             scan = self.laser.read()
             if scan is not None:
                 hit = np.isfinite(scan.ranges)
                 # the beams' angles are in the robot frame already (the mount heading included)
                 ranges, angles = scan.ranges[hit], scan.angles[hit]
-                free = min(free, self._free_ahead_points(scan.origin[0] + ranges * np.cos(angles),
-                                                         scan.origin[1] + ranges * np.sin(angles)))
+                laser_points = np.column_stack([scan.origin[0] + ranges * np.cos(angles),
+                                                scan.origin[1] + ranges * np.sin(angles)])
+                # a reading within the body is the robot itself or a stray return
+                laser_points = laser_points[~inside(self.footprint, laser_points)]
+        ranges = np.asarray(sonar, dtype=float)[: len(self._sonar_poses)]
+        if len(laser_points) and len(ranges):
+            ranges = np.where(explained_echoes(ranges, self._sonar_poses[: len(ranges)],
+                                               self._cone, laser_points), np.inf, ranges)
+        free = self._free_ahead_sonar(ranges)
+        if len(laser_points):
+            free = min(free, self._free_ahead_points(laser_points[:, 0], laser_points[:, 1]))
         self.write("obstacles/front", free, now)
 
     def _free_behind_sonar(self, ranges) -> float:
@@ -74,7 +92,36 @@ class ObstacleSensing(Skill):
         return xs, ys
 
     def _free_ahead_points(self, xs: np.ndarray, ys: np.ndarray) -> float:
-        ahead = np.isfinite(xs) & (xs > 0) & (np.abs(ys) <= self.half_width + 0.05)
+        """The free distance before the front of the corridor the body sweeps, padded by
+        CORRIDOR_PAD either side; a reading in the pad but not yet ahead of the front is beside
+        the body, which drives past it (counted, it stopped a robot in a narrow door)."""
+        side = np.abs(ys)
+        ahead = np.isfinite(xs) & (xs > 0) & (side <= self.half_width + CORRIDOR_PAD) & (
+            (side <= self.half_width) | (xs >= self.front))
         if not ahead.any():
             return math.inf
         return float(max(0.0, xs[ahead].min() - self.front))
+
+
+CORRIDOR_PAD = 0.05         # m beyond the half width counted as in the way ahead
+ECHO_TOLERANCE = 0.10       # m: a laser reading this near a sonar's range explains its echo
+CONE_SLACK = math.radians(5)   # beyond the cone's half angle (the cone's edge is not sharp)
+
+
+def explained_echoes(ranges: np.ndarray, poses: np.ndarray, cone: float,
+                     laser_points: np.ndarray) -> np.ndarray:
+    """(n,) True for each sonar echo the laser explains: the nearest laser reading inside the
+    sonar's cone (robot frame: `poses` x, y, heading rad; `laser_points` (k, 2)) lies within
+    ECHO_TOLERANCE of the echo's range. A sonar hears the nearest thing in its cone, so such a
+    reading is what it heard, placed precisely."""
+    ranges = np.asarray(ranges, dtype=float)
+    out = np.zeros(len(ranges), dtype=bool)
+    if not len(laser_points) or not len(ranges):
+        return out
+    dx = laser_points[None, :, 0] - poses[:, None, 0]
+    dy = laser_points[None, :, 1] - poses[:, None, 1]
+    bearing = np.arctan2(dy, dx) - poses[:, None, 2]
+    inside = np.abs(np.arctan2(np.sin(bearing), np.cos(bearing))) <= cone / 2 + CONE_SLACK
+    nearest = np.where(inside, np.hypot(dx, dy), np.inf).min(axis=1)
+    with np.errstate(invalid="ignore"):
+        return np.isfinite(ranges) & (np.abs(nearest - ranges) <= ECHO_TOLERANCE)

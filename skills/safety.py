@@ -12,6 +12,14 @@ from robots.profile import Limits
 
 STOP_DISTANCE = 0.30        # m of free space ahead (behind) below which forward (backward)
                             # motion stops
+SLOW_STOP = 0.10            # m: driving forward slowly, the free space needed beyond braking
+
+
+def stop_distance(v: float, limits: Limits) -> float:
+    """The free space ahead forward motion at `v` m/s needs: its braking distance plus
+    SLOW_STOP, at most STOP_DISTANCE. Creeping through a narrow door, the jamb beside the front
+    corner is nearer than STOP_DISTANCE and no danger at that speed."""
+    return min(STOP_DISTANCE, SLOW_STOP + v * v / (2 * limits.max_accel))
 
 
 def arbitrate(v: float, w: float, *, link_fresh: bool, free_ahead: float, free_behind: float,
@@ -22,7 +30,7 @@ def arbitrate(v: float, w: float, *, link_fresh: bool, free_ahead: float, free_b
     if not link_fresh:
         return 0.0, 0.0, "base data is stale or the link is down"
     reason = ""
-    if v > 0 and free_ahead < STOP_DISTANCE:
+    if v > 0 and free_ahead < stop_distance(v, limits):
         v, reason = 0.0, f"obstacle {free_ahead:.2f} m ahead"
     if v < 0 and free_behind < STOP_DISTANCE:
         v, reason = 0.0, f"obstacle {free_behind:.2f} m behind (or no sensor there)"

@@ -22,6 +22,7 @@ from robots.profile import RobotProfile
 from robots.sim.appearance import anyone, appearance_of, observed
 from robots.sim.body import Obstacles, UnicycleBody
 from robots.sim.floor import Floor
+from robots.sim.laser_errors import LaserErrors
 from robots.sim.measures import NEAR_WALLS, Measures
 from robots.sim.odometry import WheelOdometry, odometry_rng
 from robots.sim.people import BODY_RADIUS, LEG_RADIUS, SimPerson
@@ -108,6 +109,8 @@ class World:
         self._walls = floor.segments
         self._sonar_rays = self._sonar_ray_table()
         self._laser_offsets = self._laser_angles()
+        self.laser_errors = (LaserErrors.for_floor(profile.laser, floor)
+                             if profile.laser is not None else None)
         self._version = 0                  # bumped every substep; keys the caches below
         self._cache: dict[str, tuple[tuple, object]] = {}
         self._near_walls: dict[float, tuple[float, float, np.ndarray]] = {}
@@ -302,13 +305,13 @@ class World:
         return ranges.reshape(-1, len(SONAR_RAY_SPREAD)).min(axis=1)
 
     def laser_scan(self) -> tuple[np.ndarray, np.ndarray]:
-        """(angles in the robot frame, ranges in m from the laser) with Gaussian range noise."""
+        """(angles in the robot frame, ranges in m from the laser) with the scanner's errors:
+        Gaussian range noise, and on a map_server map drop-outs and spurious short returns."""
         laser = self.profile.laser
         if laser is None:
             return np.zeros(0), np.zeros(0)
         ranges = self._cached("laser", self._laser_ranges)
-        if laser.noise > 0:
-            ranges = np.maximum(ranges + self.rng.normal(0.0, laser.noise, ranges.shape), 0.0)
+        ranges = self.laser_errors.apply(ranges, self.rng)      # robots/sim/laser_errors.py
         return self._laser_offsets.copy(), ranges.copy()
 
     def _laser_ranges(self) -> np.ndarray:

@@ -12,6 +12,11 @@ near the path, keep clear of walls, keep out of people's personal space, go fast
 speed is capped at the profile's `max_speed_near_people`, and the robot slows to stop on the goal
 and before anything that blocks its path (then it reports itself blocked, with the blocker).
 
+The body is the robot's footprint (`footprint.Footprint`): a circle, or a rectangle checked
+along its outline; people keep their distance from its circumscribed circle. Where the path
+ahead leaves less than CLEAR either side (a door a little wider than the robot), the speed is
+capped at `narrow_speed`, and closeness the path itself needs costs nothing.
+
 Commands are forward only (v >= 0): the robots' sensors look ahead; turning on the spot is
 always among the samples. The controller is stateless: the skill passes the remaining path.
 """
@@ -26,6 +31,7 @@ from scipy.spatial import cKDTree
 
 from robots.profile import Limits
 from skills.navigation.costmap import CostMap
+from skills.navigation.footprint import Footprint
 
 PERSON_RADIUS = 0.25       # m: a person's body as an obstacle (shoulders, arms)
 MOVING = 0.4               # m/s: slower counts as standing (tracking noise): static, may block
@@ -54,11 +60,12 @@ class ControllerParams:
                                    # would split one wait into many)
     rotate_first: float = math.radians(70)   # heading error beyond which it turns on the spot
     brake: float = 0.8             # fraction of max_accel planned for stopping (goal, obstruction)
-    # issue 22, point 2 (an experiment, off by default so that existing runs replay unchanged):
     # closeness to walls costs only where the body comes closer than the planned path itself
-    # does within the next metres. Standing before a door a little wider than the robot then no
-    # longer scores best (bench_guide.py --buildings: 3/8 tours arrived without, 7/8 with)
-    clearance_beyond_path: bool = False
+    # does within the next metres: counting the closeness a door a little wider than the robot
+    # forces made standing before it the best command (issue 22)
+    clearance_beyond_path: bool = True
+    narrow_speed: float = 0.25     # m/s through openings that leave less than CLEAR either side
+    narrow_lookahead: float = 1.0  # m of path ahead checked for such an opening
     w_progress: float = 1.0
     w_heading: float = 0.6
     w_path: float = 0.8
@@ -91,11 +98,17 @@ class Command:
 
 class LocalController:
     def __init__(self, costmap: CostMap, limits: Limits,
-                 params: ControllerParams = ControllerParams()) -> None:
+                 params: ControllerParams = ControllerParams(),
+                 footprint: Footprint | None = None) -> None:
         self.costmap = costmap
         self.limits = limits
         self.params = params
-        self.radius = costmap.radius
+        # the body checked against walls and readings; people keep their distance from its
+        # circumscribed circle
+        self.footprint = footprint or Footprint.round(costmap.radius)
+        self.radius = self.footprint.circumscribed
+        self._half_width = (self.footprint.width / 2 if not self.footprint.is_round
+                            else self.footprint.radius)
         # distance field values are between cell centres: a wall may be up to this much closer
         self._cell_slack = costmap.grid.resolution * math.sqrt(0.5)
         self._times = np.arange(1, int(round(params.horizon / params.step)) + 1) * params.step
@@ -133,21 +146,24 @@ class LocalController:
                 cap, cap_why = stop_cap, "obstruction"
         target = _point_along(path, p.lookahead) if len(path) else np.array([x, y])
         bearing = math.atan2(target[1] - y, target[0] - x)
-        if abs(_wrap(bearing - th)) > p.rotate_first and math.hypot(target[0] - x, target[1] - y) > 0.05:
+        turning = (abs(_wrap(bearing - th)) > p.rotate_first
+                   and math.hypot(target[0] - x, target[1] - y) > 0.05)
+        if turning:
             cap, cap_why = min(cap, 0.0), cap_why or "turning"
 
         commands = self._samples(v0, w0, cap)
         long_poses = rollout(x, y, th, v0, w0, commands, self._long_times, self.limits)
         poses = long_poses[:, : len(self._times)]
         speeds = _speeds(v0, commands, self._times, self.limits)
-        gap, gap0 = self._gaps(x, y, v0, poses, speeds, near, crowd)
+        gap, gap0 = self._gaps(x, y, th, v0, poses, speeds, near, crowd)
         unsafe = (gap < 0.0) & (gap < gap0[:, None] - 1e-9)
         ok = ~unsafe.any(axis=1)
         if not ok.any():
             return Command(0.0, 0.0, admissible=False, blocked=True,
                            blocker=blocker or _nearest(x, y, near, crowd), speed_cap=cap,
                            reason="no collision-free command within the horizon")
-        score = self._score(commands, poses, long_poses, gap, gap0, crowd, path, target, cap)
+        score = self._score(commands, poses, long_poses, gap, gap0, crowd, path, target, cap,
+                            turning)
         score[~ok] = np.inf
         best = int(np.argmin(score))
         v, w = (float(c) for c in commands[best])
@@ -176,6 +192,10 @@ class LocalController:
         goal_cap = math.sqrt(2 * p.brake * limits.max_accel * left)
         if goal_cap < cap:
             cap, why = goal_cap, "goal ahead"
+        if p.narrow_speed < cap and len(path) >= 2:
+            window, _ = _resample(path, 0.05, p.narrow_lookahead)
+            if self._path_gap(window) < CLEAR:
+                cap, why = p.narrow_speed, "narrow passage"
         return cap, why
 
     def _obstruction(self, path, points, crowd):
@@ -197,12 +217,12 @@ class LocalController:
                              candidates[:, None, 1] - walking[None, :, 1])
                 candidates = candidates[d.min(axis=1) > 0.6]
             blockers = candidates
-        limit = np.full(len(blockers), self.radius + p.block_margin)
+        limit = np.full(len(blockers), self._half_width + p.block_margin)
         if len(crowd):
             standing = crowd[np.hypot(crowd[:, 2], crowd[:, 3]) < MOVING]
             blockers = np.vstack([blockers, standing[:, :2]])
-            limit = np.concatenate([limit, np.full(len(standing),
-                                                   self.radius + PERSON_RADIUS + p.block_margin)])
+            limit = np.concatenate([limit, np.full(len(standing), self._half_width
+                                                   + PERSON_RADIUS + p.block_margin)])
         if not len(blockers):
             return None, None
         d = np.hypot(samples[:, None, 0] - blockers[None, :, 0],
@@ -232,21 +252,20 @@ class LocalController:
         grid_v, grid_w = np.meshgrid(vs, ws, indexing="ij")
         return np.column_stack([grid_v.ravel(), grid_w.ravel()])
 
-    def _gaps(self, x, y, v0, poses, speeds, points, crowd):
+    def _gaps(self, x, y, th, v0, poses, speeds, points, crowd):
         """Free space (m) beyond body + margin at every pose (s, k), and at the start (s,).
 
         A walking person counts only where the robot is still moving then (passive safety):
         standing still is always allowed, else a person walking at a stopped robot would leave
         it no command at all, and it would freeze in their way instead of stepping aside."""
         p = self.params
-        px, py = poses[..., 0], poses[..., 1]
-        grid = self.costmap.grid
-        gap = self._map_clearance(px, py) - self._cell_slack - self.radius
-        gap0 = float(self._map_clearance(np.array([x]), np.array([y]))[0]) - self._cell_slack \
-            - self.radius
+        px, py, pth = poses[..., 0], poses[..., 1], poses[..., 2]
+        here = (np.array([x]), np.array([y]), np.array([th]))
+        gap = self._wall_gap(px, py, pth)
+        gap0 = float(self._wall_gap(*here)[0])
         if len(points):
-            gap = np.minimum(gap, _nearest_distance(px, py, points) - self.radius)
-            gap0 = min(gap0, float(np.hypot(points[:, 0] - x, points[:, 1] - y).min()) - self.radius)
+            gap = np.minimum(gap, self._points_gap(px, py, pth, points))
+            gap0 = min(gap0, float(self._points_gap(*here, points)[0]))
         if len(crowd):
             d = self._people_distance(poses, crowd, self._times)
             walking = np.hypot(crowd[:, 2], crowd[:, 3]) > 0.0
@@ -283,10 +302,41 @@ class LocalController:
 
     def _path_gap(self, window: np.ndarray) -> float:
         """The least free space (beyond body and margin, walls of the map only) the body has
-        anywhere on this stretch of the planned path: what following the path needs."""
-        gap = (self._map_clearance(window[:, 0], window[:, 1]) - self._cell_slack
-               - self.radius - self.params.safety_margin)
-        return float(gap.min()) if len(gap) else CLEAR
+        anywhere on this stretch of the planned path, turned along it: what following the path
+        needs."""
+        if len(window) < 2:
+            return CLEAR
+        step = np.diff(window, axis=0)
+        heading = np.arctan2(step[:, 1], step[:, 0])
+        heading = np.concatenate([heading, heading[-1:]])
+        gap = self._wall_gap(window[:, 0], window[:, 1], heading) - self.params.safety_margin
+        return float(gap.min())
+
+    def _wall_gap(self, px, py, pth) -> np.ndarray:
+        """Gap between the footprint at poses (any shape) and the map's walls. A rectangle's
+        outline is checked where its circumscribed circle comes near a wall."""
+        centre = self._map_clearance(px, py) - self._cell_slack
+        if self.footprint.is_round:
+            return centre - self.radius
+        gap = centre - self.radius
+        near = gap < CLEAR + self.params.safety_margin
+        if near.any():
+            ox, oy = self.footprint.outline_at(px[near], py[near], pth[near])
+            gap[near] = self._map_clearance(ox, oy).min(axis=-1) - self._cell_slack
+        return gap
+
+    def _points_gap(self, px, py, pth, points: np.ndarray) -> np.ndarray:
+        """Gap between the footprint at poses (any shape) and the nearest range reading."""
+        if self.footprint.is_round:
+            return _nearest_distance(px, py, points) - self.radius
+        if len(points) <= KD_TREE_FROM:
+            return self.footprint.gap_to_points(px, py, pth, points)
+        # the readings nearest the centre: the one nearest the outline is among them for any
+        # reading the outline comes near (a scan's neighbouring beams are close together)
+        k = min(NEAREST_READINGS, len(points))
+        _, index = cKDTree(points).query(np.column_stack([px.ravel(), py.ravel()]), k=k)
+        index = index.reshape(px.shape + (k,))
+        return self.footprint.gap_to_points(px, py, pth, points[index])
 
     def _map_clearance(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
         """Distance to the walls, interpolated between cell centres (0 off the map): smooth,
@@ -315,7 +365,7 @@ class LocalController:
         return np.hypot(poses[..., 0, None] - fx, poses[..., 1, None] - fy)
 
     def _score(self, commands, poses, long_poses, gap, gap0, crowd, path, target,
-               cap) -> np.ndarray:
+               cap, turning: bool = False) -> np.ndarray:
         """Lower is better: progress along the path, heading along it, distance from it,
         clearance, people's personal space, speed."""
         p = self.params
@@ -347,6 +397,10 @@ class LocalController:
         floor = min(CLEAR, needed)
         closer = np.clip((floor - gap.min(axis=1)) / CLEAR, 0.0, 1.0)
         clearance = np.maximum(closer - np.clip((floor - gap0) / CLEAR, 0.0, 1.0), 0.0)
+        if turning:
+            # turning on the spot to face the way: a rectangle's corners sweep nearer a wall
+            # and back, which must not make standing still best (the safety check stays)
+            clearance = np.zeros(len(commands))
         intrusion = 0.0
         if len(crowd):
             intrusion = self._intrusion(long_poses, crowd, path)
@@ -394,6 +448,7 @@ def _nearest_distance(px: np.ndarray, py: np.ndarray, points: np.ndarray) -> np.
 
 
 KD_TREE_FROM = 8     # points: below, the plain distances are as fast
+NEAREST_READINGS = 16   # readings per pose checked against a rectangle's outline
 
 
 def _people_array(people) -> np.ndarray:

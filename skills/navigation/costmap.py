@@ -3,8 +3,11 @@ decaying cost beyond it so paths keep away from walls where there is room.
 
 A cell is *lethal* when the robot's centre there would put its body within reach of a wall
 (distance to the nearest occupied cell centre below radius + half a cell, since a wall may lie
-anywhere in its cell). Beyond that, cost falls off exponentially over `band` metres, as in
-Nav2's inflation layer. Unknown cells (a SLAM map's unexplored parts) are lethal unless
+anywhere in its cell). For a footprint that is not round that radius is the *inscribed* one
+(no orientation fits closer), and the band up to the circumscribed radius costs the most a
+free cell can (the robot fits there only turned along the way: passable, avoided where there
+is room), as in Nav2's inflation layer. Beyond that, cost falls off exponentially over `band`
+metres. Unknown cells (a SLAM map's unexplored parts) are lethal unless
 `unknown_cost` allows them. Cost maps are cached per map and parameters.
 """
 from __future__ import annotations
@@ -17,6 +20,7 @@ from functools import cached_property
 import numpy as np
 from scipy import ndimage
 
+from skills.navigation.footprint import Footprint
 from skills.navigation.gridmap import GridMap
 
 INFLATION_BAND = 0.6        # m beyond the lethal radius over which cost decays
@@ -36,6 +40,7 @@ class CostMap:
     lethal: np.ndarray
     cost: np.ndarray
     clearance: np.ndarray      # m from each cell centre to the nearest occupied cell centre
+    inscribed: float | None = None   # m, the lethal radius when smaller than `radius`
 
     @cached_property
     def nearest_free(self) -> tuple[np.ndarray, np.ndarray]:
@@ -77,36 +82,56 @@ class CostMap:
         field = (ndimage.distance_transform_edt(~occupied) * grid.resolution
                  if occupied.any() else np.full(occupied.shape, np.inf))
         lethal, cost = _inflate(field, grid, self.radius, self.band, self.decay,
-                                self.unknown_cost)
+                                self.unknown_cost, self.inscribed)
         return CostMap(grid, self.radius, self.band, self.decay, self.unknown_cost, lethal, cost,
-                       field)
+                       field, self.inscribed)
 
 
 def cost_map(grid: GridMap, radius: float, *, band: float = INFLATION_BAND, decay: float = DECAY,
-             unknown_cost: float | None = None) -> CostMap:
+             unknown_cost: float | None = None, inscribed: float | None = None) -> CostMap:
     """The cost map of `grid` for a robot of bounding `radius` m (cached per map and parameters).
 
-    `unknown_cost`: None makes unknown cells lethal; a number in [0, 1] lets paths cross them."""
+    `unknown_cost`: None makes unknown cells lethal; a number in [0, 1] lets paths cross them.
+    `inscribed`: a footprint that is not round: lethal only within this radius (m)."""
     if not (math.isfinite(radius) and radius > 0):
         raise ValueError(f"robot radius {radius!r} m must be a positive number")
     if unknown_cost is not None and not 0.0 <= unknown_cost <= 1.0:
         raise ValueError(f"unknown_cost {unknown_cost!r} must be None (lethal) or within 0 … 1")
+    if inscribed is not None and not 0.0 < inscribed <= radius:
+        raise ValueError(f"inscribed radius {inscribed!r} m must be within 0 … {radius} "
+                         "(the bounding radius)")
+    if inscribed is not None and inscribed == radius:
+        inscribed = None
     params = (float(band), float(decay), unknown_cost)
     per_map = _cache.setdefault(grid, {})
-    key = (float(radius), params)
+    key = (float(radius), params, inscribed)
     if key not in per_map:
-        lethal, cost = _inflate(grid.distance_field, grid, radius, *params)
-        per_map[key] = CostMap(grid, float(radius), *params, lethal, cost, grid.distance_field)
+        lethal, cost = _inflate(grid.distance_field, grid, radius, *params, inscribed)
+        per_map[key] = CostMap(grid, float(radius), *params, lethal, cost, grid.distance_field,
+                               inscribed)
     return per_map[key]
 
 
+def robot_cost_map(grid: GridMap, footprint: Footprint, safety_margin: float) -> CostMap:
+    """The cost map a robot plans on: its footprint grown by the local controller's
+    `safety_margin` and by what the controller allows for a wall lying anywhere in its cell
+    (the diagonal half cell, less the half cell the lethal test already counts). A path then
+    never asks the controller for a pose it refuses (a path cut closer to a door's jamb than
+    the controller lets the body go made a round robot stop there)."""
+    grow = safety_margin + grid.resolution * (math.sqrt(0.5) - 0.5)
+    return cost_map(grid, footprint.circumscribed + grow, inscribed=footprint.inscribed + grow)
+
+
 def _inflate(field: np.ndarray, grid: GridMap, radius: float, band: float, decay: float,
-             unknown_cost: float | None) -> tuple[np.ndarray, np.ndarray]:
+             unknown_cost: float | None,
+             inscribed: float | None = None) -> tuple[np.ndarray, np.ndarray]:
     lethal_distance = radius + grid.resolution / 2
     lethal = field < lethal_distance
     beyond = field - lethal_distance
     cost = np.where(beyond <= band, np.exp(-np.maximum(beyond, 0.0) / decay), 0.0)
     cost[lethal] = 1.0
+    if inscribed is not None:
+        lethal = field < inscribed + grid.resolution / 2
     if grid.unknown is not None:
         if unknown_cost is None:
             lethal = lethal | grid.unknown

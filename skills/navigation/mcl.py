@@ -33,6 +33,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import ndimage
 
 from skills.navigation.gridmap import GridMap
 
@@ -105,13 +106,30 @@ class MCLParams:
 # -- pure pieces --------------------------------------------------------------------------------
 
 def likelihood_field(grid: GridMap, model: BeamModel) -> np.ndarray:
-    """log p(end point in cell) for every cell: Gaussian in the distance to the nearest wall
-    mixed with the uniform random term. Unknown cells count as far from any wall."""
-    distance = grid.distance_field
+    """log p(end point in cell) for every cell: Gaussian in the distance to the nearest wall's
+    surface mixed with the uniform random term. Unknown cells count as far from any wall.
+
+    Inside a wall the distance is the depth below its surface: a beam ends where a wall
+    begins, not anywhere in it. Counting every cell of a thick filled wall as "on the wall"
+    (distance 0) made a flat region of best fit for a forward-only laser, and the estimate sat
+    6-20 cm ahead of the truth before such a wall (issue 22). Distances are to the surface
+    between the cells, half a cell either side of it: from the cell centres on one side only,
+    the best fit sat half a cell inside the wall, and the estimate 2.5 cm towards it."""
+    half = grid.resolution / 2        # cell centres to the surface between them
+    distance = np.where(grid.occupied, wall_depth(grid) + half,
+                        np.maximum(grid.distance_field - half, 0.0))
     if grid.unknown is not None:
         distance = np.where(grid.unknown, np.inf, distance)
     hit = np.exp(-0.5 * (distance / model.sigma) ** 2) / (math.sqrt(TWO_PI) * model.sigma)
     return np.log(model.z_hit * hit + model.z_rand / model.max_range)
+
+
+def wall_depth(grid: GridMap) -> np.ndarray:
+    """m from each occupied cell to the wall's surface (0 in its outer layer of cells)."""
+    if not grid.occupied.any():
+        return np.zeros(grid.shape)
+    cells = ndimage.distance_transform_edt(grid.occupied)
+    return np.maximum(cells - 1.0, 0.0) * grid.resolution
 
 
 def outside_log_likelihood(model: BeamModel) -> float:

@@ -22,13 +22,16 @@ from dataclasses import dataclass, field, replace
 from functools import cached_property
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from robots.profile import RobotProfile
 from skills.localization import Localization
+from skills.obstacles import explained_echoes
 from skills.motion import Goal, Motion
 from skills.navigation.controller import (ControllerParams, LocalController, Person,
                                           PERSON_RADIUS, MOVING)
-from skills.navigation.costmap import CostMap, cost_map
+from skills.navigation.costmap import CostMap, robot_cost_map
+from skills.navigation.footprint import Footprint, inside
 from skills.navigation.gridmap import GridMap, MapError
 from skills.navigation.planner import GlobalPlanner, Plan
 from skills.perception import PeoplePerception
@@ -56,6 +59,8 @@ OFF_PATH = 1.0               # m from the path at which the robot plans again fr
 READING_SIZE = 0.25          # m drawn around an off-map reading when planning around it
 SONAR_RANGE = 1.5            # m: farther sonar echoes are too wide to steer by
 IGNORED_RADIUS = 0.45        # m around an ignored person whose readings do not block
+ON_MAP = 0.09                # m: a reading this near a mapped wall (cell centre) is that wall
+CONFIRM_RADIUS = 0.05        # m: a laser reading counts when the previous scan had one this near
 
 
 @dataclass(frozen=True)
@@ -123,12 +128,17 @@ class Navigation(Skill):
         # tracks the controller does not treat as people to keep away from and slow down for
         # (the customer a follower drives behind; their legs still count as readings)
         self.ignore_people: frozenset[int] = frozenset()
+        self._previous_scan: np.ndarray | None = None    # laser readings of the last tick, map frame
         motion.navigator = self
+
+    @cached_property
+    def footprint(self) -> Footprint:
+        return Footprint.of(self.profile)
 
     @cached_property
     def costmap(self) -> CostMap:
         """Made on the first goal (cached per map), so opening a robot stays cheap."""
-        return cost_map(self.grid, self.profile.radius)
+        return robot_cost_map(self.grid, self.footprint, self.params.controller.safety_margin)
 
     @cached_property
     def planner(self) -> GlobalPlanner:
@@ -136,7 +146,8 @@ class Navigation(Skill):
 
     @cached_property
     def controller(self) -> LocalController:
-        return LocalController(self.costmap, self.limits, self.params.controller)
+        return LocalController(self.costmap, self.limits, self.params.controller,
+                               self.footprint)
 
     # -- the API for behaviors -------------------------------------------------------------
 
@@ -247,10 +258,15 @@ class Navigation(Skill):
             rest = self._rest_of_path(x, y)
         people = [Person(t.x, t.y, t.vx, t.vy) for t in self.perception.tracks
                   if t.id not in self.ignore_people]
-        command = self.controller.step((x, y, th), (state.v, state.w), rest, points=self.points,
-                                       people=people, max_speed=self._speed,
-                                       block_points=self.block_points,
+        command = self.controller.step((x, y, th), (state.v, state.w), rest,
+                                       points=self._unmapped(self.points), people=people,
+                                       max_speed=self._speed, block_points=self.block_points,
                                        held=self._blocked_since is not None)
+        if (not command.admissible and self._blocked_since is None
+                and (self.last_command is None or self.last_command.admissible)):
+            # one tick without a safe move stops the robot for that tick; a blocked way is one
+            # that stays so (a stray return of the laser beside the body is gone a tick later)
+            command = replace(command, blocked=False)
         self.last_command = command
         left = _length(rest)
         if command.blocked:
@@ -451,12 +467,16 @@ class Navigation(Skill):
                 r, a = scan.ranges[hit], scan.angles[hit]     # robot frame: mount included
                 laser_points = np.column_stack([scan.origin[0] + r * np.cos(a),
                                                 scan.origin[1] + r * np.sin(a)])
+                laser_points = laser_points[~inside(self.footprint, laser_points)]
                 local.append(laser_points)
         sonar_points = np.zeros((0, 2))
         if len(state.sonar) and len(self._sonar_poses):
             ranges = np.asarray(state.sonar, dtype=float)[: len(self._sonar_poses)]
             poses = self._sonar_poses[: len(ranges)]
-            echo = np.isfinite(ranges) & (ranges <= SONAR_RANGE)
+            # an echo the laser explains is where the laser sees it (on the cone's axis, a
+            # door's jamb would stand before a robot passing the door)
+            explained = explained_echoes(ranges, poses, self.profile.sonar.cone, laser_points)
+            echo = np.isfinite(ranges) & (ranges <= SONAR_RANGE) & ~explained
             r, poses = ranges[echo], poses[echo]
             sonar_points = np.column_stack([poses[:, 0] + r * np.cos(poses[:, 2]),
                                             poses[:, 1] + r * np.sin(poses[:, 2])])
@@ -467,9 +487,33 @@ class Navigation(Skill):
         def to_map(pts: np.ndarray) -> np.ndarray:
             return np.column_stack([state.x + c * pts[:, 0] - s * pts[:, 1],
                                     state.y + s * pts[:, 0] + c * pts[:, 1]])
-        everything = to_map(np.vstack(local))
-        precise = to_map(laser_points) if self.laser is not None else to_map(sonar_points)
+        laser_map = self._confirmed(to_map(laser_points))
+        everything = np.vstack([laser_map, to_map(sonar_points)])
+        precise = laser_map if self.laser is not None else to_map(sonar_points)
         return everything, precise
+
+    def _unmapped(self, points: np.ndarray) -> np.ndarray:
+        """The readings the map's walls do not already account for: a reading on a mapped
+        wall (within ON_MAP of it) says nothing the controller's distance to the walls does
+        not, while its range noise (a few cm) ate the little room a narrow door leaves. With
+        the pose off by more than that, the readings are off the walls and count again."""
+        if not len(points):
+            return points
+        return points[self.grid.clearance(points[:, 0], points[:, 1]) > ON_MAP]
+
+    def _confirmed(self, points: np.ndarray) -> np.ndarray:
+        """The laser readings (map frame) that the previous scan confirms: one of its readings
+        within CONFIRM_RADIUS. A real scanner returns now and then a beam short of what it hit
+        (dust, an edge, a mixed pixel); such a stray reading, alone in one scan, stood in the
+        way as an obstacle and could keep the way "blocked" for good. Anything really there is
+        seen again a tick later (a walking person moves a few centimetres)."""
+        previous, self._previous_scan = self._previous_scan, points
+        if previous is None or not len(points):
+            return points
+        if not len(previous):
+            return points[:0]
+        near, _ = cKDTree(previous).query(points, distance_upper_bound=CONFIRM_RADIUS)
+        return points[np.isfinite(near)]
 
     def _without_ignored(self, points: np.ndarray) -> np.ndarray:
         """Readings off the legs of the people in `ignore_people` are left out: a follower
@@ -505,6 +549,7 @@ class Navigation(Skill):
         self._last_replan = -math.inf
         self._lost_since = None
         self.last_command = None
+        self._previous_scan = None
 
     def _publish(self, now: float) -> None:
         self.write("navigation/state", self.state, now)

@@ -8,8 +8,10 @@ and pass a door centred. The graph is built once per cost map (vectorised) and c
 
 The cell path is then shortened by string pulling: a waypoint is dropped when the straight line
 that replaces it crosses no lethal cell and costs no more than the stretch of path it replaces
-(within 5 % and a cell, the discretisation),
-so the robot drives straight lines without trading the search's distance from walls for them. A start or goal just inside the inflation (the robot parked near a wall, a
+(within 5 % and a cell, the discretisation), and, within `TIGHT` of the lethal edge, comes no
+closer to a wall than that stretch does: so the robot drives straight lines without trading the
+search's distance from walls for them, and enters a narrow door along it rather than across
+its jamb (a line cut past a jamb left a round robot no way forward). A start or goal just inside the inflation (the robot parked near a wall, a
 place drawn close to one) is snapped to the nearest free cell within `snap_distance`.
 """
 from __future__ import annotations
@@ -34,6 +36,7 @@ UNREACHABLE = "goal unreachable"
 COST_WEIGHT = 3.0
 SHORTCUT_SLACK = 0.05       # a shortcut may cost this fraction (plus a cell) more than the path
 SNAP_DISTANCE = 0.3          # m a blocked start or goal may be moved to the nearest free cell
+TIGHT = 0.2                  # m beyond the lethal edge within which a shortcut keeps its distance
 _STEPS = ((0, 1), (1, 0), (1, 1), (1, -1))      # the other four follow by symmetry
 
 _graphs: "weakref.WeakKeyDictionary[CostMap, dict]" = weakref.WeakKeyDictionary()
@@ -297,10 +300,12 @@ def _shortcut(costmap: CostMap, cells: np.ndarray, cost_weight: float) -> list[i
     cost = costmap.cost[cells[:, 0], cells[:, 1]]
     step = res * np.hypot(*np.diff(cells, axis=0).T)
     along = np.concatenate([[0.0], np.cumsum(step * (1.0 + cost_weight * 0.5 * (cost[1:] + cost[:-1])))])
+    room = _room(costmap, cells[:, 0], cells[:, 1])
 
     def cheap(a: int, b: int) -> bool:
         budget = (along[b] - along[a]) * (1.0 + SHORTCUT_SLACK) + res
-        return _cheap_line(costmap, cells[a], cells[b], budget, cost_weight)
+        least = float(room[a:b + 1].min()) - res / 2
+        return _cheap_line(costmap, cells[a], cells[b], budget, cost_weight, least)
 
     keep = [0]
     anchor = 0
@@ -321,14 +326,22 @@ def _shortcut(costmap: CostMap, cells: np.ndarray, cost_weight: float) -> list[i
     return keep
 
 
+def _room(costmap: CostMap, rows, cols) -> np.ndarray:
+    """Distance to walls at cells, counted only up to `TIGHT` beyond the bounding radius."""
+    return np.minimum(costmap.clearance[rows, cols], costmap.radius + TIGHT)
+
+
 def _cheap_line(costmap: CostMap, a: np.ndarray, b: np.ndarray, budget: float,
-                cost_weight: float) -> bool:
-    """The straight line between two cells crosses no lethal cell and costs at most `budget`."""
+                cost_weight: float, least: float = -math.inf) -> bool:
+    """The straight line between two cells crosses no lethal cell, costs at most `budget` and
+    keeps at least `least` m of `_room` everywhere."""
     span = max(abs(int(b[0]) - int(a[0])), abs(int(b[1]) - int(a[1])))
     t = np.linspace(0.0, 1.0, 2 * span + 1)
     r = np.rint(a[0] + t * (b[0] - a[0])).astype(int)
     c = np.rint(a[1] + t * (b[1] - a[1])).astype(int)
     if costmap.lethal[r, c].any():
+        return False
+    if _room(costmap, r, c).min() < least:
         return False
     length = costmap.grid.resolution * math.hypot(int(b[0]) - int(a[0]), int(b[1]) - int(a[1]))
     return length * (1.0 + cost_weight * float(costmap.cost[r, c].mean())) <= budget

@@ -174,3 +174,40 @@ def test_a_place_left_unset_at_run_time_fails_with_a_reason_not_a_fault(tmp_path
         assert robot.fault is None
     finally:
         robot.close()
+
+
+STALL = """
+[scenario]
+name = "stall"
+duration = 120.0
+map = "door.yaml"
+robot = [3.5, 0.5, 0]
+[[person]]
+id = "bob"
+at = [6.0, 3.0]
+steps = [ {{ walk = [[6.0, 1.1]] }}, {{ pause = 600.0 }} ]
+[[person]]
+id = "uma"
+at = [2.3, 0.5]
+steps = [ {{ follow = 1.2, until = 14.0 }}, {{ leave = [{away}, 0.5] }} ]
+"""
+
+
+def test_a_robot_held_up_in_a_door_reports_the_stall_not_a_lost_user(tmp_path):
+    """Issue 22, point 3: bob walks into the only door to the room and stands there; uma
+    follows the robot for 14 s, then walks off while the robot stands before bob. The run ends
+    as a navigation failure ("blocked"), not as "user lost" (before, the held-up guide stopped
+    to wait for uma and gave her up first, which hid the stall)."""
+    from tests.skills.test_navigation_doors import write_door_map
+    write_door_map(tmp_path, 0.8)
+    path = tmp_path / "stall.toml"
+    path.write_text(STALL.format(away=0.5))
+    guide = Guide("horos", str(path), place="room")
+    try:
+        status = guide.run_until_done(80.0)
+    finally:
+        guide.close()
+    outcomes = [(e["outcome"], e["reason"]) for e in guide.guide_events()]
+    assert status == "FAILURE"
+    assert len(outcomes) == 1 and outcomes[0][0] == "navigation failed", outcomes
+    assert "blocked" in outcomes[0][1]

@@ -78,3 +78,42 @@ def test_finish_logs_the_run_once_and_cancel_after_it_logs_nothing(tmp_path):
         assert skills.guide.state.phase == "idle"
     finally:
         skills.close()
+
+
+def write_doorway(tmp_path, person: bool) -> str:
+    """A room (x 4.5 .. 7.5, y 1.2 .. 4.2) entered from a 1.0 m hallway through a 0.8 m door at
+    x = 6.0 (tests/skills/test_navigation_doors.py's map); the robot stands in the room 1.35 m
+    from the door's middle, facing away from it, and the visitor (if any) stands in the door."""
+    from tests.skills.test_navigation_doors import write_door_map
+    write_door_map(tmp_path, 0.8)
+    visitor = ('[[person]]\nid = "pat"\nat = [6.0, 1.1]\nsteps = [ { pause = 600.0 } ]\n'
+               if person else "")
+    path = tmp_path / "doorway.toml"
+    path.write_text('[scenario]\nname = "doorway"\nduration = 60.0\nmap = "door.yaml"\n'
+                    f'robot = [6.0, 2.45, 90]\n{visitor}')
+    return str(path)
+
+
+@pytest.mark.parametrize("robot", ["horos", "perses"])
+def test_a_visitor_waiting_in_a_doorway_behind_the_robot_is_seen_all_along(tmp_path, robot):
+    """Issue 22, point 3: the door's jambs, a body's depth behind the visitor's front, once
+    explained the rear sonar's echo, so the visitor was "lost" after 30 s of waiting."""
+    skills = open_skills(robot, fast=True, scenario=write_doorway(tmp_path, True), seed=4)
+    try:
+        skills.guide.start("room", skills.now())
+        states = tick(skills, 400)                      # 40 s: longer than the guide waits
+    finally:
+        skills.close()
+    assert all(s.user_distance == pytest.approx(1.35, abs=0.25) for s in states[5:])
+    assert max(s.unseen_for for s in states) < 1.0
+
+
+@pytest.mark.parametrize("robot", ["horos", "perses"])
+def test_an_empty_doorway_behind_the_robot_is_no_visitor(tmp_path, robot):
+    skills = open_skills(robot, fast=True, scenario=write_doorway(tmp_path, False), seed=4)
+    try:
+        skills.guide.start("room", skills.now())
+        states = tick(skills, 50)
+    finally:
+        skills.close()
+    assert all(s.user_distance is None for s in states[10:])

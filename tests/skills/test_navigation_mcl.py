@@ -83,7 +83,8 @@ def test_likelihood_field_is_a_gaussian_of_the_wall_distance_plus_the_random_ter
     model = BeamModel(sigma=0.1, z_hit=0.8, z_rand=0.2, max_range=4.0)
     field = likelihood_field(grid, model)
     peak = 0.8 / (math.sqrt(2 * math.pi) * 0.1)
-    for col, distance in ((5, 0.0), (4, 0.1), (3, 0.2), (0, 0.5)):
+    # distances to the wall's surface, half a cell from the centres either side of it
+    for col, distance in ((5, 0.05), (4, 0.05), (3, 0.15), (0, 0.45)):
         want = math.log(peak * math.exp(-0.5 * (distance / 0.1) ** 2) + 0.2 / 4.0)
         assert field[3, col] == pytest.approx(want)
     assert outside_log_likelihood(model) == pytest.approx(math.log(0.2 / 4.0))
