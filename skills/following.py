@@ -5,7 +5,9 @@
 - **following**: the customer is seen; the robot drives (through the navigation skill, so
   around shelves and other shoppers) towards the customer, led by their velocity so it does not
   trail, at a pace that matches theirs plus a correction for the distance error; walking, it
-  keeps half its stopping distance beyond `distance`. Never closer than `min_distance`.
+  keeps half its stopping distance beyond `distance`. Never closer than `min_distance`: the
+  safety arbiter refuses to drive at anybody inside it while following, and anybody (the
+  customer too) walking at the robot inside it makes it back off (`skills.giving_way`).
 - **waiting**: the customer stands (or comes closer) within reach: the robot faces them and
   closes in slowly to half its stopping distance inside `distance` (backing off to it, where it
   can see behind, when a search left it closer).
@@ -39,11 +41,13 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from skills import giving_way
 from skills.localization import Localization
 from skills.motion import Goal, Motion
 from skills.perception import PeoplePerception
 from skills.people import appearance
 from skills.people.track import CONFIRMED
+from skills.safety import PERSON_MIN_DISTANCE
 from skills.skill import Skill
 from skills.status import IDLE, SkillStatus, Status, failed
 
@@ -204,6 +208,7 @@ class Following(Skill):
         self.state = FollowState(FOLLOWING, track.id, setpoint=self.params.distance,
                                  last_seen=(track.x, track.y), predicted=(track.x, track.y))
         self.motion.followed = track.id
+        self.motion.min_person_distance = self.params.min_distance
         if self.navigation is not None:
             self.navigation.ignore_people = frozenset({track.id})
         self.set_status(SkillStatus(Status.RUNNING), now)
@@ -240,7 +245,18 @@ class Following(Skill):
             self._on_seen(track, robot, now)
         else:
             self._on_unseen(robot, now)
+        if self.active:
+            self._give_way(robot, now)
         self._publish(now)
+
+    def _give_way(self, robot, now: float) -> None:
+        """Anybody (the customer too) walking at the robot inside `min_distance` makes it
+        back off, facing them (`skills.giving_way`); whatever the phase wanted waits."""
+        intruder = giving_way.closing_in(self.perception.tracks, robot, self.params.min_distance)
+        if intruder is None:
+            return
+        self._hold(now)
+        self.motion.start(giving_way.back_off(intruder, robot), now)
 
     def _pose_lost(self, now: float) -> None:
         """Without a trustworthy pose every track is in the wrong place: stand still and take
@@ -290,6 +306,7 @@ class Following(Skill):
                 self._usual_pace += PACE_LEARNING * (speed - self._usual_pace)
             self._drive_behind(track, robot, d, now)
         self.motion.followed = track.id
+        self.motion.min_person_distance = self.params.min_distance
         if self.navigation is not None:
             self.navigation.ignore_people = frozenset({track.id})
         if phase != WAITING:
@@ -731,6 +748,7 @@ class Following(Skill):
             if goal is not None and goal.kind in ("turn_to", "navigate", "back_off"):
                 self.motion.cancel(now)
         self.motion.followed = None
+        self.motion.min_person_distance = PERSON_MIN_DISTANCE
         if self.navigation is not None:
             self.navigation.ignore_people = frozenset()
 
