@@ -139,6 +139,7 @@ class PersonPlan:
                                   # None: the `yielding` trait decides
     yielding: float | None = None # 0 .. 1 how much they yield to the robot; None: drawn
     group: str | None = None      # people of one group keep together (robots.sim.crowd)
+    looks_like: str | None = None # dressed like this other person (robots.sim.appearance)
 
 
 @dataclass(frozen=True)
@@ -293,7 +294,7 @@ class _Reader:
         if not isinstance(entry, dict):
             raise self.fail(label, "must be a table")
         self.check_keys(entry, label, {"id", "appear", "at", "speed", "exit", "steps", "cart",
-                                       "give_way", "yielding", "group"})
+                                       "give_way", "yielding", "group", "looks_like"})
         pid = entry.get("id")
         if not isinstance(pid, str) or not pid:
             raise self.fail(f"{label}.id", "is missing (a non-empty string)")
@@ -313,7 +314,14 @@ class _Reader:
             give_way=self.flag(entry, "give_way", label) if "give_way" in entry else None,
             yielding=(self.number(entry, "yielding", f"{label}.yielding", 0.0, 1.0)
                       if "yielding" in entry else None),
-            group=self.group(entry, label))
+            group=self.group(entry, label),
+            looks_like=self.looks_like(entry, label))
+
+    def looks_like(self, entry: dict, label: str) -> str | None:
+        value = entry.get("looks_like")
+        if value is not None and (not isinstance(value, str) or not value):
+            raise self.fail(f"{label}.looks_like", f"= {value!r} must be another person's id")
+        return value
 
     def group(self, entry: dict, label: str) -> str | None:
         value = entry.get("group")

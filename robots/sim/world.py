@@ -96,7 +96,8 @@ class World:
             self.people = [SimPerson(plan, self.resolve, np.random.default_rng([seed, index]))
                            for index, plan in enumerate(scenario.people)]
         self.crowd = Crowd.for_scenario(self.people, scenario, seed)   # how people move
-        self.appearances = {p.plan.id: appearance_of(p.plan.id) for p in self.people}
+        self.appearances = {p.plan.id: appearance_of(p.plan.looks_like or p.plan.id)
+                            for p in self.people}     # a look-alike dresses like another
         self.screen = ScreenState()
         self.utterances: list[tuple[float, str]] = []
         self.speaking_until = 0.0
