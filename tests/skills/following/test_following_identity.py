@@ -2,8 +2,6 @@
 re-acquisition gate, her look, and two candidates that fit alike."""
 from __future__ import annotations
 
-import pytest
-
 from follow_fakes import BLUE, RED, Speech, follower, learn_her, seen, track
 from skills.following import FOLLOWING, HIDDEN, WAITING
 from skills.following.follower import UNSURE
