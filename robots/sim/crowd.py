@@ -129,19 +129,20 @@ class Crowd:
             person.wished = float(np.hypot(*wish[k]))
             u = (self._deviation.get(id(person), 0.0) + h * force[k]) / (1.0 + h / tau)
             velocity = wish[k] + u
-            cap = max(self.params.overspeed * person.plan.speed * (np.hypot(*wish[k]) > 1e-6),
+            walking = person.wished > 1e-6
+            cap = max(self.params.overspeed * person.plan.speed if walking else 0.0,
                       self.params.min_cap)
             speed = float(np.hypot(*velocity))
             if speed > cap:
                 velocity *= cap / speed
+                speed = cap
             self._deviation[id(person)] = velocity - wish[k]
             x, y = start[k] + velocity * h
-            moved = speed * h
             person.x, person.y = float(x), float(y)
-            if np.hypot(*u) > 1e-6 and min(speed, cap) > 0.05:
+            if np.hypot(*u) > 1e-6 and speed > 0.05:     # swerving: they face where they go
                 person.heading = math.atan2(velocity[1], velocity[0])
                 person.cart_heading = person.heading
-            person.speed = min(speed, cap) if moved > 1e-9 else 0.0
+            person.speed = speed if speed * h > 1e-9 else 0.0
 
     def forces(self, people: list[SimPerson], positions: np.ndarray, wish: np.ndarray,
                world: "World") -> np.ndarray:
@@ -180,7 +181,7 @@ class Crowd:
         dy = np.array([0.0, eps])
         grad = np.stack([(potential(r + dx) - potential(r - dx)) / (2 * eps),
                          (potential(r + dy) - potential(r - dy)) / (2 * eps)], axis=-1)
-        force = -grad * self._view_weight(-r, own_wish, grad)[..., None]
+        force = -grad * self._view_weight(-r, own_wish)[..., None]
         return force + self._sideways(force, r, own_wish)
 
     def _sideways(self, force: np.ndarray, r: np.ndarray, wish: np.ndarray) -> np.ndarray:
@@ -198,8 +199,7 @@ class Crowd:
         # the left normal of (ex, ey) is (-ey, ex); sign -1 turns it to the right
         return np.stack([sign * -ey * size, sign * ex * size], axis=-1)
 
-    def _view_weight(self, towards: np.ndarray, wish: np.ndarray, force: np.ndarray
-                     ) -> np.ndarray:
+    def _view_weight(self, towards: np.ndarray, wish: np.ndarray) -> np.ndarray:
         """1 for what lies in the walking direction's field of view, `behind` otherwise (and
         for a person standing still)."""
         speed = np.hypot(wish[..., 0], wish[..., 1])
@@ -251,7 +251,7 @@ class Crowd:
                 distance = float(np.hypot(*rel))
                 gap = distance - radius - BODY_RADIUS
                 if gap < p.wall_reach and distance > 1e-9:
-                    weight = float(self._view_weight(-rel, wish[i], rel))
+                    weight = float(self._view_weight(-rel, wish[i]))
                     out[i] += weight * p.wall_strength * math.exp(-max(gap, 0.0) / p.sigma) \
                         * rel / distance
         return out
