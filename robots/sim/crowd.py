@@ -36,7 +36,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from robots.sim.people import BODY_RADIUS, CART_RADIUS, SimPerson
+from robots.sim.people import BODY_RADIUS, SimPerson
 from robots.sim.scenario import Answer, Approach, Follow, Lead, MakeWay, WaitForCall
 
 if TYPE_CHECKING:
