@@ -298,7 +298,8 @@ class Crowd:
     def _keep_apart(self, people: list[SimPerson], before: dict, present_before: set,
                     world: "World") -> None:
         """Push overlapping bodies, carts and footprint apart; send back whoever still
-        overlaps (their place before the substep was free)."""
+        overlaps (their place before the substep was free); someone who appeared this substep
+        and still overlaps appears later."""
         for _ in range(PUSH_ROUNDS):
             if not self._push_once(people, world):
                 return
@@ -311,6 +312,9 @@ class Crowd:
                     person.x, person.y, person.heading, person.cart_heading = before[id(person)]
                     person.speed = 0.0
                     self._deviation[id(person)] = np.zeros(2)
+                else:                 # appeared this substep (their cart swung into someone)
+                    person.hold_back(*before[id(person)])
+                    people = [p for p in people if p is not person]
 
     def _circles(self, people: list[SimPerson], world: "World"):
         """Every body and cart circle (m, 3) with its owner's index; the robot is owner -1."""

@@ -114,6 +114,15 @@ class SimPerson:
         if done:
             self._begin(self.index + 1, world)
 
+    def hold_back(self, x: float, y: float, heading: float, cart_heading: float) -> None:
+        """Undo this substep's appearing (there was no room after all): back to not yet in
+        the world, at the spot they appear at; they try again next substep."""
+        self.x, self.y, self.heading, self.cart_heading = x, y, heading, cart_heading
+        self.in_world = False
+        self.index = -1
+        self.speed = 0.0
+        self.step_state = {}
+
     def leg_positions(self) -> tuple[tuple[float, float], tuple[float, float]]:
         """Left and right leg centres; the legs swing along the heading while walking."""
         c, s = math.cos(self.heading), math.sin(self.heading)
