@@ -16,7 +16,7 @@ from robots.base import Base
 from robots.profile import Limits
 from skills.perception import PeoplePerception
 from skills.localization import Localization
-from skills.safety import arbitrate
+from skills.safety import PERSON_MIN_DISTANCE, arbitrate
 from skills.skill import Skill
 from skills.status import IDLE, RUNNING, SUCCEEDED, failed
 
@@ -24,6 +24,8 @@ TURN_GAIN = 1.5            # rad/s per rad of heading error
 DISTANCE_GAIN = 0.8        # m/s per m of distance error
 ALIGNED = math.radians(6)  # heading error counted as "facing"
 AT_DISTANCE = 0.1          # m
+PERSON_CONE = math.radians(60)   # a person this far off the heading (or its reverse) is
+                                 # ahead (behind) for the arbiter's minimum distance
 
 
 @dataclass(frozen=True)
@@ -55,6 +57,9 @@ class Motion(Skill):
         # the track a follower drives behind: not counted for the near-people cap while they
         # walk away from the robot (it would never keep up); counted again when they come back
         self.followed: int | None = None
+        # inside this (m, centre to centre) the arbiter never drives towards anybody; the
+        # follower sets its own minimum while it follows
+        self.min_person_distance = PERSON_MIN_DISTANCE
 
     def start(self, goal: Goal, now: float) -> None:
         self.goal = goal
@@ -69,8 +74,11 @@ class Motion(Skill):
         link = self.blackboard.value("robot/link", False)
         free = self.blackboard.value("obstacles/front", math.inf)
         behind = self.blackboard.value("obstacles/rear", 0.0)      # unknown: not free
+        ahead, rear = self._people_ahead_and_behind()
         v, w, reason = arbitrate(v, w, link_fresh=link, free_ahead=free, free_behind=behind,
-                                 nearest_person=self._nearest_person(), limits=self.limits)
+                                 nearest_person=self._nearest_person(), limits=self.limits,
+                                 person_ahead=ahead, person_behind=rear,
+                                 min_person_distance=self.min_person_distance)
         self.base.command(v, w)
         self.write("motion/command", (v, w), now)
         self.write("motion/limit", reason, now)
@@ -118,6 +126,23 @@ class Motion(Skill):
             return math.inf
         return min((math.hypot(t.x - state.x, t.y - state.y) for t in self.perception.tracks
                     if not self._receding_followed(t, state)), default=math.inf)
+
+    def _people_ahead_and_behind(self) -> tuple[float, float]:
+        """m to the nearest tracked person within ±60° of the heading, and of the reverse
+        heading (anybody beside the robot is passed, not driven at)."""
+        state = self.localization.state
+        ahead = behind = math.inf
+        if state is None:
+            return ahead, behind
+        for track in self.perception.tracks:
+            dx, dy = track.x - state.x, track.y - state.y
+            d = math.hypot(dx, dy)
+            bearing = abs(wrap(math.atan2(dy, dx) - state.th))
+            if bearing <= PERSON_CONE:
+                ahead = min(ahead, d)
+            elif bearing >= math.pi - PERSON_CONE:
+                behind = min(behind, d)
+        return ahead, behind
 
     def _receding_followed(self, track, state) -> bool:
         """The followed customer while not walking towards the robot (approach ≤ 0.1 m/s)."""

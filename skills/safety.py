@@ -1,8 +1,9 @@
 """The safety arbiter: the last word on every motion command before it reaches the base.
 
 It refuses to move on stale or missing base data, stops forward motion before an obstacle
-ahead and backward motion before one behind (or where no sensor looks), and caps speed near
-people. It only ever reduces a command, never adds motion.
+ahead and backward motion before one behind (or where no sensor looks), never drives towards a
+person inside the minimum distance (forward at someone ahead, backward at someone behind), and
+caps speed near people. It only ever reduces a command, never adds motion.
 """
 from __future__ import annotations
 
@@ -12,6 +13,8 @@ from robots.profile import Limits
 
 STOP_DISTANCE = 0.30        # m of free space ahead (behind) below which forward (backward)
                             # motion stops
+PERSON_MIN_DISTANCE = 0.6   # m, robot centre to a person's, inside which the robot never
+                            # drives towards them (a follower sets its own minimum)
 SLOW_STOP = 0.10            # m: driving forward slowly, the free space needed beyond braking
 
 
@@ -23,8 +26,12 @@ def stop_distance(v: float, limits: Limits) -> float:
 
 
 def arbitrate(v: float, w: float, *, link_fresh: bool, free_ahead: float, free_behind: float,
-              nearest_person: float, limits: Limits) -> tuple[float, float, str]:
-    """Return the safe (v, w) and the reason it was reduced ('' when unchanged)."""
+              nearest_person: float, limits: Limits, person_ahead: float = math.inf,
+              person_behind: float = math.inf,
+              min_person_distance: float = PERSON_MIN_DISTANCE) -> tuple[float, float, str]:
+    """Return the safe (v, w) and the reason it was reduced ('' when unchanged).
+    `person_ahead` / `person_behind`: m to the nearest person in front of / behind the robot
+    (robot centre to theirs)."""
     if not (math.isfinite(v) and math.isfinite(w)):
         return 0.0, 0.0, "command was not a finite number"
     if not link_fresh:
@@ -34,6 +41,12 @@ def arbitrate(v: float, w: float, *, link_fresh: bool, free_ahead: float, free_b
         v, reason = 0.0, f"obstacle {free_ahead:.2f} m ahead"
     if v < 0 and free_behind < STOP_DISTANCE:
         v, reason = 0.0, f"obstacle {free_behind:.2f} m behind (or no sensor there)"
+    if v > 0 and person_ahead < min_person_distance:
+        v, reason = 0.0, (f"person {person_ahead:.2f} m ahead, inside the minimum "
+                          f"{min_person_distance:.2f} m")
+    if v < 0 and person_behind < min_person_distance:
+        v, reason = 0.0, (f"person {person_behind:.2f} m behind, inside the minimum "
+                          f"{min_person_distance:.2f} m")
     if nearest_person < limits.near_people_distance and abs(v) > limits.max_speed_near_people:
         v = math.copysign(limits.max_speed_near_people, v)
         reason = reason or f"person within {limits.near_people_distance} m"

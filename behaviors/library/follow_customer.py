@@ -1,6 +1,6 @@
 """FollowCustomer: keep the customer at a following distance through the store; find them again.
 
-The work is the `following` skill's (skills/following.py): driving behind the customer through
+The work is the `following` skill's (skills/following/): driving behind the customer through
 navigation, predicting where a hidden customer went, searching, calling out, giving up. The
 behavior starts it on the user (the customer who asked), keeps the pan-tilt head on them where
 there is one (HOROS; PERSES turns its body, which the skill does when it waits), and fails when

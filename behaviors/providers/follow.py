@@ -1,6 +1,6 @@
 """The following percepts: how far the customer is, whether they are lost, what the robot does.
 
-Read from `following/state` (skills/following.py). Absent while the robot follows nobody; while
+Read from `following/state` (skills/following/). Absent while the robot follows nobody; while
 following, `follow.distance` is absent when the customer is not seen.
 """
 from __future__ import annotations

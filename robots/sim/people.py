@@ -5,9 +5,12 @@ the robot), reacting to what the robot shows and says and to where it drives.
 A person is a point that walks at its own speed; the sensors see it as a body circle (sonar,
 bumpers) or as two swinging leg circles (laser), see `robots.sim.world`.
 
-People do not avoid the robot, except a person with `give_way`: while walking under their own
-steam (`walk`, `leave`, the walks of `shop`) they stand while the robot is in their way, as
-shoppers do, see `SimPerson._gives_way`. Steps whose point is the robot never give way:
+The script says where a person wants to go; how they get there among others (avoiding each
+other, walls, carts and the robot, never overlapping) is `robots.sim.crowd`'s social forces,
+unless the scenario scripts exact paths (`motion = "scripted"`). A person who yields to the
+robot (`yielding` >= 0.5, a trait drawn per person, or `give_way = true`): while walking
+under their own steam (`walk`, `leave`, the walks of `shop`) they stand while the robot is in
+their way, as shoppers do, see `SimPerson._gives_way`. Steps whose point is the robot never give way:
 `approach` and `answer` walk up to it, `follow` and `lead` keep their distance to it by their
 own rules, `make_way` is already the stepping aside; standing steps have nothing to give.
 """
@@ -44,6 +47,9 @@ HOP_LOOKAHEAD = 400      # breadcrumbs (40 m of trail) searched for such a cut
 GIVE_WAY_AHEAD = 1.2     # m from the person's front (their cart's) to the robot's footprint
 GIVE_WAY_MARGIN = 0.15   # m beside the person's (or cart's) width that still counts as the lane
 GIVE_WAY_PATIENCE = 6.0  # s a person with give_way stands, then walks on regardless
+YIELDS = 0.5             # a person whose yielding trait reaches this stands for the robot
+BLOCKED_PATIENCE = 1.5   # s held up by others before a nearby waypoint counts as reached
+NEAR_ENOUGH = 0.8        # m from a waypoint that counts as reached once held up
 
 
 class SimPerson:
@@ -72,6 +78,10 @@ class SimPerson:
         self._utterances_seen = 0
         self.waiting_since: float | None = None   # giving way to the robot since (sim s)
         self._looked = False          # the step checked for the robot in the way (give_way)
+        self.yielding = (plan.yielding if plan.yielding is not None    # 0 .. 1, see
+                         else 1.0 if plan.give_way else 0.0)          # robots.sim.crowd
+        self.blocked_for = 0.0        # s held up by others (robots.sim.crowd)
+        self.wished = 0.0             # m/s the script wanted to walk in the last substep
 
     @property
     def current_step(self):
@@ -104,6 +114,15 @@ class SimPerson:
             self.cart_heading = self.heading
         if done:
             self._begin(self.index + 1, world)
+
+    def hold_back(self, x: float, y: float, heading: float, cart_heading: float) -> None:
+        """Undo this substep's appearing (there was no room after all): back to not yet in
+        the world, at the spot they appear at; they try again next substep."""
+        self.x, self.y, self.heading, self.cart_heading = x, y, heading, cart_heading
+        self.in_world = False
+        self.index = -1
+        self.speed = 0.0
+        self.step_state = {}
 
     def leg_positions(self) -> tuple[tuple[float, float], tuple[float, float]]:
         """Left and right leg centres; the legs swing along the heading while walking."""
@@ -155,6 +174,9 @@ class SimPerson:
             gap = math.hypot(dx, dy)
             if gap > 1e-9:
                 self.heading = math.atan2(dy, dx)
+            if self._near_enough(gap):
+                index += 1
+                break
             if gap <= travel - moved:
                 self.x, self.y = tx, ty
                 moved += gap
@@ -183,7 +205,7 @@ class SimPerson:
         dx, dy = tx - self.x, ty - self.y
         distance = math.hypot(dx, dy)
         remaining = distance - stop_at
-        if remaining <= ARRIVED:
+        if remaining <= ARRIVED or self._near_enough(remaining):
             return True
         if world is not None and self._gives_way(tx, ty, world):
             return False
@@ -195,6 +217,14 @@ class SimPerson:
         self.phase = (self.phase + 2 * math.pi * travel / STRIDE) % (2 * math.pi)
         return remaining - travel <= ARRIVED
 
+    def _near_enough(self, remaining: float) -> bool:
+        """Held up by others for a while this near the waypoint: it counts as reached (the
+        shelf or the spot is taken; people queue rather than push)."""
+        if self.blocked_for >= BLOCKED_PATIENCE and remaining <= NEAR_ENOUGH:
+            self.blocked_for = 0.0        # the next waypoint is waited for afresh
+            return True
+        return False
+
     def _gives_way(self, tx: float, ty: float, world: "World") -> bool:
         """True while a person with give_way, about to walk to (tx, ty), stands for the robot:
         it is in their way (`_robot_in_way`) and they have stood less than `GIVE_WAY_PATIENCE`
@@ -202,7 +232,7 @@ class SimPerson:
         as it is out of their way; after the patience they walk on as people without give_way
         do, until it is out of their way once. Standing looks like a pause: speed 0, legs
         still, facing where they were going (the cart turns only while walking)."""
-        if not self.plan.give_way:
+        if self.yielding < YIELDS:
             return False
         self._looked = True
         if not self._robot_in_way(tx, ty, world):
@@ -340,6 +370,9 @@ def _walk_routed(person: SimPerson, targets: list[Point], dt: float, world: "Wor
     target = state.setdefault("target", 0)
     if target >= len(targets):
         return True
+    if "path" in state and person.blocked_for >= BLOCKED_PATIENCE and not world.walkable(
+            (person.x, person.y), state["path"][min(state["next"], len(state["path"]) - 1)]):
+        del state["path"]             # pushed off the way behind a shelf: find it again
     if "path" not in state:
         state["path"], state["next"] = person._route_to(targets[target], world), 0
     state["next"] = person._walk_path(state["path"], state["next"], person.plan.speed * dt, dt,

@@ -135,7 +135,11 @@ class PersonPlan:
     steps: tuple[Step, ...]
     line: int | None = None       # of the [[person]] header, for messages
     cart: bool = False            # pushes a shopping cart ahead
-    give_way: bool = False        # stands while the robot is in their way (robots.sim.people)
+    give_way: bool | None = None  # stands while the robot is in their way (robots.sim.people);
+                                  # None: the `yielding` trait decides
+    yielding: float | None = None # 0 .. 1 how much they yield to the robot; None: drawn
+    group: str | None = None      # people of one group keep together (robots.sim.crowd)
+    looks_like: str | None = None # dressed like this other person (robots.sim.appearance)
 
 
 @dataclass(frozen=True)
@@ -149,6 +153,8 @@ class Scenario:
     floor: str | None = None      # the floor the scenario is written for (None: any)
     map: Path | None = None       # the map_server map it is written for (absolute path)
     head_lines: dict[str, int] | None = None     # line of each [scenario] field, for messages
+    motion: str = "social"        # "social": robots.sim.crowd; "scripted": exact paths
+    yielding: tuple[float, float] = (2.0, 2.0)   # Beta(a, b) of the people's yielding trait
 
     def where(self, person_index: int | None = None) -> str:
         """'file:line' of the scenario or of one person's header, for messages."""
@@ -227,7 +233,7 @@ class _Reader:
         if not isinstance(head, dict):
             raise self.fail("scenario", "must be a table")
         self.check_keys(head, "scenario", {"name", "description", "duration", "robot", "floor",
-                                           "map"})
+                                           "map", "motion", "yielding"})
         floor = head.get("floor")
         if floor is not None and (not isinstance(floor, str) or not floor):
             raise self.fail_head("floor", f"= {floor!r} must be a floor name such as "
@@ -254,7 +260,24 @@ class _Reader:
         return Scenario(name=str(head.get("name", self.path.stem)),
                         description=str(head.get("description", "")),
                         duration=duration, robot=robot, people=people, source=self.path,
-                        floor=floor, map=map_path, head_lines=dict(self.head_lines))
+                        floor=floor, map=map_path, head_lines=dict(self.head_lines),
+                        motion=self.motion(head), yielding=self.beta(head))
+
+    def motion(self, head: dict) -> str:
+        """How people move: "social" (social forces, never overlapping) or "scripted"."""
+        value = head.get("motion", "social")
+        if value not in ("social", "scripted"):
+            raise self.fail_head("motion", f"= {value!r} must be \"social\" or \"scripted\"")
+        return value
+
+    def beta(self, head: dict) -> tuple[float, float]:
+        """The Beta(a, b) distribution people's yielding trait is drawn from."""
+        value = head.get("yielding", [2.0, 2.0])
+        if (not isinstance(value, list) or len(value) != 2 or not all(_is_number(v) for v in value)
+                or not all(0.05 <= v <= 100.0 for v in value)):
+            raise self.fail_head("yielding", f"= {value!r} must be [a, b], the parameters of a "
+                                 "Beta distribution, each 0.05 .. 100")
+        return (float(value[0]), float(value[1]))
 
     def map_path(self, value) -> Path | None:
         """The scenario's `map`: a map_server .yaml, relative to the scenario file's folder."""
@@ -275,7 +298,7 @@ class _Reader:
         if not isinstance(entry, dict):
             raise self.fail(label, "must be a table")
         self.check_keys(entry, label, {"id", "appear", "at", "speed", "exit", "steps", "cart",
-                                       "give_way"})
+                                       "give_way", "yielding", "group", "looks_like"})
         pid = entry.get("id")
         if not isinstance(pid, str) or not pid:
             raise self.fail(f"{label}.id", "is missing (a non-empty string)")
@@ -292,7 +315,23 @@ class _Reader:
             speed=self.number(entry, "speed", f"{label}.speed", 0.05, 3.0, 1.0),
             exit=self.point(entry["exit"], f"{label}.exit") if "exit" in entry else at,
             steps=steps, line=line, cart=self.flag(entry, "cart", label),
-            give_way=self.flag(entry, "give_way", label))
+            give_way=self.flag(entry, "give_way", label) if "give_way" in entry else None,
+            yielding=(self.number(entry, "yielding", f"{label}.yielding", 0.0, 1.0)
+                      if "yielding" in entry else None),
+            group=self.group(entry, label),
+            looks_like=self.looks_like(entry, label))
+
+    def looks_like(self, entry: dict, label: str) -> str | None:
+        value = entry.get("looks_like")
+        if value is not None and (not isinstance(value, str) or not value):
+            raise self.fail(f"{label}.looks_like", f"= {value!r} must be another person's id")
+        return value
+
+    def group(self, entry: dict, label: str) -> str | None:
+        value = entry.get("group")
+        if value is not None and (not isinstance(value, str) or not value):
+            raise self.fail(f"{label}.group", f"= {value!r} must be a group name (a string)")
+        return value
 
     def step(self, entry, label: str) -> Step:
         if not isinstance(entry, dict):

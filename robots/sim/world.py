@@ -21,6 +21,7 @@ from robots.exceptions import FloorError, ScenarioError
 from robots.profile import RobotProfile
 from robots.sim.appearance import anyone, appearance_of, observed
 from robots.sim.body import Obstacles, UnicycleBody
+from robots.sim.crowd import Crowd
 from robots.sim.floor import Floor
 from robots.sim.laser_errors import LaserErrors
 from robots.sim.measures import NEAR_WALLS, Measures
@@ -95,7 +96,9 @@ class World:
             _check_places(scenario, floor)
             self.people = [SimPerson(plan, self.resolve, np.random.default_rng([seed, index]))
                            for index, plan in enumerate(scenario.people)]
-        self.appearances = {p.plan.id: appearance_of(p.plan.id) for p in self.people}
+        self.crowd = Crowd.for_scenario(self.people, scenario, seed)   # how people move
+        self.appearances = {p.plan.id: appearance_of(p.plan.looks_like or p.plan.id)
+                            for p in self.people}     # a look-alike dresses like another
         self.screen = ScreenState()
         self.utterances: list[tuple[float, str]] = []
         self.speaking_until = 0.0
@@ -150,8 +153,7 @@ class World:
         start = self.t
         for i in range(1, count + 1):
             self.t = start + h * i
-            for person in self.people:
-                person.step(h, self)
+            self.crowd.step(h, self)
             self._version += 1
             reach = self.body.radius + NEAR_WALLS
             walls = self._walls_near(reach)

@@ -17,7 +17,9 @@ RADIUS = HOROS.radius
 
 
 def world_with(*people, robot=(0.0, 0.0, 180.0)):
-    return World(OFFICE, HOROS, parse_scenario({"scenario": {"robot": list(robot)},
+    # scripted people, so that a person can walk into the robot (social people never do)
+    return World(OFFICE, HOROS, parse_scenario({"scenario": {"robot": list(robot),
+                                                             "motion": "scripted"},
                                                 "person": list(people)}), seed=0)
 
 

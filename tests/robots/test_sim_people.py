@@ -14,7 +14,8 @@ FLOOR = load_floor("office")
 
 def world_with(steps, at=(3.0, 0.0), appear=0.0, speed=1.0, **extra):
     person = {"id": "p", "at": list(at), "appear": appear, "speed": speed, "steps": steps, **extra}
-    return World(FLOOR, HOROS, parse_scenario({"person": [person]}), seed=0)
+    scripted = {"motion": "scripted"}     # these tests are about the script, not the crowd
+    return World(FLOOR, HOROS, parse_scenario({"scenario": scripted, "person": [person]}), seed=0)
 
 
 def run_until(world, condition, limit=60.0, dt=0.1):

@@ -27,8 +27,8 @@ def exact(profile):
                                            false_rate=0.0))
 
 
-def store_world(people, robot="robot_home", profile=PERSES, seed=0):
-    scenario = parse_scenario({"scenario": {"robot": robot, "floor": "store"},
+def store_world(people, robot="robot_home", profile=PERSES, seed=0, motion="social"):
+    scenario = parse_scenario({"scenario": {"robot": robot, "floor": "store", "motion": motion},
                                "person": people})
     return World(STORE, profile, scenario, seed=seed)
 
@@ -232,7 +232,7 @@ def test_a_shopper_with_a_cart_hides_the_customer_from_the_laser_too():
 
 def test_the_robot_bumping_a_cart_is_a_contact_with_its_shopper():
     cart = {"id": "s", "at": [14.0, 3.9], "cart": True, "steps": [{"walk": [[14.0, 4.0]]}]}
-    world = store_world([cart], robot=[14.8, 5.2, -120.0])
+    world = store_world([cart], robot=[14.8, 5.2, -120.0], motion="scripted")  # stands still
     world.body.set_command(0.2, 0.0)
     world.step(6.0)
     assert world.body.stalled

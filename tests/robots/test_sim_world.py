@@ -166,3 +166,17 @@ def test_without_a_scenario_the_robot_starts_at_robot_home_or_the_origin():
     world = World(bare, HOROS)
     assert (world.body.x, world.body.y, world.body.th) == (0.0, 0.0, 0.0)
     assert world.sonar_ranges()[3] == pytest.approx(5.0 - 0.166, abs=1e-3)
+
+
+def test_a_look_alike_has_the_appearance_of_the_person_she_dresses_like():
+    from robots.sim.appearance import appearance_of
+    from robots.sim.floor import load_floor
+    from robots.profile import load_profile
+    from robots.sim.scenario import parse_scenario
+    from robots.sim.world import World
+    scenario = parse_scenario({"person": [{"id": "tara", "at": [0, 0]},
+                                          {"id": "tess", "at": [2, 0], "looks_like": "tara"},
+                                          {"id": "sam", "at": [4, 0]}]})
+    world = World(load_floor("office"), load_profile("perses"), scenario, seed=0)
+    assert list(world.appearances["tess"]) == list(appearance_of("tara"))
+    assert list(world.appearances["sam"]) != list(appearance_of("tara"))

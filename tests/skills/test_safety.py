@@ -44,3 +44,18 @@ def test_speed_is_capped_near_people_and_by_the_profile():
     assert v == LIMITS.max_speed_near_people and "person" in why
     assert call(5.0, 0.0)[0] == LIMITS.max_speed
     assert call(0.0, -9.0)[1] == -LIMITS.max_turn_rate
+
+
+def test_never_drives_towards_a_person_inside_the_minimum_distance():
+    def with_people(v, ahead=math.inf, rear=math.inf, minimum=0.8):
+        return arbitrate(v, 0.3, link_fresh=True, free_ahead=math.inf, free_behind=math.inf,
+                         nearest_person=min(ahead, rear), limits=LIMITS, person_ahead=ahead,
+                         person_behind=rear, min_person_distance=minimum)
+    v, w, why = with_people(0.1, ahead=0.6)
+    assert (v, w) == (0.0, 0.3) and "0.60 m ahead" in why and "0.80" in why
+    assert with_people(-0.1, ahead=0.6)[0] == -0.1        # backing away from her is allowed
+    v, _, why = with_people(-0.1, rear=0.5)
+    assert v == 0.0 and "behind" in why
+    assert with_people(0.1, rear=0.5)[0] == 0.1           # driving away from him is allowed
+    assert with_people(0.1, ahead=0.9)[0] == 0.1          # outside the minimum
+    assert with_people(0.1, ahead=0.7, minimum=0.6)[0] == 0.1

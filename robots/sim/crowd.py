@@ -1,0 +1,424 @@
+"""How simulated people move among each other: social forces (Helbing and Molnár 1995, with the
+group coherence of Moussaïd et al. 2010) on top of each person's script, then a hard rule that
+nobody overlaps anybody or the robot.
+
+Each substep every person's script (`robots.sim.people`) says where they *want* to be; that
+move over the substep is their desired velocity. A person's actual velocity is the desired one
+plus a deviation that the social forces drive and that relaxes back with time `tau`:
+`du/dt = -u / tau + F`. Without anyone near, F is zero and the person walks exactly as scripted
+(so a lone person's run is unchanged); near others the forces make them slow, swerve and pass.
+
+The forces on a person come from
+- other people: the elliptical repulsive potential of Helbing and Molnár, `V0 exp(-b / sigma)`,
+  whose semi-minor axis `b` shrinks with where the other is walking, weaker outside the
+  person's field of view (we take the walk *relative* to the other, so that a walker
+  anticipates a standing obstacle too); a person avoids the other's cart as a wall (below);
+- walls and shelves (the floor's segments) and carts: `A exp(-gap / B)` from the nearest point
+  (walls push walkers only: someone standing against a wall stays there);
+- the robot, like another walker, scaled by the person's `yielding` trait (0 .. 1, drawn per
+  person from a Beta distribution, `robots.sim.traits`): yielding people keep farther from it
+  and also stand for it (`SimPerson._gives_way`); steps whose point is the robot (approach,
+  answer, follow, lead, wait to be called, make way) feel no force from it;
+- the group (people with the same `group`): attraction to the others' centre once farther than
+  `(n - 1) / 2` m, as in Moussaïd's coherence term.
+Forces below `comfort` m/s² are ignored (people do not drift apart while standing).
+
+After the move, overlaps are pushed apart: bodies (0.2 m) and carts of different people, and
+anybody with the robot's footprint (which does not move), and bodies out of walls; a person
+whose overlap survives the pushing goes back to where they stood before the substep. A person
+appears only once their spot is free. So people never pass through one another or the robot.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from robots.sim.people import BODY_RADIUS, SimPerson
+from robots.sim.scenario import Answer, Approach, Follow, Lead, MakeWay, WaitForCall
+
+if TYPE_CHECKING:
+    from robots.sim.scenario import Scenario
+    from robots.sim.world import World
+
+ROBOT_ATTENDED = (Approach, Answer, Follow, Lead, WaitForCall, MakeWay)
+PUSH_ROUNDS = 8            # rounds of pushing overlaps apart before the fallback
+OVERLAP_SLACK = 1e-6       # m of overlap that counts as touching
+BLOCKED_SHARE = 0.25       # moved less than this share of the wish: held up by the crowd
+TRAIT_STREAM = 0x7E1D      # seeds each person's trait generator with the run's seed and index
+
+
+@dataclass(frozen=True)
+class CrowdParams:
+    """Parameters of the social forces (SI units)."""
+    tau: float = 0.5              # s, relaxation of the deviation (Helbing and Molnár)
+    v0: float = 2.1               # m²/s², strength of the person-person potential
+    sigma: float = 0.3            # m, its range
+    step_time: float = 1.0        # s, how far ahead the walk relative to another shapes the
+                                  # potential (relative velocity, so a walker anticipates)
+    fov: float = math.radians(200.0)   # field of view; outside it forces count `behind`
+    behind: float = 0.5
+    wall_strength: float = 2.0    # m/s²
+    wall_range: float = 0.05      # m
+    wall_reach: float = 0.5       # m of gap beyond which walls are ignored
+    robot_gain: tuple[float, float] = (0.6, 2.0)   # v0 factor at yielding 0 and 1
+    group_pull: float = 1.0       # m/s², coherence
+    group_repulsion: float = 0.3  # share of the repulsion between members of one group
+    comfort: float = 0.1          # m/s²; weaker total forces are ignored by a walker
+    comfort_standing: float = 0.5   # m/s², the same for someone standing
+    evade: float = 1.0            # share of a repulsion added sideways, to pass the other
+    overspeed: float = 1.3        # a person walks at most this times their scripted speed
+    min_cap: float = 0.6          # m/s a standing person may be pushed at
+
+
+class Crowd:
+    """Steps the people of a world: scripts, then social forces and the no-overlap rule.
+    With `social=False` the scripts alone move them (people who script exact paths)."""
+
+    def __init__(self, social: bool = True, params: CrowdParams = CrowdParams()) -> None:
+        self.social = social
+        self.params = params
+        self._deviation: dict[int, np.ndarray] = {}
+
+    @classmethod
+    def for_scenario(cls, people: list[SimPerson], scenario: "Scenario | None",
+                     seed: int) -> "Crowd":
+        """The crowd of a world: social unless the scenario scripts exact paths; each
+        person whose plan fixes neither `yielding` nor `give_way` draws their yielding from
+        the scenario's Beta distribution, from a generator of their own (seed, index)."""
+        a, b = scenario.yielding if scenario is not None else (2.0, 2.0)
+        for index, person in enumerate(people):
+            if person.plan.yielding is None and person.plan.give_way is None:
+                rng = np.random.default_rng([seed, index, TRAIT_STREAM])
+                person.yielding = float(rng.beta(a, b))
+        return cls(social=scenario is None or scenario.motion == "social")
+
+    def step(self, h: float, world: "World") -> None:
+        """Advance every person of the world by h seconds."""
+        people = world.people
+        if not self.social:
+            for person in people:
+                person.step(h, world)
+            return
+        before = {id(p): (p.x, p.y, p.heading, p.cart_heading) for p in people}
+        present_before = {id(p) for p in people if p.in_world}
+        for person in people:
+            if not person.in_world and not person.gone and not self._room_at(person, world):
+                continue        # their spot is taken: they appear once it is free
+            person.step(h, world)
+        walking = [p for p in people if p.in_world and id(p) in present_before]
+        if walking:
+            self._apply_forces(walking, before, h, world)
+        present = [p for p in people if p.in_world]
+        if present:
+            self._keep_apart(present, before, present_before, world)
+            self._track_blocking(walking, before, h)
+
+    # -- forces ----------------------------------------------------------------------------
+
+    def _apply_forces(self, people: list[SimPerson], before: dict, h: float,
+                      world: "World") -> None:
+        """Move each person from where they stood by (wish + deviation) * h."""
+        start = np.array([before[id(p)][:2] for p in people])
+        wish = (np.array([(p.x, p.y) for p in people]) - start) / h
+        force = self.forces(people, start, wish, world)
+        tau = self.params.tau
+        for k, person in enumerate(people):
+            person.wished = float(np.hypot(*wish[k]))
+            u = (self._deviation.get(id(person), 0.0) + h * force[k]) / (1.0 + h / tau)
+            velocity = wish[k] + u
+            walking = person.wished > 1e-6
+            cap = max(self.params.overspeed * person.plan.speed if walking else 0.0,
+                      self.params.min_cap)
+            speed = float(np.hypot(*velocity))
+            if speed > cap:
+                velocity *= cap / speed
+                speed = cap
+            self._deviation[id(person)] = velocity - wish[k]
+            x, y = start[k] + velocity * h
+            person.x, person.y = float(x), float(y)
+            if np.hypot(*u) > 1e-6 and speed > 0.05:     # swerving: they face where they go
+                person.heading = math.atan2(velocity[1], velocity[0])
+                person.cart_heading = person.heading
+            person.speed = speed if speed * h > 1e-9 else 0.0
+
+    def forces(self, people: list[SimPerson], positions: np.ndarray, wish: np.ndarray,
+               world: "World") -> np.ndarray:
+        """Social force (m/s²) on each person, (n, 2)."""
+        force = (self._people_forces(people, positions, wish)
+                 + self._wall_forces(positions, wish, world)
+                 + self._cart_forces(people, positions, wish)
+                 + self._robot_forces(people, positions, wish, world)
+                 + self._group_forces(people, positions, wish))
+        standing = np.hypot(wish[:, 0], wish[:, 1]) < 1e-6
+        comfort = np.where(standing, self.params.comfort_standing, self.params.comfort)
+        weak = np.hypot(force[:, 0], force[:, 1]) < comfort
+        force[weak] = 0.0
+        for k, person in enumerate(people):
+            if isinstance(person.current_step, MakeWay):
+                force[k] = 0.0          # a group in the way stands until it steps aside
+        return force
+
+    def _potential_force(self, r: np.ndarray, other_velocity: np.ndarray, own_wish: np.ndarray,
+                         strength: np.ndarray | float) -> np.ndarray:
+        """-grad of `V0 exp(-b / sigma)` over the relative positions r (…, 2), weighted by
+        the field of view; b is Helbing and Molnár's elliptical semi-minor axis."""
+        p = self.params
+        step = other_velocity * p.step_time
+
+        def potential(rel):
+            distance = np.hypot(rel[..., 0], rel[..., 1])
+            ahead = rel - step
+            later = np.hypot(ahead[..., 0], ahead[..., 1])
+            travel = np.hypot(step[..., 0], step[..., 1])
+            b = 0.5 * np.sqrt(np.maximum((distance + later) ** 2 - travel ** 2, 1e-12))
+            return strength * p.v0 * np.exp(-b / p.sigma)
+
+        eps = 1e-4
+        dx = np.array([eps, 0.0])
+        dy = np.array([0.0, eps])
+        grad = np.stack([(potential(r + dx) - potential(r - dx)) / (2 * eps),
+                         (potential(r + dy) - potential(r - dy)) / (2 * eps)], axis=-1)
+        force = -grad * self._view_weight(-r, own_wish)[..., None]
+        return force + self._sideways(force, r, own_wish)
+
+    def _sideways(self, force: np.ndarray, r: np.ndarray, wish: np.ndarray) -> np.ndarray:
+        """A walker swerves past someone ahead: `evade` times the repulsion, across the
+        walking direction, away from the side the other is on (to the right when dead
+        ahead)."""
+        speed = np.hypot(wish[..., 0], wish[..., 1])
+        ex = wish[..., 0] / np.maximum(speed, 1e-12)
+        ey = wish[..., 1] / np.maximum(speed, 1e-12)
+        ahead = (-r[..., 0] * ex - r[..., 1] * ey) > 0.0
+        cross = ex * -r[..., 1] - ey * -r[..., 0]        # > 0: the other is on the left
+        sign = np.where(cross > 0.0, -1.0, np.where(cross < 0.0, 1.0, -1.0))
+        size = self.params.evade * np.hypot(force[..., 0], force[..., 1])
+        size = np.where(ahead & (speed > 1e-6), size, 0.0)
+        # the left normal of (ex, ey) is (-ey, ex); sign -1 turns it to the right
+        return np.stack([sign * -ey * size, sign * ex * size], axis=-1)
+
+    def _view_weight(self, towards: np.ndarray, wish: np.ndarray) -> np.ndarray:
+        """1 for what lies in the walking direction's field of view, `behind` otherwise (and
+        for a person standing still)."""
+        speed = np.hypot(wish[..., 0], wish[..., 1])
+        distance = np.hypot(towards[..., 0], towards[..., 1])
+        cosine = ((wish[..., 0] * towards[..., 0] + wish[..., 1] * towards[..., 1])
+                  / np.maximum(speed * distance, 1e-12))
+        seen = (speed > 1e-6) & (cosine >= math.cos(self.params.fov / 2))
+        return np.where(seen, 1.0, self.params.behind)
+
+    def _people_forces(self, people, positions, wish) -> np.ndarray:
+        n = len(people)
+        if n < 2:
+            return np.zeros((n, 2))
+        r = positions[:, None, :] - positions[None, :, :]
+        other_velocity = np.broadcast_to(wish[None, :, :], r.shape)
+        own = np.broadcast_to(wish[:, None, :], r.shape)
+        groups = [p.plan.group for p in people]
+        same = np.array([[a is not None and a == b for b in groups] for a in groups])
+        strength = np.where(same, self.params.group_repulsion, 1.0)
+        pair = self._potential_force(r, other_velocity - own, own, strength)
+        pair[np.arange(n), np.arange(n)] = 0.0
+        return pair.sum(axis=1)
+
+    def _wall_forces(self, positions: np.ndarray, wish: np.ndarray, world: "World"
+                     ) -> np.ndarray:
+        """Walls keep walkers off; someone standing against a wall stays (the hard rule
+        still keeps them out of it)."""
+        p = self.params
+        away = positions - _nearest_wall_points(positions, world.floor.segments)
+        distance = np.maximum(np.hypot(away[:, 0], away[:, 1]), 1e-9)
+        gap = distance - BODY_RADIUS
+        size = np.where(gap < p.wall_reach,
+                        p.wall_strength * np.exp(-np.maximum(gap, 0.0) / p.wall_range), 0.0)
+        size[np.hypot(wish[:, 0], wish[:, 1]) < 1e-6] = 0.0
+        return away * (size / distance)[:, None]
+
+    def _cart_forces(self, people, positions, wish) -> np.ndarray:
+        """Other people's carts push like walls do."""
+        p = self.params
+        out = np.zeros_like(positions)
+        carts = [(k, c) for k, person in enumerate(people) for c in person.cart_circles()]
+        if not carts:
+            return out
+        for i in range(len(people)):
+            for owner, (cx, cy, radius) in carts:
+                if owner == i:
+                    continue
+                rel = positions[i] - (cx, cy)
+                distance = float(np.hypot(*rel))
+                gap = distance - radius - BODY_RADIUS
+                if gap < p.wall_reach and distance > 1e-9:
+                    weight = float(self._view_weight(-rel, wish[i]))
+                    out[i] += weight * p.wall_strength * math.exp(-max(gap, 0.0) / p.sigma) \
+                        * rel / distance
+        return out
+
+    def _robot_forces(self, people, positions, wish, world: "World") -> np.ndarray:
+        """The robot as another walker, weighted by how much each person yields to it."""
+        body = world.body
+        low, high = self.params.robot_gain
+        gains = np.array([0.0 if isinstance(p.current_step, ROBOT_ATTENDED)
+                          else low + (high - low) * p.yielding for p in people])
+        if not gains.any():
+            return np.zeros_like(positions)
+        r = positions - (body.x, body.y)
+        # the potential is made for bodies of 0.2 m; widen it by the footprint's excess
+        distance = np.hypot(r[:, 0], r[:, 1])
+        shrink = np.maximum(distance - (body.radius - BODY_RADIUS), 1e-3) / np.maximum(
+            distance, 1e-9)
+        r = r * shrink[:, None]
+        velocity = np.broadcast_to(np.array([body.v * math.cos(body.th),
+                                             body.v * math.sin(body.th)]), r.shape)
+        return self._potential_force(r, velocity - wish, wish, gains)
+
+    def _group_forces(self, people, positions, wish) -> np.ndarray:
+        out = np.zeros_like(positions)
+        members: dict[str, list[int]] = {}
+        for k, person in enumerate(people):
+            if person.plan.group is not None:
+                members.setdefault(person.plan.group, []).append(k)
+        for group in members.values():
+            if len(group) < 2:
+                continue
+            for k in group:
+                if np.hypot(*wish[k]) < 1e-6:
+                    continue
+                others = positions[[j for j in group if j != k]].mean(axis=0)
+                rel = others - positions[k]
+                distance = float(np.hypot(*rel))
+                if distance > (len(group) - 1) / 2.0:
+                    out[k] += self.params.group_pull * rel / distance
+        return out
+
+    # -- the hard rule ---------------------------------------------------------------------
+
+    def _keep_apart(self, people: list[SimPerson], before: dict, present_before: set,
+                    world: "World") -> None:
+        """Push overlapping bodies, carts and footprint apart; send back whoever still
+        overlaps (their place before the substep was free); someone who appeared this substep
+        and still overlaps appears later."""
+        for _ in range(PUSH_ROUNDS):
+            if not self._push_once(people, world):
+                return
+        for _ in range(len(people) + 1):
+            stuck = self._overlapping(people, world)
+            if not stuck:
+                return
+            for person in stuck:
+                if id(person) in present_before:
+                    person.x, person.y, person.heading, person.cart_heading = before[id(person)]
+                    person.speed = 0.0
+                    self._deviation[id(person)] = np.zeros(2)
+                else:                 # appeared this substep (their cart swung into someone)
+                    person.hold_back(*before[id(person)])
+                    people = [p for p in people if p is not person]
+
+    def _circles(self, people: list[SimPerson], world: "World"):
+        """Every body and cart circle (m, 3) with its owner's index; the robot is owner -1."""
+        rows, owners = [], []
+        for k, person in enumerate(people):
+            rows.append((person.x, person.y, BODY_RADIUS))
+            owners.append(k)
+            for circle in person.cart_circles():
+                rows.append(circle)
+                owners.append(k)
+        body = world.body
+        rows.append((body.x, body.y, body.radius))
+        owners.append(-1)
+        return np.array(rows), np.array(owners)
+
+    def _overlaps(self, people, world):
+        circles, owners = self._circles(people, world)
+        rel = circles[:, None, :2] - circles[None, :, :2]
+        distance = np.hypot(rel[..., 0], rel[..., 1])
+        depth = circles[:, None, 2] + circles[None, :, 2] - distance
+        other = owners[:, None] != owners[None, :]
+        a, b = np.nonzero(np.triu(other & (depth > OVERLAP_SLACK), 1))
+        return circles, owners, rel, distance, depth, a, b
+
+    def _push_once(self, people: list[SimPerson], world: "World") -> bool:
+        """One round of pushing apart; True when something overlapped."""
+        _, owners, rel, distance, depth, a, b = self._overlaps(people, world)
+        moves = np.zeros((len(people), 2))
+        for i, j in zip(a, b):
+            normal = (rel[i, j] / distance[i, j] if distance[i, j] > 1e-9
+                      else np.array([1.0, 0.0]))
+            push = normal * (depth[i, j] + 1e-4)
+            oi, oj = owners[i], owners[j]
+            if oi >= 0 and oj >= 0:
+                moves[oi] += push / 2
+                moves[oj] -= push / 2
+            elif oi >= 0:
+                moves[oi] += push
+            else:
+                moves[oj] -= push
+        walls = self._wall_overlaps(people, world)
+        for k, push in walls.items():
+            moves[k] += push
+        for k, person in enumerate(people):
+            person.x += float(moves[k, 0])
+            person.y += float(moves[k, 1])
+        return len(a) > 0 or bool(walls)
+
+    def _wall_overlaps(self, people: list[SimPerson], world: "World") -> dict:
+        """Pushes that take bodies out of walls, by person index."""
+        positions = np.array([(p.x, p.y) for p in people])
+        away = positions - _nearest_wall_points(positions, world.floor.segments)
+        distance = np.hypot(away[:, 0], away[:, 1])
+        inside = np.flatnonzero((distance < BODY_RADIUS - OVERLAP_SLACK) & (distance > 1e-9))
+        return {int(k): away[k] / distance[k] * (BODY_RADIUS - distance[k] + 1e-4)
+                for k in inside}
+
+    def _overlapping(self, people: list[SimPerson], world: "World") -> list[SimPerson]:
+        """People whose body or cart overlaps another's or the robot's footprint."""
+        _, owners, _, _, _, a, b = self._overlaps(people, world)
+        stuck = {int(o) for o in np.concatenate([owners[a], owners[b]]) if o >= 0}
+        return [people[k] for k in sorted(stuck)]
+
+    def _room_at(self, person: SimPerson, world: "World") -> bool:
+        """True when a person appearing now overlaps nobody (with their cart) and not the
+        robot."""
+        present = [p for p in world.people if p.in_world]
+        circles = [(person.x, person.y, BODY_RADIUS)] + person.cart_circles()
+        others = [(p.x, p.y, BODY_RADIUS) for p in present]
+        others += [c for p in present for c in p.cart_circles()]
+        others.append((world.body.x, world.body.y, world.body.radius))
+        for x, y, r in circles:
+            for ox, oy, orad in others:
+                if math.hypot(x - ox, y - oy) < r + orad - OVERLAP_SLACK:
+                    return False
+        return True
+
+    def _track_blocking(self, people: list[SimPerson], before: dict, h: float) -> None:
+        """`blocked_for`: seconds a person walking on has moved less than a quarter of what
+        their script wished (so a script can count a place taken by others as reached)."""
+        for person in people:
+            x0, y0 = before[id(person)][:2]
+            moved = math.hypot(person.x - x0, person.y - y0)
+            wished = person.wished * h
+            if wished > 1e-6 and moved < BLOCKED_SHARE * wished:
+                person.blocked_for += h
+            else:
+                person.blocked_for = 0.0
+
+
+def _nearest_wall_points(positions: np.ndarray, segments: np.ndarray) -> np.ndarray:
+    """For each position (n, 2) the nearest point of any wall segment (n, 2); the positions
+    themselves pushed far off when there are no walls."""
+    if len(segments) == 0 or len(positions) == 0:
+        return positions + 1e6
+    x, y = positions[:, 0:1], positions[:, 1:2]
+    x1, y1, x2, y2 = (segments[:, k][None, :] for k in range(4))
+    ex, ey = x2 - x1, y2 - y1
+    length = np.maximum(ex * ex + ey * ey, 1e-18)
+    u = np.clip(((x - x1) * ex + (y - y1) * ey) / length, 0.0, 1.0)
+    px, py = x1 + u * ex, y1 + u * ey
+    nearest = np.argmin((px - x) ** 2 + (py - y) ** 2, axis=1)
+    rows = np.arange(len(positions))
+    return np.stack([px[rows, nearest], py[rows, nearest]], axis=1)
+
+
+__all__ = ["Crowd", "CrowdParams"]

@@ -1,0 +1,261 @@
+"""Who the customer is: the follower's belief about which track is her.
+
+The customer's last seen Kalman state (`_Belief`) predicts where she is while unseen. Finding
+her again is *gated*: only a confirmed track (the camera confirms tracks, so a door post the
+laser takes for legs never qualifies) whose position lies within a gate around the predicted
+position (growing with the time unseen at walking pace) may become the customer, never a track
+that was seen as somebody else while the customer was in view, and never two that fit equally
+(the robot waits rather than guesses). Once the camera has shown her a few times, her look (a
+running average of the camera's colour histograms of her, `skills.people.appearance`) decides:
+a track that looks like her may be taken back whatever its id, only such a track, and her own
+track stops being hers when its fresh views stop looking like her. Without appearance, a track
+born after the loss outside the gate of that moment (someone who came from elsewhere) is not
+her either. Two people passing close may swap track ids: `_untangle` puts her back on the
+track nearest where she should be.
+
+A part of `Following` (`skills.following.follower`); it reads `params`, `perception`,
+`navigation`, `state` and keeps the belief, her look, her trail and pace, and the ids known to
+be somebody else.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+
+from skills.following import score
+from skills.people import appearance
+from skills.people.track import CONFIRMED
+
+TRAIL_STEP = 0.3          # m between two points of the customer's trail
+TRAIL_LENGTH = 40         # points kept (12 m)
+PERSON_CLEARANCE = 0.15   # m: a track closer than this to a wall is not a person
+PACE_WINDOW = 0.4         # s over which the customer's walked distance gives their pace
+FRESH = 0.15              # s: a candidate for re-acquisition must have been seen this recently
+CONTEST_NEAR = 0.8        # m: another track this close to the customer's may swap ids with it
+UNTANGLE_REACH = 1.2      # m from where the customer should be after a contest, at most
+BIRTH_MARGIN = 0.3        # m a new track may be born outside the gate and still be the customer
+LOOK_WEIGHT = 0.1         # share of each new camera view of the customer in her look
+LOOK_KNOWN = 5            # views of her before her look is trusted
+MISMATCHES = 2            # fresh views in a row unlike her, and none like her for
+UNLIKE_FOR = 0.6          # this long (s): her track is on somebody else
+
+
+@dataclass
+class _Belief:
+    """The customer's last seen Kalman state, for prediction while unseen."""
+    x: float
+    y: float
+    vx: float
+    vy: float
+    t: float
+
+    def at(self, now: float, horizon: float) -> tuple[float, float]:
+        dt = min(max(now - self.t, 0.0), horizon)
+        return self.x + self.vx * dt, self.y + self.vy * dt
+
+    @property
+    def speed(self) -> float:
+        return math.hypot(self.vx, self.vy)
+
+
+class Identity:
+    """Which track is the customer (a part of `Following`)."""
+
+    def _initial_target(self, target: int | None):
+        tracks = self.perception.believed
+        if target is not None:
+            return next((t for t in tracks if t.id == target), None)
+        user = self.perception.user
+        if user is not None:
+            return user
+        pose = self.localization.state
+        if pose is None:
+            return None
+        near = [t for t in tracks if t.status == CONFIRMED
+                and math.hypot(t.x - pose.x, t.y - pose.y) <= 2.5]
+        return min(near, key=lambda t: math.hypot(t.x - pose.x, t.y - pose.y), default=None)
+
+    def _find_target(self, now: float):
+        """The customer's track this tick: the same id while it is seen and near the
+        prediction, else a gated candidate (see the module's docstring), else None."""
+        self.ambiguous = False
+        p = self.params
+        tracks = self.perception.believed
+        predicted = self._belief.at(now, p.predict_for)
+        # the gate grows as far as the customer can have walked off the prediction (round a
+        # shelf end, into the next aisle); somebody else inside it is kept out by `_others`
+        # and by the rule that of two candidates one must be clearly nearer
+        gate = self._gate(now - self._belief.t)
+        tracks = [t for t in tracks if self._plausible(t)]
+        same = next((t for t in tracks if t.id == self.state.target
+                     and t.id not in self._others), None)
+        if same is not None and same.status == CONFIRMED:      # seen within lost_after (0.35 s)
+            if math.hypot(same.x - predicted[0], same.y - predicted[1]) <= max(gate, p.jump):
+                same = self._untangle(same, tracks, now)
+                if same is not None and self._looks_like_someone_else(same, now):
+                    self._others.add(same.id)
+                    self._belief = self._matched or self._belief
+                    predicted = self._belief.at(now, p.predict_for)
+                    gate = self._gate(now - self._belief.t)
+                    same = None
+                if same is not None:
+                    self._note_others(tracks, same.id)
+                    return same
+        # who may be her: fresh confirmed tracks inside the gate (where she can have walked),
+        # not seen as somebody else beside her (unless seen looking like her since), and
+        # without her look, born where she could be; of those the identity score decides
+        candidates = [t for t in tracks
+                      if t.status == CONFIRMED and t.last_seen >= now - FRESH
+                      and math.hypot(t.x - predicted[0], t.y - predicted[1]) <= gate
+                      and (self._look_known or self._born_where_she_could_be(t))
+                      and (t.id not in self._others or self._seen_as_her_since_the_loss(t))]
+        velocity = ((self._belief.vx, self._belief.vy)
+                    if now - self._belief.t < p.predict_for else (0.0, 0.0))
+        look = self._look if self._look_known else None
+        choice, self.ambiguous = score.decide(
+            [(score.identity_score(t, predicted, velocity, gate, look), t) for t in candidates])
+        return choice                    # None when two fit alike: wait, do not guess
+
+    @property
+    def _look_known(self) -> bool:
+        return self._look is not None and self._looks >= LOOK_KNOWN
+
+    def _may_be_her(self, track) -> bool:
+        """Once her look is known, only a track the camera has seen looking like her; before
+        (or on a robot whose detector reports no appearance), one born where she could be."""
+        if not self._look_known:
+            return self._born_where_she_could_be(track)
+        return (track.appearance is not None
+                and appearance.distance(self._look, track.appearance) <= appearance.SAME_PERSON)
+
+    def _seen_as_her_since_the_loss(self, track) -> bool:
+        """The camera saw this track looking like her after she was lost: the tracker may
+        have handed her an id that was somebody else's before (an id is not a person)."""
+        return (self._look_known and track.appearance_t is not None
+                and track.appearance_t > self._belief.t and self._may_be_her(track))
+
+    def _looks_like_someone_else(self, track, now: float) -> bool:
+        """Learn her look from fresh camera views of her track while nobody is close to her;
+        once it is known, MISMATCHES fresh views in a row unlike her mean the track has passed
+        to somebody else (someone who crossed her close, hidden behind her until then)."""
+        fresh = (track.appearance is not None and track.appearance_t is not None
+                 and track.appearance_t >= now - FRESH and track.appearance_t != self._look_t)
+        if not fresh or self._contest is not None:
+            return False        # someone close to her: the camera's view may be theirs
+        self._look_t = track.appearance_t
+        if self._look_known and appearance.distance(self._look, track.appearance) \
+                > appearance.SAME_PERSON:
+            self._mismatches += 1
+            # two people at one spot (at one shelf) make one track whose views alternate
+            # between them: she is still there as long as some views look like her
+            return self._mismatches >= MISMATCHES and now - self._matched_t >= UNLIKE_FOR
+        self._mismatches = 0
+        self._matched, self._matched_t = self._belief, now
+        self._learn(track.appearance)
+        return False
+
+    def _learn(self, seen) -> None:
+        self._look = appearance.blend(self._look, seen, max(LOOK_WEIGHT, 1.0 / (self._looks + 1)))
+        self._looks += 1
+
+    def _gate(self, unseen: float) -> float:
+        p = self.params
+        return min(p.gate + p.gate_growth * max(unseen, 0.0), p.max_gate)
+
+    def _note_births(self, now: float) -> None:
+        """Where each track was first seen: a track born far from where the customer could
+        have been is somebody else (a shopper who came from behind the robot), whatever it
+        does later."""
+        ids = set()
+        for t in self.perception.believed:
+            ids.add(t.id)
+            self._first_seen.setdefault(t.id, (now, t.x, t.y))
+        for gone in set(self._first_seen) - ids:
+            del self._first_seen[gone]
+
+    def _born_where_she_could_be(self, track) -> bool:
+        """A track first seen after the customer was last seen must have been born inside the
+        gate of that moment (she reappears where she could have walked to)."""
+        born = self._first_seen.get(track.id)
+        if born is None or born[0] <= self._belief.t:
+            return True
+        at = self._belief.at(born[0], self.params.predict_for)
+        reach = self._gate(born[0] - self._belief.t) + BIRTH_MARGIN
+        return math.hypot(born[1] - at[0], born[2] - at[1]) <= reach
+
+    def _note_others(self, tracks, target: int) -> None:
+        """People seen at the same time as the customer are somebody else, for good; not those
+        close to them, whose identity the tracker may just have swapped with theirs, nor one
+        who looks like her (her track may be the one that passed to somebody else)."""
+        self._others.update(t.id for t in tracks if t.id != target and t.status == CONFIRMED
+                            and t.id not in self._contest_ids
+                            and not (self._look_known and self._may_be_her(t)))
+
+    def _untangle(self, target, tracks, now: float):
+        """Two people passing within CONTEST_NEAR of each other can swap track ids. While
+        someone is that close to the customer, remember where the customer was and how they
+        moved before; when the two are apart again, the customer is the track nearest that
+        prediction (one who stood still stayed, one who walked went on)."""
+        near = {t.id for t in tracks if t.id != target.id and t.status == CONFIRMED
+                and math.hypot(t.x - target.x, t.y - target.y) < CONTEST_NEAR}
+        if near:
+            if self._contest is None:
+                b = self._belief
+                standing = self._pace(target, now) < self.params.standing
+                self._contest = _Belief(b.x, b.y, 0.0 if standing else b.vx,
+                                        0.0 if standing else b.vy, b.t)
+            self._contest_ids |= near
+            return target
+        if self._contest is None:
+            return target
+        before, ids = self._contest, self._contest_ids | {target.id}
+        self._contest, self._contest_ids = None, set()
+        expected = before.at(now, self.params.predict_for)
+        options = [t for t in tracks if t.id in ids and t.status == CONFIRMED]
+        velocity = (before.vx, before.vy)
+        look = self._look if self._look_known else None
+        best, ambiguous = score.decide(
+            [(score.identity_score(t, expected, velocity, UNTANGLE_REACH, look), t)
+             for t in options])
+        if best is None:
+            # none of them is where the customer should be (they are hidden: the track that
+            # walked off with the id was somebody else), or two fit alike (a look-alike
+            # beside her): she counts as lost until one of them is clearly her
+            if not ambiguous:
+                self._others.add(target.id)
+            self.ambiguous = ambiguous
+            self._belief = before
+            return None
+        if best.id != target.id:
+            self._recent = []                  # the pace so far was somebody else's
+            self._others.add(target.id)
+            self.state = replace(self.state, swaps=self.state.swaps + 1)
+        return best
+
+    def _pace(self, track, now: float) -> float:
+        """The customer's speed: the smaller of the track's (a constant-velocity Kalman filter
+        is slow to see a stop) and the distance walked over the last PACE_WINDOW seconds."""
+        kalman = math.hypot(track.vx, track.vy)
+        past = next(((t, x, y) for t, x, y in self._recent if now - t <= PACE_WINDOW + 1e-6),
+                    None)
+        if past is None or now - past[0] < PACE_WINDOW / 2:
+            return kalman
+        walked = math.hypot(track.x - past[1], track.y - past[2]) / (now - past[0])
+        return min(kalman, walked)
+
+    def _see(self, track, now: float) -> None:
+        self._belief = _Belief(track.x, track.y, track.vx, track.vy, now)
+        self._recent.append((now, track.x, track.y))
+        while self._recent and now - self._recent[0][0] > PACE_WINDOW + 1e-6:
+            self._recent.pop(0)
+        if not self._trail or math.hypot(track.x - self._trail[-1][0],
+                                         track.y - self._trail[-1][1]) >= TRAIL_STEP:
+            self._trail.append((track.x, track.y))
+            del self._trail[:-TRAIL_LENGTH]
+
+    def _plausible(self, track) -> bool:
+        """A person's centre cannot lie in or against a wall or shelf: a track there has been
+        pulled onto a shelf corner or door post (laser legs) and is not the customer."""
+        nav = self.navigation
+        return nav is None or bool(nav.grid.clearance(track.x, track.y) >= PERSON_CLEARANCE)

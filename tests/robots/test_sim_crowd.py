@@ -1,0 +1,206 @@
+"""Simulated people who move like people (robots.sim.crowd): they swerve past each other and
+the robot, never overlap anybody or the robot, queue, keep their group together; whether they
+yield to the robot is a trait drawn per person; runs are the same for the same seed."""
+import math
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, example, given, settings
+from hypothesis import strategies as st
+
+from robots.profile import load_profile
+from robots.sim.crowd import Crowd
+from robots.sim.floor import load_floor
+from robots.sim.people import BODY_RADIUS
+from robots.sim.scenario import parse_scenario
+from robots.sim.world import World
+
+OFFICE = load_floor("office")
+STORE = load_floor("store")
+PERSES = load_profile("perses")
+
+
+def world_of(people, robot=(0.0, -0.75, 90.0), floor=OFFICE, seed=0, **head):
+    robot = robot if isinstance(robot, str) else list(robot)
+    scenario = parse_scenario({"scenario": {"robot": robot, "floor": floor.name, **head},
+                               "person": people})
+    return World(floor, PERSES, scenario, seed=seed)
+
+
+def overlaps(world):
+    """Pairs (a, b) of things that overlap now: bodies and carts of different people, and any
+    of them with the robot's footprint."""
+    circles = []
+    for person in world.present_people():
+        circles.append((person.id, person.x, person.y, BODY_RADIUS))
+        circles += [(person.id, x, y, r) for x, y, r in person.cart_circles()]
+    circles.append(("robot", world.body.x, world.body.y, world.body.radius))
+    found = []
+    for i, (a, ax, ay, ar) in enumerate(circles):
+        for b, bx, by, br in circles[i + 1:]:
+            if a != b and math.hypot(ax - bx, ay - by) < ar + br - 1e-6:
+                found.append((a, b))
+    return found
+
+
+def test_two_people_walking_head_on_swerve_and_pass_without_touching():
+    walkers = [{"id": "east", "at": [-6.0, 0.0], "steps": [{"walk": [[6.0, 0.0]]}]},
+               {"id": "west", "at": [6.0, 0.0], "steps": [{"walk": [[-6.0, 0.0]]}]}]
+    world = world_of(walkers, robot=(-9.0, -0.7, 0.0))      # out of their way, at the wall
+    closest, sideways = math.inf, 0.0
+    while world.t < 16.0:
+        world.step(0.1)
+        a, b = world.people
+        if a.in_world and b.in_world:
+            closest = min(closest, math.hypot(a.x - b.x, a.y - b.y))
+            sideways = max(sideways, abs(a.y), abs(b.y))
+        assert not overlaps(world)
+    assert all(p.current_step is None for p in world.people)       # both arrived
+    assert closest >= 2 * BODY_RADIUS and sideways > 0.15            # they swerved to pass
+
+
+def test_a_lone_walker_far_from_everything_walks_exactly_as_scripted():
+    social = world_of([{"id": "p", "at": [-6.0, 0.0], "speed": 0.8,
+                        "steps": [{"walk": [[-2.0, 0.0]]}]}])
+    scripted = world_of([{"id": "p", "at": [-6.0, 0.0], "speed": 0.8,
+                          "steps": [{"walk": [[-2.0, 0.0]]}]}], motion="scripted")
+    for world in (social, scripted):
+        world.step(3.0)
+    assert (social.people[0].x, social.people[0].y) == pytest.approx(
+        (scripted.people[0].x, scripted.people[0].y), abs=1e-9)
+
+
+def test_scripted_motion_keeps_exact_paths_even_through_one_another():
+    crossing = [{"id": "a", "at": [-3.0, 0.0], "steps": [{"walk": [[3.0, 0.0]]}]},
+                {"id": "b", "at": [3.0, 0.0], "steps": [{"walk": [[-3.0, 0.0]]}]}]
+    world = world_of(crossing, motion="scripted")
+    assert isinstance(world.crowd, Crowd) and not world.crowd.social
+    world.step(3.0)
+    assert [p.y for p in world.people] == [0.0, 0.0]            # straight through each other
+
+
+def test_a_walker_swerves_around_the_standing_robot_instead_of_stopping_at_it():
+    person = {"id": "p", "at": [-4.0, 0.0], "give_way": False, "steps": [{"walk": [[4.0, 0.0]]}]}
+    world = world_of([person], robot=(0.0, 0.0, 90.0))
+    gap = math.inf
+    while world.t < 12.0:
+        world.step(0.1)
+        p = world.people[0]
+        gap = min(gap, math.hypot(p.x - world.body.x, p.y - world.body.y)
+                  - BODY_RADIUS - world.body.radius)
+    assert world.people[0].current_step is None                  # got past and arrived
+    assert gap > 0.05 and world.measures.contact_count() == 0
+
+
+def test_people_queue_for_one_spot_without_pushing_into_each_other():
+    queue = [{"id": f"q{k}", "at": [-8.0 + 0.8 * k, 0.0], "appear": 0.5 * k, "speed": 1.0,
+              "steps": [{"walk": [[2.0, 0.0]]}, {"pause": 100.0}]} for k in range(3)]
+    world = world_of(queue, robot=(-9.0, -0.7, 0.0))
+    while world.t < 25.0:
+        world.step(0.1)
+        assert not overlaps(world)
+    xs = sorted(p.x for p in world.people)
+    assert all(isinstance(p.current_step, type(world.people[0].steps[1])) for p in world.people)
+    assert xs[-1] - xs[0] >= 2 * 2 * BODY_RADIUS - 1e-6          # in a row, not a heap
+
+
+def test_a_group_keeps_together_while_walking():
+    group = [{"id": f"g{k}", "at": [-8.0, -0.6 + 0.6 * k], "speed": 1.0 + 0.15 * k,
+              "group": "friends", "steps": [{"walk": [[6.0, -0.6 + 0.6 * k]]}]} for k in range(3)]
+    apart = [dict(g, id=g["id"] + "x", group=None) for g in group]
+    spreads = []
+    for people in (group, [{k: v for k, v in p.items() if v is not None} for p in apart]):
+        world = world_of(people, robot=(-9.3, -0.8, 0.0))
+        world.step(8.0)
+        xs = [p.x for p in world.people]
+        spreads.append(max(xs) - min(xs))
+    assert spreads[0] < spreads[1] - 0.5       # the fast ones wait for the slow one
+
+
+def test_yielding_is_a_trait_drawn_per_person_from_the_scenarios_beta_distribution():
+    people = [{"id": f"p{k}", "at": [-8.0 + 0.5 * (k % 30), -0.5 + 0.5 * (k // 30)]}
+              for k in range(90)]
+    world = world_of(people, yielding=[2.0, 6.0])
+    drawn = np.array([p.yielding for p in world.people])
+    assert 0.0 < drawn.min() and drawn.max() < 1.0
+    assert drawn.mean() == pytest.approx(2.0 / 8.0, abs=0.05)
+    assert len(set(drawn.round(6))) == len(drawn)                # each their own draw
+    fixed = world_of([{"id": "a", "at": [0, 0], "give_way": True},
+                      {"id": "b", "at": [1, 0], "give_way": False},
+                      {"id": "c", "at": [2, 0], "yielding": 0.3}])
+    assert [p.yielding for p in fixed.people] == [1.0, 0.0, 0.3]
+
+
+def test_a_yielding_person_stands_for_the_robot_and_a_rude_one_walks_on_past_it():
+    def run(yielding):
+        person = {"id": "p", "at": [16.0, 11.0], "yielding": yielding,
+                  "steps": [{"walk": [[12.0, 11.0]]}]}
+        world = world_of([person], robot=(14.0, 11.0, 90.0), floor=STORE)
+        world.step(3.0)
+        return world.people[0]
+    polite, rude = run(0.9), run(0.1)
+    assert polite.waiting_since is not None and polite.x > 14.5      # stands short of it
+    assert rude.waiting_since is None and rude.x < polite.x          # squeezes past
+
+
+def test_a_bad_trait_or_motion_names_the_field():
+    with pytest.raises(Exception, match=r"yielding"):
+        parse_scenario({"person": [{"id": "a", "at": [0, 0], "yielding": 1.5}]})
+    with pytest.raises(Exception, match=r"scenario.motion"):
+        parse_scenario({"scenario": {"motion": "teleport"}})
+    with pytest.raises(Exception, match=r"scenario.yielding"):
+        parse_scenario({"scenario": {"yielding": [0.0, 1.0]}})
+
+
+def test_the_same_seed_gives_the_same_crowd_and_another_seed_another():
+    def trajectory(seed):
+        people = [{"id": f"s{k}", "at": "street", "appear": 2.0 * k, "cart": k % 2 == 0,
+                   "steps": [{"shop": "shelf_", "count": 2, "dwell": [1.0, 3.0]},
+                             {"leave": "street", "route": True}]} for k in range(4)]
+        world = world_of(people, robot="robot_home", floor=STORE, seed=seed)
+        out = []
+        while world.t < 40.0:
+            world.step(0.1)
+            out.append([(p.x, p.y) for p in world.people])
+        return np.array(out), [p.yielding for p in world.people]
+    a, traits_a = trajectory(3)
+    b, traits_b = trajectory(3)
+    c, traits_c = trajectory(4)
+    assert np.array_equal(a, b) and traits_a == traits_b
+    assert traits_a != traits_c and not np.array_equal(a, c)
+
+
+def test_someone_appears_only_once_their_spot_is_free():
+    two = [{"id": "first", "at": [-5.0, 0.0], "steps": [{"pause": 3.0}, {"walk": [[-2.0, 0.0]]}]},
+           {"id": "second", "at": [-5.0, 0.0], "appear": 1.0}]
+    world = world_of(two)
+    world.step(2.0)
+    assert not world.people[1].in_world
+    world.step(3.0)
+    assert world.people[1].in_world and not overlaps(world)
+
+
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(seed=st.integers(0, 10_000), count=st.integers(2, 12),
+       drive=st.floats(-0.3, 0.6), turn=st.floats(-0.4, 0.4))
+@example(seed=2462, count=5, drive=0.0, turn=0.0)    # a cart that swung into two on appearing
+def test_random_crowds_never_overlap_each_other_or_the_robot(seed, count, drive, turn):
+    """People with random carts, traits and goals across the store's front aisle, with the
+    robot driving among them: after every substep nobody's body or cart overlaps anybody
+    else's or the robot's footprint."""
+    rng = np.random.default_rng(seed)
+    people = []
+    for k in range(count):
+        start = [float(rng.uniform(2.0, 26.0)), float(rng.uniform(3.4, 6.1))]
+        goal = [float(rng.uniform(2.0, 26.0)), float(rng.uniform(3.4, 6.1))]
+        people.append({"id": f"p{k}", "at": start, "appear": float(rng.uniform(0.0, 4.0)),
+                       "speed": float(rng.uniform(0.5, 1.6)), "cart": bool(rng.random() < 0.3),
+                       "yielding": float(rng.random()),
+                       "steps": [{"walk": [goal]}, {"walk": [start]}]})
+    world = world_of(people, robot=(14.0, 4.75, float(rng.uniform(-180, 180))), floor=STORE,
+                     seed=seed)
+    world.body.set_command(drive, turn)
+    seen = []
+    world.hooks.append(lambda w, h: seen.extend(overlaps(w)))
+    world.step(12.0)
+    assert seen == []

@@ -1,0 +1,144 @@
+"""Who the customer is (skills.following.identity and .score), without a world: the
+re-acquisition gate, her look, and two candidates that fit alike."""
+from __future__ import annotations
+
+from follow_fakes import BLUE, RED, Speech, follower, learn_her, seen, track
+from skills.following import FOLLOWING, HIDDEN, WAITING
+from skills.following.follower import UNSURE
+from skills.people.track import TENTATIVE
+
+
+def test_after_a_loss_it_never_takes_someone_seen_beside_the_customer():
+    following, perception = follower()
+    perception.believed = (track(1, 2.0, 0.0, 0.0, vx=0.5), track(2, 2.6, 0.6, 0.0))
+    assert following.follow(0.0, target=1).running
+    following.sense(0.0)
+    for k in range(1, 11):             # the customer vanishes; person 2 stands where she heads
+        t = k * 0.1
+        perception.believed = (track(2, 2.6, 0.1, t),)
+        following.sense(t)
+    assert following.state.lost and following.state.target == 1
+    perception.believed = (track(2, 2.6, 0.1, 1.1), track(7, 2.45, 0.0, 1.1))
+    following.sense(1.1)               # a new track where she should be: that is her
+    assert following.state.phase != HIDDEN and following.state.target == 7
+
+
+def test_after_a_loss_it_does_not_guess_between_two_new_tracks():
+    following, perception = follower()
+    perception.believed = (track(1, 2.0, 0.0, 0.0),)
+    following.follow(0.0, target=1)
+    following.sense(0.0)
+    perception.believed = ()
+    following.sense(0.5)
+    perception.believed = (track(8, 2.3, 0.2, 1.0), track(9, 2.3, -0.2, 1.0))
+    following.sense(1.0)
+    assert following.state.lost                          # two fit equally: wait, do not guess
+    perception.believed = (track(8, 2.3, 0.2, 1.1), track(9, 4.0, -1.5, 1.1))
+    following.sense(1.1)
+    assert following.state.target == 8 and not following.state.lost
+
+
+def test_far_from_the_prediction_is_not_the_customer():
+    following, perception = follower()
+    perception.believed = (track(1, 2.0, 0.0, 0.0),)
+    following.follow(0.0, target=1)
+    following.sense(0.0)
+    perception.believed = (track(5, 5.0, 3.0, 0.5),)   # someone 4 m away, 0.5 s later
+    following.sense(0.5)
+    assert following.state.lost and following.state.target == 1
+
+
+def test_a_track_born_behind_the_robot_is_not_the_customer_reappearing():
+    # the customer walks on ahead and vanishes behind a shopper who overtook the robot; the
+    # shopper's track, born 1.4 m behind where she could be, must not become her however near
+    # her prediction it walks later; a track born where she could be may
+    following, perception = follower()
+    perception.believed = (track(1, 2.0, 0.0, 0.0, vx=0.5),)
+    following.follow(0.0, target=1)
+    following.sense(0.0)
+    perception.believed = (track(4, 0.6, 0.0, 0.1, vx=1.0, status=TENTATIVE),)
+    following.sense(0.1)
+    for k in range(2, 26):             # the shopper walks at 1 m/s through her prediction
+        t = k * 0.1
+        perception.believed = (track(4, 0.6 + (t - 0.1), 0.0, t, vx=1.0),)
+        following.sense(t)
+        assert following.state.lost and following.state.target == 1, t
+    perception.believed = (track(4, 3.1, 0.0, 2.6, vx=1.0),
+                           track(9, 3.3, 0.1, 2.6, status=TENTATIVE))
+    following.sense(2.6)
+    perception.believed = (track(4, 3.2, 0.0, 2.7, vx=1.0), track(9, 3.3, 0.1, 2.7))
+    following.sense(2.7)
+    assert not following.state.lost and following.state.target == 9
+
+
+def test_her_track_passing_to_someone_in_blue_is_dropped_and_she_is_taken_back_by_her_look():
+    following, perception = follower()
+    t = learn_her(following, perception)
+    assert following.state.phase == FOLLOWING and following._look_known
+    # a man in blue, hidden behind her until now, crosses her close: her track slides onto him
+    while not following.state.lost:
+        perception.believed = (seen(1, 2.5 - 0.5 * (t - 1.0), 0.0, t, BLUE, vx=-0.5),)
+        following.sense(t)
+        t += 0.1
+        assert t < 3.0, "the track in blue was still taken for her"
+    assert 1 in following._others
+    # a track in blue near her prediction is not her; one in red is
+    perception.believed = (seen(7, 3.2, 0.0, t, BLUE),)
+    following.sense(t)
+    assert following.state.lost
+    perception.believed = (seen(7, 3.2, 0.0, t + 0.1, BLUE), seen(8, 3.4, 0.2, t + 0.1, RED))
+    following.sense(t + 0.1)
+    assert not following.state.lost and following.state.target == 8
+
+
+def test_two_people_at_one_spot_whose_views_alternate_do_not_lose_her():
+    following, perception = follower()
+    t = learn_her(following, perception)
+    for k in range(30):                 # she and a man in blue at one shelf: one track
+        look = BLUE if k % 2 else RED
+        perception.believed = (seen(1, 2.5, 0.0, t, look),)
+        following.sense(t)
+        assert not following.state.lost and following.state.target == 1
+        t += 0.1
+
+
+def test_a_look_alike_beside_her_prediction_makes_it_stop_say_so_and_wait_not_guess():
+    """She (in red) is lost; two tracks in red turn up alike near where she should be: the
+    follower takes neither, stands facing that place, says once that it is not sure; when
+    one of them walks off, the other is clearly her."""
+    speech = Speech()
+    following, perception = follower(speech)
+    t = learn_her(following, perception)
+    perception.believed = ()
+    following.sense(t)                                     # lost
+    where = following.state.predicted
+    for k in range(1, 6):
+        now = t + 0.1 * k
+        perception.believed = (seen(7, where[0], where[1] + 0.3, now, RED),
+                               seen(8, where[0], where[1] - 0.3, now, RED))
+        following.sense(now)
+        assert following.state.lost and following.ambiguous
+        assert "not sure" in following.status.reason
+        assert following.motion.goal.kind == "turn_to"     # stands, facing where she should be
+    assert [text for _, text in speech.said] == [UNSURE]   # said once, not every tick
+    now += 0.1
+    perception.believed = (seen(7, where[0], where[1] + 0.3, now, RED),
+                           seen(8, where[0] + 3.5, where[1] - 1.0, now, RED, vx=1.2))
+    following.sense(now)
+    assert not following.state.lost and following.state.target == 7
+    assert following.state.phase in (FOLLOWING, WAITING)
+
+
+def test_her_look_outweighs_a_stranger_nearer_her_prediction():
+    following, perception = follower()
+    t = learn_her(following, perception)
+    perception.believed = ()
+    following.sense(t)
+    where = following.state.predicted
+    perception.believed = (seen(7, where[0] + 0.1, where[1], t + 0.2, BLUE),
+                           seen(8, where[0] + 0.6, where[1] + 0.3, t + 0.2, RED))
+    following.sense(t + 0.2)
+    assert following.state.target == 8 and not following.ambiguous
+    perception.believed = (seen(7, where[0] + 0.1, where[1], t + 0.3, BLUE),)
+    following.sense(t + 0.3)                               # she vanishes again: the blue one
+    assert following.state.lost and following.state.target == 8      # alone is not her

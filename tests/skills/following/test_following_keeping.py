@@ -1,0 +1,44 @@
+"""Keeping the distance (skills.following.keeping), without a world: waiting near her,
+backing off when too close, giving way to anybody walking at the robot."""
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from follow_fakes import follower, track
+from skills.following import WAITING
+
+
+def test_standing_close_it_backs_off_facing_her_and_far_it_only_faces_her():
+    following, perception = follower()
+    perception.believed = (track(1, 0.0, 0.8, 0.0),)        # she stands 0.8 m to the left
+    following.follow(0.0, target=1)
+    following.sense(0.0)
+    goal = following.motion.goal
+    assert following.state.phase == WAITING
+    assert goal.kind == "back_off" and goal.speed > 0.0
+    assert goal.bearing == pytest.approx(math.pi / 2)
+    perception.believed = (track(1, 0.0, 1.0, 0.1),)        # within the waiting distance
+    following.sense(0.1)
+    assert following.motion.goal.kind == "turn_to"
+
+
+def test_anybody_walking_at_the_robot_inside_the_minimum_makes_it_back_off_facing_them():
+    following, perception = follower()
+    perception.believed = (track(1, 1.2, 0.0, 0.0),)             # she waits 1.2 m ahead
+    following.follow(0.0, target=1)
+    following.sense(0.0)
+    assert following.motion.min_person_distance == pytest.approx(0.8)
+    perception.believed = (track(1, 1.2, 0.0, 0.1), track(2, 0.0, -0.6, 0.1, vy=0.6))
+    following.sense(0.1)                                          # someone comes from the right
+    goal = following.motion.goal
+    assert goal.kind == "back_off" and goal.bearing == pytest.approx(-math.pi / 2)
+    assert goal.speed == pytest.approx(0.3)                       # 0.6 + 0.1, capped at 0.3
+    perception.believed = (track(1, 0.0, 0.6, 0.2, vy=-0.4),)     # now she walks at it
+    following.sense(0.2)
+    goal = following.motion.goal
+    assert following.state.phase == WAITING
+    assert goal.kind == "back_off" and goal.bearing == pytest.approx(math.pi / 2)
+    following.cancel(0.3)
+    assert following.motion.min_person_distance < 0.8             # the default again

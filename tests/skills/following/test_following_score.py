@@ -1,0 +1,54 @@
+"""The identity score (skills.following.score): one log-likelihood ratio from position, motion
+and appearance, one threshold, and no choice between two that score alike."""
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from robots.sim.appearance import appearance_of, observed
+from skills.following.score import (MARGIN, THRESHOLD, appearance_score, decide,
+                                    identity_score, motion_score, position_score)
+
+
+def track(x=0.0, y=0.0, vx=0.0, vy=0.0, look=None):
+    return SimpleNamespace(x=x, y=y, vx=vx, vy=vy, appearance=look)
+
+
+def test_a_track_at_the_gates_edge_with_no_other_evidence_sits_on_the_threshold():
+    assert position_score(track(1.0, 0.0), (0.0, 0.0), gate=1.0) == pytest.approx(THRESHOLD)
+    assert position_score(track(0.5, 0.0), (0.0, 0.0), gate=1.0) > THRESHOLD
+    assert position_score(track(1.5, 0.0), (0.0, 0.0), gate=1.0) < THRESHOLD
+
+
+def test_walking_unlike_her_costs_and_walking_like_her_does_not():
+    assert motion_score(track(vx=0.5), (0.5, 0.0)) == 0.0
+    assert motion_score(track(vx=1.4), (0.0, 0.0)) < THRESHOLD      # she stood; he walks fast
+
+
+def test_appearance_from_simulated_views_separates_her_from_strangers_but_is_capped():
+    rng = np.random.default_rng(0)
+    her = appearance_of("carla")
+    look = np.mean([observed(her, rng) for _ in range(10)], axis=0)
+    same = [appearance_score(track(look=observed(her, rng)), look) for _ in range(50)]
+    others = [appearance_score(track(look=observed(appearance_of(f"s{k}"), rng)), look)
+              for k in range(50)]
+    assert np.mean(np.array(same) > 0) >= 0.95 and np.mean(np.array(others) < 0) >= 0.95
+    assert max(same + others) <= 6.0 and min(same + others) >= -6.0
+    assert appearance_score(track(look=None), look) == 0.0 == appearance_score(track(), None)
+
+
+def test_the_score_adds_the_cues():
+    t = track(0.5, 0.0, vx=0.3)
+    assert identity_score(t, (0.0, 0.0), (0.0, 0.0), 1.0) == pytest.approx(
+        position_score(t, (0.0, 0.0), 1.0) + motion_score(t, (0.0, 0.0)))
+
+
+def test_decide_takes_the_clear_best_waits_between_two_alike_and_takes_nobody_below():
+    a, b = object(), object()
+    assert decide([(-0.1, a), (-0.1 - MARGIN - 0.1, b)]) == (a, False)
+    assert decide([(-0.1, a), (-0.1 - MARGIN + 0.1, b)]) == (None, True)
+    assert decide([(THRESHOLD - 0.1, a)]) == (None, False)
+    assert decide([(-0.5, a), (THRESHOLD - 5.0, b)]) == (a, False)    # b is nobody
+    assert decide([]) == (None, False)
