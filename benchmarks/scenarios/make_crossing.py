@@ -31,6 +31,7 @@ name = "crossing_10"
 description = "Ten people crossing in front of the robot"
 duration = 28.0
 robot = "robot_centre"
+motion = "scripted"       # exact paths: the pillar hides one walker for a set time
 """
 SCRIPTED = """
 [[person]]

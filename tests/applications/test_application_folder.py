@@ -12,7 +12,7 @@ from applications.exceptions import ApplicationError
 
 GRAPH = """<application name="t" initial="Ask" robot="horos">
   <state name="Ask" behavior="Ask">
-    <transition to="Tell" when="behavior.done"/>
+    <transition to="Tell" when="behavior.done"/><transition to="Ask" when="not behavior.done and time_in_state > 60s"/>
   </state>
   <state name="Tell" behavior="Say">
 {params}    <transition to="Ask" when="behavior.done"/>

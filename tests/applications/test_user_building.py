@@ -59,7 +59,7 @@ def test_the_map_given_on_the_command_line_is_the_simulated_building(building, c
 
 def test_check_reports_the_place_missing_and_the_place_unreachable_with_file_and_line(
         building, capsys):
-    app = copy_guide(building, extra_rooms=",\n    ('K', 'Kitchen', 'kitchen')")
+    app = copy_guide(building, extra_rooms=",\n    ('K', 'Kitchen', 'kitchen', 'Küche')")
     code = main(["check", str(app), "--map", str(building / "floor3.yaml")])
     out = capsys.readouterr().out.splitlines()
     assert code == 1
@@ -82,7 +82,7 @@ def test_check_on_a_map_without_problems_is_clean_and_an_unreadable_map_is_one_l
         building, capsys):
     app = copy_guide(building)
     (app / "database.sql").write_text((app / "database.sql").read_text().replace(
-        ",\n    ('X', 'Store room', 'store_room')", ""))
+        ",\n    ('X', 'Store room', 'store_room', 'Lager')", ""))
     assert main(["check", str(app), "--map", str(building / "floor3.yaml")]) == 0
     (building / "bad.yaml").write_text("image: floor3.pgm\nresolution: 0.05\norigin: [0, 0]\n")
     assert main(["check", str(app), "--map", str(building / "bad.yaml")]) == 2
@@ -91,7 +91,7 @@ def test_check_on_a_map_without_problems_is_clean_and_an_unreadable_map_is_one_l
 
 
 def test_run_refuses_a_place_that_is_not_on_the_map_with_file_and_line(building, capsys):
-    app = copy_guide(building, extra_rooms=",\n    ('K', 'Kitchen', 'kitchen')")
+    app = copy_guide(building, extra_rooms=",\n    ('K', 'Kitchen', 'kitchen', 'Küche')")
     code, events = run(building, app, visit(building, "Room A", "room_a"))
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 1 and len(err) == 1, err

@@ -24,13 +24,13 @@ PLACES = """places:
   room_b: [8.5, 4.7, 90]
   store_room: [13.5, 4.7, 90]
 """
-ROOMS = """INSERT OR REPLACE INTO rooms (name, label, place) VALUES
-    ('A', 'Room A', 'room_a'),
-    ('B', 'Room B', 'room_b'),
-    ('X', 'Store room', 'store_room'){extra};
+ROOMS = """INSERT OR REPLACE INTO rooms (name, label, place, label_de) VALUES
+    ('A', 'Room A', 'room_a', 'Raum A'),
+    ('B', 'Room B', 'room_b', 'Raum B'),
+    ('X', 'Store room', 'store_room', 'Lager'){extra};
 """
-STAFF = """INSERT OR REPLACE INTO staff (name, label, room, whereabouts) VALUES
-    ('ada', 'Ada', 'A', 'Ada works in room A.');
+STAFF = """INSERT OR REPLACE INTO staff (name, label, room, whereabouts, label_de, whereabouts_de) VALUES
+    ('ada', 'Ada', 'A', 'Ada works in room A.', 'Ada', 'Ada arbeitet in Raum A.');
 """
 
 
@@ -73,8 +73,8 @@ def copy_guide(folder: Path, extra_rooms: str = "") -> Path:
     end = sql.index(";", start) + 2
     sql = sql[:start] + ROOMS.format(extra=extra_rooms) + sql[end:]
     start = sql.index("INSERT OR REPLACE INTO staff")
-    end = sql.index(";", sql.index("whereabouts) VALUES", start) + 20) + 2
-    sql = sql[:start] + STAFF + sql[sql.index("\n", end - 1) + 1:]
+    end = sql.index(");\n", start) + 3                  # the statement's last row ends it
+    sql = sql[:start] + STAFF + sql[end:]
     (app / "database.sql").write_text(sql)
     return app
 

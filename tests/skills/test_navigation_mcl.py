@@ -32,6 +32,7 @@ GROUP_IN_FRONT = """[scenario]
 name = "group"
 duration = 60.0
 robot = "robot_home"
+motion = "scripted"      # f passes right through the line the others and the robot stand in
 [[person]]
 id = "a"
 appear = 5.0
