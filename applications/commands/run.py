@@ -6,6 +6,7 @@ from pathlib import Path
 
 from applications import observing
 from applications.commands import arguments, devices, refusals
+from applications.commands.arguments import UsageError
 from applications.learning import options as learning_options
 from applications.exceptions import (ApplicationError, UnknownScenarioError,
                                      UnsupportedOnRobotError)
@@ -82,7 +83,10 @@ class RunCommand:
             robot_capabilities(args.robot)        # an unknown robot: one line naming the known ones
         loaded = load_folder(folder, robot=args.robot)     # refuses an application with errors
         app = loaded.app
-        dialog, language = language_for_run(loaded.dialog, args.language)   # issue 25
+        try:                                        # a language the application lacks
+            dialog, language = language_for_run(loaded.dialog, args.language)
+        except ApplicationError as exc:             # is a mistaken argument: exit 2
+            raise UsageError(f"argument {exc}") from None
         robot_name = args.robot or app.robot or DEFAULT_ROBOT
         refusals.refuse_goto_without_a_map(args, loaded, robot_name)
         devices.refuse_bad_addresses(args, robot_name)

@@ -58,6 +58,8 @@ RUN_MISTAKES = [
     (["--foxglove", "{busy}"], "--foxglove", "Address already in use"),
     (["--speech-wav", "{file}"], "--speech-wav", "is a file"),
     (["--speech-wav", "{file}/deeper"], "--speech-wav", "cannot be created"),
+    (["--language", "fr"], "--language", "texts are in English (en), German (de) only"),
+    (["--language", "klingon"], "--language", "is not a language"),
 ]
 if FULL_DEVICE.exists():
     RUN_MISTAKES.append((["--record", str(FULL_DEVICE)], "--record", "No space left"))

@@ -175,5 +175,5 @@ def test_run_in_german_speaks_and_shows_german_and_records_the_values(tmp_path, 
 
 def test_run_refuses_a_language_the_application_lacks(tmp_path, capsys):
     assert main(["run", "survey", "--language", "fr", "--fast", "--duration", "1",
-                 "--data", str(tmp_path)]) != 0
+                 "--data", str(tmp_path)]) == 2                # a mistaken argument
     assert "texts are in English (en), German (de) only" in capsys.readouterr().err
