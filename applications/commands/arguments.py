@@ -58,13 +58,22 @@ def map_source(text: str) -> str:
         if path.suffix or len(path.parts) > 1 or path.exists():
             raise argparse.ArgumentTypeError(f"{text} is not a map file; {allowed}")
         return text                                  # a floor's name: the loader knows them
-    if path.is_dir():
-        raise argparse.ArgumentTypeError(f"{text} is a folder; {allowed}")
-    if not path.is_file():
-        raise argparse.ArgumentTypeError(f"file {text} does not exist; {allowed}")
-    if not os.access(path, os.R_OK):
-        raise argparse.ArgumentTypeError(f"cannot read {text} (permission denied); {allowed}")
+    readable_file(text, allowed.removeprefix("allowed "))
     return text
+
+
+def readable_file(text: str, what: str) -> Path:
+    """The path of a file that can be read; else one line saying why and what is allowed."""
+    path = Path(text)
+    if not text:
+        raise argparse.ArgumentTypeError(f"empty file name; allowed {what}")
+    if path.is_dir():
+        raise argparse.ArgumentTypeError(f"{text} is a folder; allowed {what}")
+    if not path.is_file():
+        raise argparse.ArgumentTypeError(f"file {text} does not exist; allowed {what}")
+    if not os.access(path, os.R_OK):
+        raise argparse.ArgumentTypeError(f"cannot read {text} (permission denied); allowed {what}")
+    return path
 
 
 def initial_pose(text: str) -> tuple[float, float, float]:

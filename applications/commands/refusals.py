@@ -9,11 +9,11 @@ contents, while `arguments` checks only the form of a value.
 from __future__ import annotations
 
 import argparse
-import os
 import socket
 from pathlib import Path
 
-from applications.commands.arguments import UsageError, data_folder, output_file
+from applications.commands.arguments import (UsageError, data_folder, output_file,
+                                             readable_file)
 
 MCAP_MAGIC = b"\x89MCAP"
 PICTURE_SUFFIXES = (".svg", ".png", ".pdf")
@@ -79,19 +79,6 @@ def wav_folder(text: str) -> Path:
     return data_folder(text)
 
 
-def _readable_file(text: str, what: str) -> Path:
-    path = Path(text)
-    if not text:
-        raise argparse.ArgumentTypeError(f"empty file name; allowed {what}")
-    if path.is_dir():
-        raise argparse.ArgumentTypeError(f"{text} is a folder; allowed {what}")
-    if not path.is_file():
-        raise argparse.ArgumentTypeError(f"file {text} does not exist; allowed {what}")
-    if not os.access(path, os.R_OK):
-        raise argparse.ArgumentTypeError(f"cannot read {text} (permission denied); allowed {what}")
-    return path
-
-
 def _first_bytes(path: Path, count: int) -> bytes:
     with open(path, "rb") as f:
         return f.read(count)
@@ -100,7 +87,7 @@ def _first_bytes(path: Path, count: int) -> bytes:
 def recording_file(text: str) -> str:
     """An MCAP recording to replay: an existing, readable file that starts as MCAP does."""
     what = "a recording written by `interbot run --record FILE.mcap`"
-    path = _readable_file(text, what)
+    path = readable_file(text, what)
     if _first_bytes(path, len(MCAP_MAGIC)) != MCAP_MAGIC:
         raise argparse.ArgumentTypeError(f"{text} is not an MCAP file (it does not start with "
                                          f"the MCAP magic bytes); allowed {what}")
@@ -110,7 +97,7 @@ def recording_file(text: str) -> str:
 def trace_or_recording(text: str) -> str:
     """A recording (MCAP) or a trace (one JSON object per line) to summarize."""
     what = "a recording (.mcap, `interbot run --record`) or a trace (.jsonl, `--trace`)"
-    path = _readable_file(text, what)
+    path = readable_file(text, what)
     start = _first_bytes(path, 4096)
     if start.startswith(MCAP_MAGIC) or start.lstrip()[:1] in (b"{", b""):
         return text
@@ -120,7 +107,7 @@ def trace_or_recording(text: str) -> str:
 
 def scxml_file(text: str) -> str:
     """An SCXML state chart to import: an existing, readable file."""
-    _readable_file(text, "an SCXML file (.scxml)")
+    readable_file(text, "an SCXML file (.scxml)")
     return text
 
 
