@@ -5,14 +5,13 @@ was chosen — as an SVG drawing (PNG/PDF through tracetools.write_picture)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from html import escape
 
 from applications.alternatives import ChoicePoint
 from applications.learning.bandit import interval, posterior_mean
+from applications.learning.chart import COLOURS, rates_svg, sliding_rate
 from applications.learning.store import LearningStore
 
 WINDOW = 50                  # episodes in the sliding window of the curve
-COLOURS = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b")
 
 
 @dataclass(frozen=True)
@@ -84,51 +83,11 @@ def curve_svg(title: str, history: list[tuple[str, str, bool]], alternatives: li
               width: float = 640, height: float = 360) -> str:
     """The success rate over a sliding window of episodes (black), and the share of each
     alternative among the choices in the same window (coloured), against the episode number."""
-    left, right, top, bottom = 50, 150, 30, 40
-    plot_w, plot_h = width - left - right, height - top - bottom
-    count = len(history)
-    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width:.0f}" height="{height:.0f}" '
-             f'viewBox="0 0 {width:.0f} {height:.0f}" font-family="sans-serif" font-size="11">',
-             f"<title>{escape(title)}</title>", '<rect width="100%" height="100%" fill="white"/>',
-             f'<text x="{left}" y="18" font-size="13">{escape(title)}</text>']
-
-    def x(i: float) -> float:
-        return left + plot_w * (i / max(count, 1))
-
-    def y(v: float) -> float:
-        return top + plot_h * (1.0 - v)
-
-    for v in (0.0, 0.25, 0.5, 0.75, 1.0):
-        parts.append(f'<line x1="{left}" x2="{left + plot_w}" y1="{y(v):.1f}" y2="{y(v):.1f}" '
-                     f'stroke="#ddd"/><text x="{left - 6}" y="{y(v) + 4:.1f}" '
-                     f'text-anchor="end">{v:.0%}</text>')
-    parts.append(f'<text x="{left + plot_w / 2}" y="{height - 8}" text-anchor="middle">episode '
-                 f'({count} in all; sliding window of {WINDOW})</text>')
-    series = [("success rate", "#000", [1.0 if ok else 0.0 for _, _, ok in history])]
+    series = [("success rate", "#000",
+               sliding_rate([1.0 if ok else 0.0 for _, _, ok in history], WINDOW), False)]
     for i, name in enumerate(alternatives):
+        chosen = [1.0 if a == name else 0.0 for _, a, _ in history]
         series.append((f"chose {name}", COLOURS[i % len(COLOURS)],
-                       [1.0 if a == name else 0.0 for _, a, _ in history]))
-    for i, (label, colour, values) in enumerate(series):
-        points = _window(values)
-        if points:
-            path = " ".join(f"{x(j + 1):.1f},{y(v):.1f}" for j, v in enumerate(points))
-            dash = "" if i == 0 else ' stroke-dasharray="5,3"'
-            parts.append(f'<polyline fill="none" stroke="{colour}" stroke-width="1.5"{dash} '
-                         f'points="{path}"/>')
-        ly = top + 14 * i + 6
-        parts.append(f'<line x1="{left + plot_w + 10}" x2="{left + plot_w + 30}" y1="{ly}" '
-                     f'y2="{ly}" stroke="{colour}" stroke-width="2"/><text '
-                     f'x="{left + plot_w + 34}" y="{ly + 4}">{escape(label)}</text>')
-    parts.append("</svg>")
-    return "".join(parts)
-
-
-def _window(values: list[float]) -> list[float]:
-    """The mean of the last WINDOW values (fewer at the start) after each episode."""
-    out, total = [], 0.0
-    for i, v in enumerate(values):
-        total += v
-        if i >= WINDOW:
-            total -= values[i - WINDOW]
-        out.append(total / min(i + 1, WINDOW))
-    return out
+                       sliding_rate(chosen, WINDOW), True))
+    return rates_svg(title, series, f"episode ({len(history)} in all; sliding window of "
+                     f"{WINDOW})", width, height, legend_width=150)
