@@ -120,8 +120,11 @@ def explained_echoes(ranges: np.ndarray, poses: np.ndarray, cone: float,
         return out
     dx = laser_points[None, :, 0] - poses[:, None, 0]
     dy = laser_points[None, :, 1] - poses[:, None, 1]
-    bearing = np.arctan2(dy, dx) - poses[:, None, 2]
-    inside = np.abs(np.arctan2(np.sin(bearing), np.cos(bearing))) <= cone / 2 + CONE_SLACK
-    nearest = np.where(inside, np.hypot(dx, dy), np.inf).min(axis=1)
+    distance = np.hypot(dx, dy)
+    # inside the cone: the reading's direction within the half angle of the sonar's axis,
+    # tested as a projection (no angle computed per reading and sonar)
+    along = dx * np.cos(poses[:, 2])[:, None] + dy * np.sin(poses[:, 2])[:, None]
+    inside = along >= distance * math.cos(min(cone / 2 + CONE_SLACK, math.pi))
+    nearest = np.where(inside, distance, np.inf).min(axis=1)
     with np.errstate(invalid="ignore"):
         return np.isfinite(ranges) & (np.abs(nearest - ranges) <= ECHO_TOLERANCE)

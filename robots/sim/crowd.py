@@ -38,6 +38,7 @@ import numpy as np
 
 from robots.sim.people import BODY_RADIUS, SimPerson
 from robots.sim.scenario import Answer, Approach, Follow, Lead, MakeWay, WaitForCall
+from robots.sim.wall_index import WallIndex
 
 if TYPE_CHECKING:
     from robots.sim.scenario import Scenario
@@ -48,6 +49,7 @@ PUSH_ROUNDS = 8            # rounds of pushing overlaps apart before the fallbac
 OVERLAP_SLACK = 1e-6       # m of overlap that counts as touching
 BLOCKED_SHARE = 0.25       # moved less than this share of the wish: held up by the crowd
 TRAIT_STREAM = 0x7E1D      # seeds each person's trait generator with the run's seed and index
+_NO_DEVIATION = np.zeros(2)
 
 
 @dataclass(frozen=True)
@@ -81,6 +83,7 @@ class Crowd:
         self.social = social
         self.params = params
         self._deviation: dict[int, np.ndarray] = {}
+        self._walls: WallIndex | None = None
 
     @classmethod
     def for_scenario(cls, people: list[SimPerson], scenario: "Scenario | None",
@@ -124,25 +127,27 @@ class Crowd:
         start = np.array([before[id(p)][:2] for p in people])
         wish = (np.array([(p.x, p.y) for p in people]) - start) / h
         force = self.forces(people, start, wish, world)
-        tau = self.params.tau
+        p = self.params
+        deviation = np.array([self._deviation.get(id(person), _NO_DEVIATION) for person in people])
+        u = (deviation + h * force) / (1.0 + h / p.tau)
+        velocity = wish + u
+        wished = np.hypot(wish[:, 0], wish[:, 1])
+        scripted = np.array([person.plan.speed for person in people])
+        cap = np.maximum(np.where(wished > 1e-6, p.overspeed * scripted, 0.0), p.min_cap)
+        speed = np.hypot(velocity[:, 0], velocity[:, 1])
+        over = speed > cap
+        velocity[over] *= (cap[over] / speed[over])[:, None]
+        speed = np.where(over, cap, speed)
+        moved = start + velocity * h
+        swerving = (np.hypot(u[:, 0], u[:, 1]) > 1e-6) & (speed > 0.05)
         for k, person in enumerate(people):
-            person.wished = float(np.hypot(*wish[k]))
-            u = (self._deviation.get(id(person), 0.0) + h * force[k]) / (1.0 + h / tau)
-            velocity = wish[k] + u
-            walking = person.wished > 1e-6
-            cap = max(self.params.overspeed * person.plan.speed if walking else 0.0,
-                      self.params.min_cap)
-            speed = float(np.hypot(*velocity))
-            if speed > cap:
-                velocity *= cap / speed
-                speed = cap
-            self._deviation[id(person)] = velocity - wish[k]
-            x, y = start[k] + velocity * h
-            person.x, person.y = float(x), float(y)
-            if np.hypot(*u) > 1e-6 and speed > 0.05:     # swerving: they face where they go
-                person.heading = math.atan2(velocity[1], velocity[0])
+            person.wished = float(wished[k])
+            self._deviation[id(person)] = velocity[k] - wish[k]
+            person.x, person.y = float(moved[k, 0]), float(moved[k, 1])
+            if swerving[k]:                  # they face where they go
+                person.heading = math.atan2(velocity[k, 1], velocity[k, 0])
                 person.cart_heading = person.heading
-            person.speed = speed if speed * h > 1e-9 else 0.0
+            person.speed = float(speed[k]) if speed[k] * h > 1e-9 else 0.0
 
     def forces(self, people: list[SimPerson], positions: np.ndarray, wish: np.ndarray,
                world: "World") -> np.ndarray:
@@ -177,10 +182,11 @@ class Crowd:
             return strength * p.v0 * np.exp(-b / p.sigma)
 
         eps = 1e-4
-        dx = np.array([eps, 0.0])
-        dy = np.array([0.0, eps])
-        grad = np.stack([(potential(r + dx) - potential(r - dx)) / (2 * eps),
-                         (potential(r + dy) - potential(r - dy)) / (2 * eps)], axis=-1)
+        shifts = np.array([[eps, 0.0], [-eps, 0.0], [0.0, eps], [0.0, -eps]])
+        shifts = shifts.reshape((4,) + (1,) * (r.ndim - 1) + (2,))
+        values = potential(r[None] + shifts)        # one call for the four differences
+        grad = np.stack([(values[0] - values[1]) / (2 * eps),
+                         (values[2] - values[3]) / (2 * eps)], axis=-1)
         force = -grad * self._view_weight(-r, own_wish)[..., None]
         return force + self._sideways(force, r, own_wish)
 
@@ -228,13 +234,20 @@ class Crowd:
         """Walls keep walkers off; someone standing against a wall stays (the hard rule
         still keeps them out of it)."""
         p = self.params
-        away = positions - _nearest_wall_points(positions, world.floor.segments)
+        away = positions - self._wall_index(world).nearest_points(positions)
         distance = np.maximum(np.hypot(away[:, 0], away[:, 1]), 1e-9)
         gap = distance - BODY_RADIUS
         size = np.where(gap < p.wall_reach,
                         p.wall_strength * np.exp(-np.maximum(gap, 0.0) / p.wall_range), 0.0)
         size[np.hypot(wish[:, 0], wish[:, 1]) < 1e-6] = 0.0
         return away * (size / distance)[:, None]
+
+    def _wall_index(self, world: "World") -> WallIndex:
+        """The floor's walls, bucketed for the reach of the wall force (built once)."""
+        segments = world.floor.segments
+        if self._walls is None or self._walls.segments is not segments:
+            self._walls = WallIndex(segments, reach=BODY_RADIUS + self.params.wall_reach)
+        return self._walls
 
     def _cart_forces(self, people, positions, wish) -> np.ndarray:
         """Other people's carts push like walls do."""
@@ -366,7 +379,7 @@ class Crowd:
     def _wall_overlaps(self, people: list[SimPerson], world: "World") -> dict:
         """Pushes that take bodies out of walls, by person index."""
         positions = np.array([(p.x, p.y) for p in people])
-        away = positions - _nearest_wall_points(positions, world.floor.segments)
+        away = positions - self._wall_index(world).nearest_points(positions)
         distance = np.hypot(away[:, 0], away[:, 1])
         inside = np.flatnonzero((distance < BODY_RADIUS - OVERLAP_SLACK) & (distance > 1e-9))
         return {int(k): away[k] / distance[k] * (BODY_RADIUS - distance[k] + 1e-4)
@@ -403,22 +416,6 @@ class Crowd:
                 person.blocked_for += h
             else:
                 person.blocked_for = 0.0
-
-
-def _nearest_wall_points(positions: np.ndarray, segments: np.ndarray) -> np.ndarray:
-    """For each position (n, 2) the nearest point of any wall segment (n, 2); the positions
-    themselves pushed far off when there are no walls."""
-    if len(segments) == 0 or len(positions) == 0:
-        return positions + 1e6
-    x, y = positions[:, 0:1], positions[:, 1:2]
-    x1, y1, x2, y2 = (segments[:, k][None, :] for k in range(4))
-    ex, ey = x2 - x1, y2 - y1
-    length = np.maximum(ex * ex + ey * ey, 1e-18)
-    u = np.clip(((x - x1) * ex + (y - y1) * ey) / length, 0.0, 1.0)
-    px, py = x1 + u * ex, y1 + u * ey
-    nearest = np.argmin((px - x) ** 2 + (py - y) ** 2, axis=1)
-    rows = np.arange(len(positions))
-    return np.stack([px[rows, nearest], py[rows, nearest]], axis=1)
 
 
 __all__ = ["Crowd", "CrowdParams"]
