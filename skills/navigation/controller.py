@@ -507,6 +507,8 @@ def _point_along(path: np.ndarray, distance: float) -> np.ndarray:
 
 def _project(points: np.ndarray, samples: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(arc length, distance) of each point's nearest sample of a path resampled every 5 cm."""
-    d = np.hypot(points[:, None, 0] - samples[None, :, 0], points[:, None, 1] - samples[None, :, 1])
-    nearest = d.argmin(axis=1)
-    return nearest * 0.05, d[np.arange(len(points)), nearest]
+    dx = points[:, None, 0] - samples[None, :, 0]
+    dy = points[:, None, 1] - samples[None, :, 1]
+    nearest = (dx * dx + dy * dy).argmin(axis=1)      # squares order them as distances do
+    rows = np.arange(len(points))
+    return nearest * 0.05, np.hypot(dx[rows, nearest], dy[rows, nearest])
