@@ -287,7 +287,7 @@ def _with_fault_reset(profile: RobotProfile) -> RobotProfile:
     driver = _driver_class(profile)
     if "reset_faults" not in getattr(driver, "PROFILE_OPTIONS", ()):
         raise RobotError(f"--reset-faults: the {profile.base.driver} base of {profile.name} has no "
-                         f"drive faults to reset (only the CAN base has)")
+                         f"drive faults to reset (the CAN, P2OS and rFLEX bases have)")
     options = {**profile.base.options, "reset_faults": True}
     return replace(profile, base=replace(profile.base, options=options))
 
