@@ -69,6 +69,8 @@ class RFlexController:
         self.physical_limits = world.body.limits
         self.brake = True                   # on after power-up (rflex.md §9)
         self.estop = False                  # the e-stop held: brake set, release ignored (tests)
+        self.defaults_stop_axes = True      # our reading of MOT_SET_DEFAULTS; False: a controller
+                                            # whose defaults leave the velocity alone (tests)
         self.motor_period = 0.0             # s; 0 = reports off
         self.axis_mask = 0
         self.dio_period = 0.0
@@ -126,7 +128,8 @@ class RFlexController:
             self.brake = True
             self._stop_axes()
         elif command == p.Simple(p.MOT, p.MOT_SET_DEFAULTS):
-            self._stop_axes()
+            if self.defaults_stop_axes:
+                self._stop_axes()
         elif command == p.Simple(p.SYS, p.SYS_STATUS):
             return p.encode_escaped(p.status_report(self._next_seq(), p.SystemStatus(
                 self._timestamp(), BATTERY_RAW, int(self.brake))))
