@@ -3,13 +3,14 @@ self-check's witness that does not come from the drives (issue 24 point 1).
 
 The encoders can agree with their own commands and still be wrong about the robot: a motor
 mounted the other way round than the profile says, wheels swapped, a wrong track width or
-wheel radius. The laser sees the robot's real turn. Pure: two scans in, a turn out.
+wheel radius. The laser sees the robot's real motion. Pure: two scans in, a motion out.
 
-Method: the ranges of the second scan, read at each beam's angle shifted by a candidate turn
-(linear interpolation between beams), are compared with the first scan's; the turn whose median
-absolute difference is smallest wins (a coarse grid, then a fine one around the best). A small
-translation (a few cm) and a few moving legs barely change the median. The advance: the second
-scan's points, turned back, are shifted forward or back until they lie nearest the first's.
+Method (projective scan matching): the second scan's echoes, moved by a candidate motion
+(turn, forward, sideways) into the first scan's frame, should lie at the first scan's range in
+their direction (the first scan interpolated between beams). A coarse search over turns finds
+the basin; Gauss-Newton steps on the three unknowns then minimise the squared range
+differences, leaving out the worst (legs that moved, edges seen past): beyond three times the
+median difference, at least 3 cm. Small motions only (a few degrees, a few cm).
 """
 from __future__ import annotations
 
@@ -19,102 +20,89 @@ from dataclasses import dataclass
 import numpy as np
 
 SEARCH = math.radians(12.0)      # the largest turn looked for, either way
-COARSE = math.radians(0.25)
-FINE = math.radians(0.02)
-MIN_BEAMS = 30                   # beams with an echo in both scans needed for a verdict
-MAX_RESIDUAL = 0.05              # m: a best median difference above this is no match
+COARSE = math.radians(0.5)
+STEPS = 12                       # Gauss-Newton steps
+MIN_BEAMS = 30                   # beams matched in both scans needed for a verdict
+MAX_RESIDUAL = 0.05              # m: a median range difference above this is no match
+NEAR = 8.0                       # m: farther echoes are left out (sparse, noisy)
+JUMP = 0.15                      # m between neighbouring beams: an edge, not interpolated across
 
 
 @dataclass(frozen=True)
-class Turn:
-    radians: float        # counter-clockwise seen from above, as the robot's heading
-    residual: float       # m: the median range difference at that turn
-    beams: int            # beams compared
+class ScanMotion:
+    turn: float           # rad, counter-clockwise seen from above, as the robot's heading
+    forward: float        # m, along the laser's heading at the first scan
+    sideways: float       # m, to its left
+    residual: float       # m: the median range difference at that motion
+    beams: int            # echoes matched
 
     @property
     def trusted(self) -> bool:
         return self.beams >= MIN_BEAMS and self.residual <= MAX_RESIDUAL
 
 
-def turn_between(angles: np.ndarray, before: np.ndarray, after: np.ndarray) -> Turn:
-    """The robot's turn from the scan `before` to the scan `after` (same beam `angles`, robot
-    frame, ascending; ranges in m, inf for no echo). The robot turning by d moves a fixed
-    point from beam angle a to a - d, so `after(a - d)` matches `before(a)`."""
+def motion_between(angles: np.ndarray, before: np.ndarray, after: np.ndarray) -> ScanMotion:
+    """The laser's motion from the scan `before` to the scan `after` (same beam `angles`, the
+    laser's frame, ascending; ranges in m, inf for no echo)."""
     angles = np.asarray(angles, dtype=float)
     before = np.asarray(before, dtype=float)
     after = np.asarray(after, dtype=float)
-    best = _search(angles, before, after, np.arange(-SEARCH, SEARCH + COARSE / 2, COARSE))
-    fine = np.arange(best.radians - COARSE, best.radians + COARSE + FINE / 2, FINE)
-    return _search(angles, before, after, fine)
+    keep = np.isfinite(after) & (after < NEAR)
+    points = np.column_stack((after[keep] * np.cos(angles[keep]), after[keep] * np.sin(angles[keep])))
+    if len(points) < MIN_BEAMS:
+        return ScanMotion(0.0, 0.0, 0.0, math.inf, len(points))
+    finite = np.isfinite(before)
+    filled = np.where(finite, before, 0.0)
+    coarse = min(((_median_gap(angles, filled, finite, points, (turn, 0.0, 0.0)), turn)
+                  for turn in np.arange(-SEARCH, SEARCH + COARSE / 2, COARSE)), key=lambda c: c[0])
+    motion = np.array([coarse[1], 0.0, 0.0])
+    for _ in range(STEPS):
+        step = _gauss_newton_step(angles, filled, finite, points, motion)
+        if step is None:
+            break
+        motion = motion + step
+        if np.all(np.abs(step) < (1e-5, 1e-5, 1e-5)):
+            break
+    gaps, valid = _gaps(angles, filled, finite, points, motion)
+    residual = float(np.median(np.abs(gaps[valid]))) if valid.sum() else math.inf
+    return ScanMotion(float(motion[0]), float(motion[1]), float(motion[2]), residual, int(valid.sum()))
 
 
-def _search(angles, before, after, candidates) -> Turn:
-    best = Turn(0.0, math.inf, 0)
-    finite_after = np.isfinite(after)
-    after = np.where(finite_after, after, 0.0)
-    for turn in candidates:
-        shifted = angles - turn
-        inside = (shifted >= angles[0]) & (shifted <= angles[-1]) & np.isfinite(before)
-        if not inside.any():
-            continue
-        index = np.clip(np.searchsorted(angles, shifted[inside]) - 1, 0, len(angles) - 2)
-        left, right = index, index + 1
-        usable = finite_after[left] & finite_after[right]
-        if usable.sum() < MIN_BEAMS:
-            continue
-        weight = (shifted[inside] - angles[left]) / (angles[right] - angles[left])
-        read = after[left] * (1 - weight) + after[right] * weight
-        diff = np.abs(read[usable] - before[inside][usable])
-        residual = float(np.median(diff))
-        if residual < best.residual:
-            best = Turn(float(turn), residual, int(usable.sum()))
-    return best
-
-
-ADVANCE_SEARCH = 0.06            # m: the largest advance looked for, either way
-ADVANCE_STEP = 0.002
-NEAR = 6.0                       # m: farther echoes are too sparse to place a point
-
-
-@dataclass(frozen=True)
-class Advance:
-    metres: float         # forward in the robot frame
-    residual: float       # m: the median distance of the second scan's points to the first's
-    points: int
-
-    @property
-    def trusted(self) -> bool:
-        return self.points >= MIN_BEAMS and self.residual <= MAX_RESIDUAL
-
-
-def advance_between(angles: np.ndarray, before: np.ndarray, after: np.ndarray,
-                    turn: float) -> Advance:
-    """How far the robot moved forward between the scans, given its `turn` between them: the
-    second scan's points, turned back and shifted by a candidate advance, lie nearest the
-    first scan's points (median nearest-point distance) at the robot's real advance."""
-    angles = np.asarray(angles, dtype=float)
-    first = _points(angles, np.asarray(before, dtype=float))
-    second = _points(angles, np.asarray(after, dtype=float))
-    if len(first) < MIN_BEAMS or len(second) < MIN_BEAMS:
-        return Advance(0.0, math.inf, min(len(first), len(second)))
+def _gaps(angles, filled, finite, points, motion) -> tuple[np.ndarray, np.ndarray]:
+    """Each moved echo's range minus the first scan's range in its direction, and which of
+    them fall between two echoes of the first scan on one surface (no edge between them)."""
+    turn, dx, dy = motion
     c, s = math.cos(turn), math.sin(turn)
-    turned = second @ np.array([[c, s], [-s, c]])
-    coarse = _best_advance(first, turned, np.arange(-ADVANCE_SEARCH, ADVANCE_SEARCH + 1e-9, 0.005))
-    return _best_advance(first, turned, np.arange(coarse.metres - 0.005, coarse.metres + 0.005 + 1e-9,
-                                                  ADVANCE_STEP))
+    x = c * points[:, 0] - s * points[:, 1] + dx
+    y = s * points[:, 0] + c * points[:, 1] + dy
+    direction = np.arctan2(y, x)
+    expected = np.interp(direction, angles, filled)
+    between = np.clip(np.searchsorted(angles, direction) - 1, 0, len(angles) - 2)
+    smooth = finite[:-1] & finite[1:] & (np.abs(np.diff(filled)) < JUMP)
+    valid = smooth[between] & (direction >= angles[0]) & (direction <= angles[-1])
+    return np.hypot(x, y) - expected, valid
 
 
-def _best_advance(first: np.ndarray, turned: np.ndarray, candidates) -> Advance:
-    best = Advance(0.0, math.inf, len(turned))
-    for dx in candidates:
-        moved = turned + np.array([dx, 0.0])
-        gaps = np.sqrt(((moved[:, None, :] - first[None, :, :]) ** 2).sum(axis=2)).min(axis=1)
-        residual = float(np.median(gaps))
-        if residual < best.residual:
-            best = Advance(float(dx), residual, len(turned))
-    return best
+def _median_gap(angles, filled, finite, points, motion) -> float:
+    gaps, valid = _gaps(angles, filled, finite, points, motion)
+    return float(np.median(np.abs(gaps[valid]))) if valid.sum() >= MIN_BEAMS else math.inf
 
 
-def _points(angles: np.ndarray, ranges: np.ndarray) -> np.ndarray:
-    near = np.isfinite(ranges) & (ranges < NEAR)
-    return np.column_stack((ranges[near] * np.cos(angles[near]), ranges[near] * np.sin(angles[near])))
+def _gauss_newton_step(angles, filled, finite, points, motion) -> np.ndarray | None:
+    gaps, valid = _gaps(angles, filled, finite, points, motion)
+    if valid.sum() < MIN_BEAMS:
+        return None
+    bound = max(3.0 * float(np.median(np.abs(gaps[valid]))), 0.03)
+    used = valid & (np.abs(gaps) <= bound)
+    columns = []
+    for k, h in enumerate((1e-4, 1e-4, 1e-4)):          # numerical derivatives
+        moved = motion.copy()
+        moved[k] += h
+        shifted, shifted_valid = _gaps(angles, filled, finite, points, moved)
+        used &= shifted_valid
+        columns.append((shifted - gaps) / h)
+    if used.sum() < MIN_BEAMS:
+        return None
+    jacobian = np.column_stack(columns)[used]
+    step, *_ = np.linalg.lstsq(jacobian, -gaps[used], rcond=None)
+    return np.clip(step, (-0.02, -0.02, -0.02), (0.02, 0.02, 0.02))

@@ -19,7 +19,7 @@ from robots.canopen import protocol as p
 from robots.canopen.objects import ABSENT_CODES, OPTIONAL, described
 from robots.canopen.wheels import wrap_delta
 from robots.exceptions import HandshakeError
-from robots.scan_turn import Turn, advance_between, turn_between
+from robots.scan_turn import ScanMotion, motion_between
 
 log = logging.getLogger("robots.canopen.driver")
 S = p.State402
@@ -230,7 +230,7 @@ class DriveStartUp:
         self.odometry.reset()
         positions = self._odometry_by_sdo()          # the robot moves: odometry follows it
         scan = first_scan = self._scan_after(self._time())
-        turns: dict[int, tuple[float, Turn]] = {}    # node: (predicted, seen by the laser)
+        turns: dict[int, tuple[float, ScanMotion]] = {}    # node: (predicted, seen by the laser)
         travels: dict[int, float] = {}
         for node in self.nodes:
             start = positions[node]
@@ -255,7 +255,7 @@ class DriveStartUp:
                 after = self._scan_after(self._time())
                 if after is not None:
                     turns[node] = (self._predicted_turn(node, travel),
-                                   turn_between(scan.angles, scan.ranges, after.ranges))
+                                   motion_between(scan.angles, scan.ranges, after.ranges))
                     travels[node] = travel
                 scan = after
         self._judge_turns(turns)
@@ -284,16 +284,15 @@ class DriveStartUp:
         """Both wheels went forward by the profile: the robot must have moved forward. Moving
         back is a robot driven from the wrong end (wheels swapped and mirrored, the turns then
         agree) or a laser mounted facing backwards."""
-        net = turn_between(first.angles, first.ranges, last.ranges)
-        seen = advance_between(first.angles, first.ranges, last.ranges, net.radians)
-        self.self_check_advance = {"predicted_m": predicted, "laser_m": seen.metres}
-        if not (seen.trusted and net.trusted) or predicted < 0.01:
+        seen = motion_between(first.angles, first.ranges, last.ranges)
+        self.self_check_advance = {"predicted_m": predicted, "laser_m": seen.forward}
+        if not seen.trusted or predicted < 0.01:
             return
-        if seen.metres * predicted < 0 and abs(seen.metres) >= 0.5 * predicted:
+        if seen.forward * predicted < 0 and abs(seen.forward) >= 0.5 * predicted:
             c = self.config
             raise StartupError(
                 f"start-up self-check: each wheel went {predicted * 1000:.0f} mm forward by its "
-                f"encoder, but the laser saw the robot move {seen.metres * 1000:+.0f} mm: it drives "
+                f"encoder, but the laser saw the robot move {seen.forward * 1000:+.0f} mm: it drives "
                 f"from its other end; the wheels are swapped and mirrored (left_node = "
                 f"{c.left_node}, right_node = {c.right_node}, right_mirrored = "
                 f"{str(c.right_mirrored).lower()}) or the laser faces backwards; refused before "
@@ -305,7 +304,7 @@ class DriveStartUp:
         sign = 1.0 if node == self.config.right_node else -1.0
         return sign * travel / self.config.track_width
 
-    def _judge_turns(self, turns: dict[int, tuple[float, Turn]]) -> None:
+    def _judge_turns(self, turns: dict[int, tuple[float, ScanMotion]]) -> None:
         """Refuse a mirroring or geometry the laser contradicts: a wheel that turned the robot
         the other way than its encoder says (mounted the other way round, wheels swapped), or a
         turn off by more than TURN_PLAUSIBLE (track width, wheel radius, gear)."""
@@ -318,7 +317,7 @@ class DriveStartUp:
                     f"difference {seen.residual * 1000:.0f} mm over {seen.beams} beams): the "
                     f"robot's turn was not checked")
             elif abs(math.degrees(predicted)) >= TURN_JUDGED:
-                judged[node] = (predicted, seen.radians)
+                judged[node] = (predicted, seen.turn)
         self.self_check_turns = {n: {"predicted_deg": math.degrees(p_), "laser_deg": math.degrees(s_)}
                                  for n, (p_, s_) in judged.items()}
         backwards = [n for n, (p_, s_) in judged.items() if p_ * s_ < 0
