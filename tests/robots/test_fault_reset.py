@@ -128,3 +128,11 @@ def test_without_the_option_no_reset(robot):
             base.reset_faults()
     finally:
         base.close()
+
+
+@pytest.mark.parametrize("robot", DRIVERS)
+def test_the_profile_option_is_checked(robot):
+    driver = DRIVERS[robot]
+    assert driver.profile_problems({"reset_faults": True}) == []
+    problems = driver.profile_problems({"reset_faults": "yes"})
+    assert problems == [("reset_faults", "reset_faults = 'yes' must be true or false")]
