@@ -130,8 +130,8 @@ def test_canopen_fault_quick_stop_goes_out_before_the_next_cycle():
 
     def marked(name, handler):
         def handle(can_id, data, timestamp):
-            with lock:
-                order.append((name, can_id & 0x7F, 0))
+            with lock:                                 # (an EMCY with its error code)
+                order.append((name, can_id & 0x7F, int.from_bytes(bytes(data[:2]), "little")))
             return handler(can_id, data, timestamp)
         return handle
     base._send = sending
@@ -145,7 +145,7 @@ def test_canopen_fault_quick_stop_goes_out_before_the_next_cycle():
         wait(0.3)
         with lock:
             seen = list(order)
-        first_emcy = next(i for i, entry in enumerate(seen) if entry[0] == "emcy")
+        first_emcy = next(i for i, entry in enumerate(seen) if entry[:3:2] == ("emcy", 0x2310))
         after = seen[first_emcy + 1:]
         next_cycle = next(i for i, entry in enumerate(after) if entry[0] == "tpdo2")
         quick_stops = {node for kind, node, word in after[:next_cycle]
@@ -154,3 +154,26 @@ def test_canopen_fault_quick_stop_goes_out_before_the_next_cycle():
     finally:
         base.close()
         emulator.close()
+
+
+def test_canopen_after_a_fault_every_cycle_keeps_quick_stop_and_zero():
+    """A drive without 0x605A whose own quick stop stays in Quick Stop Active (option 6, as
+    some makers ship): there an enable-operation controlword drives again (CiA 402 transition
+    16), so every RPDO after a fault must carry quick stop and target 0, not the old command."""
+    from robots.canopen.driver import CanOpenBase
+    base, simulation, clock = lockstep("argos", CanOpenBase)
+    for drive in base.emulator.drives.values():
+        drive.remove_objects(0x605A)
+        drive.quick_stop_default = 6
+    base.open()
+    try:
+        for _ in range(10):
+            step(base, simulation, clock, 0.1, SPEED)
+        base.emulator.inject_fault(1, 0x2310)
+        for _ in range(20):                             # 2 s: the tick loop commands on
+            step(base, simulation, clock, 0.1, SPEED)
+        right = base.emulator.drives[2]
+        assert right.state.value == "quick stop active" and right.target == 0
+        assert simulation.world.body.v == 0.0 and simulation.world.body.w == 0.0
+    finally:
+        base.close()
