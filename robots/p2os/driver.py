@@ -18,10 +18,10 @@ Safety, in real time:
 - The reader takes everything that has arrived in one call and decodes only the newest
   FLOOD_KEEP bytes of a flood (`robots.link.arrival`); a SIP's age is the age of its arrival,
   so silence after a flood is noticed as soon as silence after nothing.
-- Motors that go off after they were on (SIP FLAGS bit 0 clear, or the e-stop bit 5) are a
-  drive fault: zero at once, commands ignored, `link_up` False and `extra["fault_device"]`,
-  `fault_code`, `fault_meaning` for the trace's `fault` event, until the driver is closed, or
-  until `reset_faults()` (with the option `reset_faults`): ENABLE 1 once the e-stop is
+- Motors that go off after they were on (SIP FLAGS bit 0 clear), or the e-stop bit 5 from the
+  first SIP on (a robot started with its e-stop pressed), are a drive fault: zero at once,
+  commands ignored, `link_up` False and `extra["fault_device"]`, `fault_code`,
+  `fault_meaning` for the trace's `fault` event, until the driver is closed, or until `reset_faults()` (with the option `reset_faults`): ENABLE 1 once the e-stop is
   released and no motion is commanded; the fault clears when a SIP shows the motors on
   (`robots.link.fault_reset`), and the command stays zero until the next `command()`.
 - A reading the profile does not describe (a sonar number beyond the profile's ring, a range
@@ -508,8 +508,9 @@ class P2OSBase(Base):
                                     + (" (e-stop pressed)" if estop else ""))
             log.warning("%s: drive fault reset did not take: %s", self.url,
                         self.fault_reset.last_failure)
-        if not self._motors_seen or self.drive_fault is not None:
-            return                         # still starting (ENABLE not yet in force), or known
+        if (not self._motors_seen and not estop) or self.drive_fault is not None:
+            return                         # still starting (ENABLE not yet in force), or known;
+                                           # the e-stop bit is a fault from the first SIP on
         meaning = ("e-stop pressed (SIP FLAGS bit 5)" if estop else
                    "motors disabled by the controller (SIP FLAGS bit 0 clear: the motor switch, "
                    "the e-stop or a controller fault)")

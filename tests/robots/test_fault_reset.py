@@ -136,3 +136,25 @@ def test_the_profile_option_is_checked(robot):
     assert driver.profile_problems({"reset_faults": True}) == []
     problems = driver.profile_problems({"reset_faults": "yes"})
     assert problems == [("reset_faults", "reset_faults = 'yes' must be true or false")]
+
+
+def test_p2os_started_with_its_estop_pressed_is_a_fault_until_released_and_reset():
+    profile = load_profile("horos")
+    profile = replace(profile, base=replace(profile.base, options={**profile.base.options,
+                                                                   "reset_faults": True}))
+    clock = SimClock()
+    simulation = Simulation(profile, None, 0, clock)
+    base = P2OSBase.for_simulation(profile, simulation, clock)
+    base.emulator.press_estop()                          # pressed before we connect
+    base.open()
+    try:
+        run_for(base, simulation, clock, 0.5)
+        assert base.drive_fault["meaning"].startswith("e-stop pressed")
+        assert not base.read_state().link_up and not base.fault_resettable()
+        base.emulator.press_estop(False)
+        run_for(base, simulation, clock, 0.3)
+        assert base.reset_faults() == ["P2OS motors"]
+        run_for(base, simulation, clock, 0.5)
+        assert base.drive_fault is None and base.read_state().motors_enabled
+    finally:
+        base.close()
