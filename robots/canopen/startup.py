@@ -229,7 +229,7 @@ class DriveStartUp:
             self._world_step(self.clock.now())     # a real-time simulation: its world up to now first
         self.odometry.reset()
         positions = self._odometry_by_sdo()          # the robot moves: odometry follows it
-        scan = first_scan = self._scan_after(self._time())
+        scan = first_scan = self._scan_after(self._now())
         turns: dict[int, tuple[float, ScanMotion]] = {}    # node: (predicted, seen by the laser)
         travels: dict[int, float] = {}
         for node in self.nodes:
@@ -252,7 +252,7 @@ class DriveStartUp:
                                             "expected_m": expected, "travel_m": travel}
             self._judge_self_check(node, velocity, travel, expected)
             if scan is not None:
-                after = self._scan_after(self._time())
+                after = self._scan_after(self._now())
                 if after is not None:
                     turns[node] = (self._predicted_turn(node, travel),
                                    motion_between(scan.angles, scan.ranges, after.ranges))
@@ -264,8 +264,8 @@ class DriveStartUp:
 
     # -- the laser's witness ---------------------------------------------------------------------------
     def _scan_after(self, t: float):
-        """A laser scan taken at `t` or later (None without a laser, or none within SCAN_WAIT s;
-        a note says the turn check was skipped)."""
+        """A laser scan taken at robot time `t` or later (a scan's stamp is robot time); None
+        without a laser, or none within SCAN_WAIT s (a note says the check was skipped)."""
         if self.scan_source is None:
             return None
         deadline = self._time() + SCAN_WAIT

@@ -229,3 +229,17 @@ def test_a_mirroring_or_geometry_the_laser_contradicts_is_refused_before_driving
     assert all(d.target == 0 for d in emulator.drives.values())
     body = simulation.world.body
     assert math.hypot(body.x - ARGOS_START[0], body.y - ARGOS_START[1]) < 0.05    # a few mm only
+
+
+def test_the_laser_check_runs_in_a_real_time_simulation_too():
+    """Real time: the scans' stamps are robot time, the world steps as the drives move."""
+    from robots.hardware import open_hardware
+    hardware = open_hardware("argos", fast=False)
+    try:
+        base = hardware.base
+        assert not [n for n in base.startup_notes if "self-check" in n], base.startup_notes
+        for node in (1, 2):
+            turn = base.self_check_turns[node]
+            assert turn["laser_deg"] == pytest.approx(turn["predicted_deg"], rel=0.15)
+    finally:
+        hardware.close()
