@@ -51,6 +51,7 @@ class RunSummary:
     device_links: dict[str, list] = field(default_factory=dict)  # device -> [downs, ups, s down]
     ended_by: str | None = None     # why the loop ended early: "SIGTERM", "an error", ...
     device_faults: list[str] = field(default_factory=list)   # `fault` events naming a device
+    fault_resets: list[str] = field(default_factory=list)    # `fault_reset` events sent
     base_link_last: str = ""        # the newest base link episode: controller and port, why
 
     def count(self, event: dict[str, Any]) -> None:
@@ -73,6 +74,8 @@ class RunSummary:
                 self.link_down_seconds += float(event.get("after", 0.0))
         elif kind == "dropped":
             self.dropped_readings += int(event.get("count", 0))
+        elif kind == "fault_reset" and event.get("sent"):
+            self.fault_resets.append(f"{event.get('device')} at {event.get('t', 0.0):.1f} s")
         elif kind == "fault" and event.get("device"):      # a device of the base failed
             self.device_faults.append(f"{event['device']}: "
                                       f"{(event.get('code') + ' ') if event.get('code') else ''}"
@@ -102,6 +105,8 @@ class RunSummary:
             out.append(failure)
         for fault in self.device_faults:
             out.append(f"device fault: {fault}; the robot was stopped")
+        for reset in self.fault_resets:
+            out.append(f"device fault reset sent: {reset} (no motion commanded; still until commanded anew)")
         if self.ended_by:
             out.append(f"ended early by {self.ended_by}; the robot was stopped")
         if self.fault:
@@ -414,6 +419,9 @@ def _describe(event: dict[str, Any], robot: str) -> str | None:
         return f"{t} FAULT: {event['device']}{code}: {event.get('meaning', '')} (the robot is stopped)"
     if kind == "fault":
         return f"{t} FAULT: {event['reason']} (the robot is stopped)"
+    if kind == "fault_reset":
+        return (f"{t} fault reset sent to {event.get('device')} (no motion commanded)"
+                if event.get("sent") else f"{t} fault reset refused: {event.get('reason')}")
     if kind == "skill" and event.get("status") == "failed":
         return f"{t}   skill {event['name']} failed: {event['reason']}"
     if kind == "link" and event.get("device"):

@@ -35,3 +35,7 @@ class CommandError(RobotError):
 
 class FloorError(RobotError):
     """A floor plan is missing or malformed (the message carries file and field)."""
+
+
+class FaultResetError(RobotError):
+    """A drive fault's reset was refused (motion commanded, or the cause still present)."""

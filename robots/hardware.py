@@ -287,7 +287,7 @@ def _with_fault_reset(profile: RobotProfile) -> RobotProfile:
     driver = _driver_class(profile)
     if "reset_faults" not in getattr(driver, "PROFILE_OPTIONS", ()):
         raise RobotError(f"--reset-faults: the {profile.base.driver} base of {profile.name} has no "
-                         f"drive faults to reset (only the CAN base has)")
+                         f"drive faults to reset (the CAN, P2OS and rFLEX bases have)")
     options = {**profile.base.options, "reset_faults": True}
     return replace(profile, base=replace(profile.base, options=options))
 
@@ -307,11 +307,18 @@ def _open_real(profile: RobotProfile, clock, port: str) -> Hardware:
         base = driver.for_profile(profile, port, clock=clock)
     else:
         base = driver(profile.limits, port, clock=clock, **profile.base.options)
+    laser = None
     try:
+        if hasattr(base, "scan_source"):      # its self-check watches the laser: open it first
+            laser = _open_real_laser(profile, clock)
+            _give_self_check_a_laser(base, profile, lambda: laser)
         base.open()
-        laser = _open_real_laser(profile, clock)
+        if laser is None:
+            laser = _open_real_laser(profile, clock)
     except BaseException:         # a link error, or a signal in the middle of the handshake
         base.close()
+        if laser is not None and hasattr(laser, "close"):
+            laser.close()
         raise
     # The base, its laser, and the head and camera where the profile names them; the
     # interaction devices follow the options.
@@ -322,6 +329,23 @@ def _open_real(profile: RobotProfile, clock, port: str) -> Hardware:
         hardware.close()
         raise
     return hardware
+
+
+def _give_self_check_a_laser(base: Base, profile: RobotProfile, laser) -> None:
+    """A base whose start-up self-check can use the laser (`scan_source`, the CAN base) gets
+    its `read`: the laser sees the robot's real turn (robots.scan_turn)."""
+    if profile.laser is None or not hasattr(base, "scan_source"):
+        return
+    device = laser()
+    if device is not None:
+        base.scan_source = device.read
+
+
+def _self_check_sim_laser(profile: RobotProfile, simulation, seed: int) -> Laser:
+    """The simulated laser for the self-check, with a random stream of its own."""
+    import numpy as np
+    from robots.sim.devices import SimLaser
+    return SimLaser(simulation.world, profile, rng=np.random.default_rng([seed, 402]))
 
 
 def _open_head_and_camera(hardware: Hardware) -> None:
@@ -359,6 +383,7 @@ def _open_simulated(profile: RobotProfile, clock, scenario, seed: int, emulate: 
         base = driver.for_simulation(profile, simulation, clock)
     else:
         base = SimulatedBase(profile.limits, world=simulation.world)
+    _give_self_check_a_laser(base, profile, lambda: _self_check_sim_laser(profile, simulation, seed))
     base.open()
     devices = simulation.devices()
     try:

@@ -4,6 +4,12 @@ One goal at a time. Each tick `act` computes the wanted velocity for the goal, p
 through the safety arbiter, and sends it to the base — zero when there is no goal, so the
 driver always gets a fresh command and its watchdog never has to step in on a healthy loop.
 
+A drive fault the base may reset (its `reset_faults` option, from the profile or `interbot run
+--reset-faults`, and the controller no longer reporting the cause: `extra["fault_resettable"]`)
+is reset here, and only while the application asks for no motion (no goal: its fault branch's
+behavior stands still); the base then holds zero until a goal commands anew. A `fault_reset`
+event says so.
+
 A "navigate" goal hands the velocity to the navigation skill (`navigator`), which computes it
 each tick; it still passes the safety arbiter here like every other command.
 """
@@ -13,6 +19,7 @@ import math
 from dataclasses import dataclass
 
 from robots.base import Base
+from robots.exceptions import FaultResetError
 from robots.profile import Limits
 from skills.perception import PeoplePerception
 from skills.localization import Localization
@@ -70,6 +77,7 @@ class Motion(Skill):
         self.set_status(IDLE, now)
 
     def act(self, now: float) -> None:
+        self._reset_fault_while_still(now)
         v, w = self._wanted(now)
         link = self.blackboard.value("robot/link", False)
         free = self.blackboard.value("obstacles/front", math.inf)
@@ -82,6 +90,21 @@ class Motion(Skill):
         self.base.command(v, w)
         self.write("motion/command", (v, w), now)
         self.write("motion/limit", reason, now)
+
+    def _reset_fault_while_still(self, now: float) -> None:
+        """Reset a drive fault the base offers to reset, while no goal asks for motion."""
+        state = self.localization.odometry
+        if state is None or self.goal is not None or not state.extra.get("fault_resettable"):
+            return
+        device = state.extra.get("fault_device")
+        try:
+            reset = self.base.reset_faults()
+        except FaultResetError as exc:
+            self.events.emit(now, "fault_reset", device=device, sent=False, reason=str(exc))
+            return
+        if reset:
+            self.events.emit(now, "fault_reset", device=device, sent=True,
+                             reason=state.extra.get("fault_meaning", ""))
 
     def stop_now(self, now: float) -> None:
         """Drop the goal and send zero at once (faults, shutdown)."""

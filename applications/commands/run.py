@@ -34,8 +34,11 @@ class RunCommand:
         parser.add_argument("--fast", action="store_true",
                             help="run on a simulated clock as fast as the CPU allows")
         parser.add_argument("--reset-faults", action="store_true",
-                            help="clear a drive fault found at start-up (CAN base: the fault-reset "
-                                 "edge, only while no motion is commanded); find the cause first")
+                            help="reset drive faults, only while no motion is commanded: CAN, a drive "
+                                 "found in Fault at start-up (the fault-reset edge); P2OS and rFLEX, "
+                                 "a fault in the run once the application stands still (ENABLE 1, "
+                                 "brake release) and the controller no longer reports the cause; "
+                                 "find the cause first")
         parser.add_argument("--map", type=arguments.map_source, metavar="FILE",
                             help="the map to localize and navigate on: a bundled floor name "
                                  "(office), a floor .toml or a map_server .yaml; in simulation "

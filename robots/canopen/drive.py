@@ -50,6 +50,7 @@ class Drive:
         self.booted = False
         self.injected: list[int] = []           # EMCY codes sent (tests read them)
         self.encoder_inverted = False           # a vendor setting outside the OD (encoder wired reversed)
+        self.quick_stop_default = 2             # the quick-stop reaction of a drive without 0x605A
         self.rpdo_log: list[tuple[float, int, int]] = []   # (monotonic, controlword, target) received
         self.cw_log: list[tuple[float, int, float]] = []   # each new controlword: (robot time, word, m/s)
         self._reset_application()
@@ -120,6 +121,10 @@ class Drive:
         if var is None:
             return default
         return var.decode_raw(self.node.get_data(index, sub))
+
+    def _quick_stop_option(self) -> int:
+        """0x605A, or the drive's own behaviour where it has no such object."""
+        return self._u(p.QUICK_STOP_OPTION, default=self.quick_stop_default)
 
     def remove_objects(self, *keys) -> None:
         """Tests: a drive without these optional objects (an index, or (index, sub)): its SDO
@@ -239,6 +244,8 @@ class Drive:
             if state in (S.SWITCHED_ON, S.READY_TO_SWITCH_ON):
                 self.state = S.OPERATION_ENABLED
                 self.following_since = None
+            elif state is S.QUICK_STOP_ACTIVE and self._quick_stop_option() in (5, 6, 7, 8):
+                self.state = S.OPERATION_ENABLED            # CiA 402 transition 16: driving again
         if self.state is not S.OPERATION_ENABLED and state is S.OPERATION_ENABLED \
                 and self.state is not S.QUICK_STOP_ACTIVE:
             self.coasting = self.demand != 0.0          # the power stage let go of a turning wheel
@@ -475,8 +482,8 @@ class Drive:
             else:
                 self.following_since = None
         elif self.state in (S.QUICK_STOP_ACTIVE, S.FAULT_REACTION_ACTIVE):
-            option = self._u(p.QUICK_STOP_OPTION if self.state is S.QUICK_STOP_ACTIVE
-                             else p.FAULT_REACTION_OPTION, default=2)
+            option = (self._quick_stop_option() if self.state is S.QUICK_STOP_ACTIVE
+                      else self._u(p.FAULT_REACTION_OPTION, default=2))
             if option == 0:                                 # disable drive function: let go
                 self.coasting = self.demand != 0.0
                 self.state = S.SWITCH_ON_DISABLED if self.state is S.QUICK_STOP_ACTIVE else S.FAULT
@@ -486,7 +493,7 @@ class Drive:
             if self.demand == 0.0:
                 if self.state is S.FAULT_REACTION_ACTIVE:
                     self.state = S.FAULT
-                elif self._u(p.QUICK_STOP_OPTION) in (1, 2, 3, 4):
+                elif self._quick_stop_option() in (1, 2, 3, 4):
                     self.state = S.SWITCH_ON_DISABLED
         elif self.coasting:
             self.demand = _approach(self.demand, 0.0, COAST_DECEL * config.velocity_per_mps * dt)

@@ -125,6 +125,9 @@ class CanOpenBase(DriveStartUp, DriveStopping, Base):
         self.startup_notes: list[str] = []      # optional objects skipped, and why that is fine
         self.identity: dict[int, dict[str, int]] = {}
         self.self_check_result: dict[int, dict[str, float]] = {}
+        # the laser, for the self-check's witness of the robot's real turn (robots.scan_turn):
+        # a callable giving the newest LaserScan, set by whoever opens the robot before open()
+        self.scan_source = None
         self.stop_log: list[dict] = []          # each stop sequence: steps and times
         self._sonar: tuple[float, ...] = tuple([math.inf] * c.sonars)
         self._sonar_t = -math.inf               # when the sonar board last reported

@@ -8,6 +8,7 @@ helpers (`_sdo_read`, `_sdo_write`), its config, limits, odometry and `_pause`.
 from __future__ import annotations
 
 import logging
+import math
 import struct
 import time
 
@@ -18,11 +19,15 @@ from robots.canopen import protocol as p
 from robots.canopen.objects import ABSENT_CODES, OPTIONAL, described
 from robots.canopen.wheels import wrap_delta
 from robots.exceptions import HandshakeError
+from robots.scan_turn import ScanMotion, motion_between
 
 log = logging.getLogger("robots.canopen.driver")
 S = p.State402
 SELF_CHECK_SPEED = 0.05     # m/s at the wheel during the start-up self-check
 PLAUSIBLE = (0.5, 2.0)      # self-check: measured / expected outside this is a contradiction
+TURN_PLAUSIBLE = (0.67, 1.5)  # the laser's turn / the profile's predicted turn, per wheel
+TURN_JUDGED = 0.5           # deg: a predicted turn smaller than this is not judged
+SCAN_WAIT = 1.0             # s to wait for a scan taken after the wheel stood still
 
 
 class StartupError(HandshakeError):
@@ -214,6 +219,8 @@ class DriveStartUp:
         the drive reports: velocity or position against the command, or off by a factor."""
         c = self.config
         self.self_check_result = {}
+        self.self_check_turns = {}
+        self.self_check_advance = {}
         if not c.self_check:
             self.startup_notes.append("self-check off (self_check = false): units and polarity unchecked")
             return
@@ -222,6 +229,9 @@ class DriveStartUp:
             self._world_step(self.clock.now())     # a real-time simulation: its world up to now first
         self.odometry.reset()
         positions = self._odometry_by_sdo()          # the robot moves: odometry follows it
+        scan = first_scan = self._scan_after(self._now())
+        turns: dict[int, tuple[float, ScanMotion]] = {}    # node: (predicted, seen by the laser)
+        travels: dict[int, float] = {}
         for node in self.nodes:
             start = positions[node]
             self._sdo_write(node, p.TARGET_VELOCITY, 0,
@@ -241,6 +251,106 @@ class DriveStartUp:
             self.self_check_result[node] = {"commanded_mps": SELF_CHECK_SPEED, "velocity_mps": velocity,
                                             "expected_m": expected, "travel_m": travel}
             self._judge_self_check(node, velocity, travel, expected)
+            if scan is not None:
+                after = self._scan_after(self._now())
+                if after is not None:
+                    turns[node] = (self._predicted_turn(node, travel),
+                                   motion_between(scan.angles, scan.ranges, after.ranges))
+                    travels[node] = travel
+                scan = after
+        self._judge_turns(turns)
+        if scan is not None and len(travels) == 2:
+            self._judge_advance(first_scan, scan, sum(travels.values()) / 2)
+
+    # -- the laser's witness ---------------------------------------------------------------------------
+    def _scan_after(self, t: float):
+        """A laser scan taken at robot time `t` or later (a scan's stamp is robot time); None
+        without a laser, or none within SCAN_WAIT s (a note says the check was skipped)."""
+        if self.scan_source is None:
+            return None
+        deadline = self._time() + SCAN_WAIT
+        while True:
+            scan = self.scan_source()
+            if scan is not None and scan.t >= t - 1e-9 and len(scan.ranges):
+                return scan
+            if self._time() >= deadline:
+                self.startup_notes.append("self-check: no laser scan within 1 s; the robot's turn "
+                                          "was not checked against the laser")
+                self.scan_source = None
+                return None
+            self._pause(self.config.sync_period)
+
+    def _judge_advance(self, first, last, predicted: float) -> None:
+        """Both wheels went forward by the profile: the robot must have moved forward. Moving
+        back is a robot driven from the wrong end (wheels swapped and mirrored, the turns then
+        agree) or a laser mounted facing backwards."""
+        seen = motion_between(first.angles, first.ranges, last.ranges)
+        self.self_check_advance = {"predicted_m": predicted, "laser_m": seen.forward}
+        if not seen.trusted or predicted < 0.01:
+            return
+        if seen.forward * predicted < 0 and abs(seen.forward) >= 0.5 * predicted:
+            c = self.config
+            raise StartupError(
+                f"start-up self-check: each wheel went {predicted * 1000:.0f} mm forward by its "
+                f"encoder, but the laser saw the robot move {seen.forward * 1000:+.0f} mm: it drives "
+                f"from its other end; the wheels are swapped and mirrored (left_node = "
+                f"{c.left_node}, right_node = {c.right_node}, right_mirrored = "
+                f"{str(c.right_mirrored).lower()}) or the laser faces backwards; refused before "
+                f"driving")
+
+    def _predicted_turn(self, node: int, travel: float) -> float:
+        """The robot's turn (rad, counter-clockwise) when only `node`'s wheel travels `travel`
+        forward, by the profile's geometry."""
+        sign = 1.0 if node == self.config.right_node else -1.0
+        return sign * travel / self.config.track_width
+
+    def _judge_turns(self, turns: dict[int, tuple[float, ScanMotion]]) -> None:
+        """Refuse a mirroring or geometry the laser contradicts: a wheel that turned the robot
+        the other way than its encoder says (mounted the other way round, wheels swapped), or a
+        turn off by more than TURN_PLAUSIBLE (track width, wheel radius, gear)."""
+        c = self.config
+        judged = {}
+        for node, (predicted, seen) in turns.items():
+            if not seen.trusted:
+                self.startup_notes.append(
+                    f"{self._who(node)}: self-check: the laser scans did not match (median "
+                    f"difference {seen.residual * 1000:.0f} mm over {seen.beams} beams): the "
+                    f"robot's turn was not checked")
+            elif abs(math.degrees(predicted)) >= TURN_JUDGED:
+                judged[node] = (predicted, seen.turn)
+        self.self_check_turns = {n: {"predicted_deg": math.degrees(p_), "laser_deg": math.degrees(s_)}
+                                 for n, (p_, s_) in judged.items()}
+        backwards = [n for n, (p_, s_) in judged.items() if p_ * s_ < 0
+                     and abs(s_) >= 0.3 * abs(p_)]
+        def seen_text(node):
+            p_, s_ = judged[node]
+            return (f"{self._who(node)} {math.degrees(p_):+.1f} deg by the profile, "
+                    f"{math.degrees(s_):+.1f} deg by the laser")
+        if len(backwards) == 2:
+            raise StartupError(
+                f"start-up self-check: each wheel turned the robot the other way than the profile "
+                f"says ({seen_text(c.left_node)}; {seen_text(c.right_node)}): the wheels are "
+                f"swapped (left_node = {c.left_node}, right_node = {c.right_node}) or both motors "
+                f"are mounted the other way round; refused before driving")
+        if backwards:
+            node = backwards[0]
+            side = "right" if node == c.right_node else "left"
+            fix = (f"right_mirrored = {str(not c.right_mirrored).lower()}" if side == "right" else
+                   "the drive's polarity 0x607E (bits 6 and 7), as the profile mirrors the right "
+                   "motor only")
+            raise StartupError(
+                f"{self._who(node)}: start-up self-check: its wheel drove backwards though its "
+                f"encoder says forwards ({seen_text(node)}): the {side} motor is mounted the other "
+                f"way round than the profile says (right_mirrored = "
+                f"{str(c.right_mirrored).lower()}); set {fix}; refused before driving")
+        for node, (predicted, seen) in judged.items():
+            ratio = seen / predicted
+            if not TURN_PLAUSIBLE[0] <= ratio <= TURN_PLAUSIBLE[1]:
+                raise StartupError(
+                    f"{self._who(node)}: start-up self-check: the robot turned x{ratio:.2f} what "
+                    f"the profile's geometry predicts ({seen_text(node)}): check track_width = "
+                    f"{c.track_width}, wheel_radius = {c.wheel_radius}, gear_ratio = "
+                    f"{c.gear_ratio}, encoder_counts = {c.encoder_counts}; refused before driving")
 
     def _odometry_by_sdo(self) -> dict[int, int]:
         """Both position counters read by SDO, fed to odometry (no PDOs before driving)."""

@@ -6,6 +6,8 @@
 - `backoff`: the reconnect-with-back-off policy.
 - `pty`: a raw-mode pseudo-terminal pair, so firmware emulators speak over a real tty.
 - `host`: hosting a firmware emulator on a pty or TCP port (transports, reader thread, unplug).
+- `fault_reset`: a drive fault's reset, refused while motion is commanded, confirmed by the
+  controller.
 - `lockstep`: byte counters that make a driver and an in-process emulator deterministic on a
   simulated clock.
 """

@@ -18,9 +18,12 @@ Safety, in real time:
 - The reader takes everything that has arrived in one call and decodes only the newest
   FLOOD_KEEP bytes of a flood (`robots.link.arrival`); a SIP's age is the age of its arrival,
   so silence after a flood is noticed as soon as silence after nothing.
-- Motors that go off after they were on (SIP FLAGS bit 0 clear, or the e-stop bit 5) are a
-  drive fault: zero at once, commands ignored, `link_up` False and `extra["fault_device"]`,
-  `fault_code`, `fault_meaning` for the trace's `fault` event, until the driver is closed.
+- Motors that go off after they were on (SIP FLAGS bit 0 clear), or the e-stop bit 5 from the
+  first SIP on (a robot started with its e-stop pressed), are a drive fault: zero at once,
+  commands ignored, `link_up` False and `extra["fault_device"]`, `fault_code`,
+  `fault_meaning` for the trace's `fault` event, until the driver is closed, or until `reset_faults()` (with the option `reset_faults`): ENABLE 1 once the e-stop is
+  released and no motion is commanded; the fault clears when a SIP shows the motors on
+  (`robots.link.fault_reset`), and the command stays zero until the next `command()`.
 - A reading the profile does not describe (a sonar number beyond the profile's ring, a range
   beyond twice the sensor's reach) is dropped and counted (`extra["dropped_readings"]`, with
   the newest reason in `extra["dropped_reason"]`), never passed up.
@@ -44,9 +47,10 @@ from dataclasses import replace
 import serial
 
 from robots.base import Base, BaseState, clamp_velocity
-from robots.exceptions import HandshakeError, LinkError
+from robots.exceptions import FaultResetError, HandshakeError, LinkError
 from robots.link.arrival import read_arrived
 from robots.link.backoff import Backoff
+from robots.link.fault_reset import FaultReset
 from robots.link.lockstep import LockStep
 from robots.link.watchdog import CommandWatchdog
 from robots.p2os import protocol as p
@@ -96,7 +100,9 @@ class _Port:
 class P2OSBase(Base):
     """A Pioneer 2 base over P2OS. Options: baud, retries, reply_timeout, sonar_max_range,
     watchdog, sonar (on at connect), sonar_count (the profile's ring; more are dropped),
-    reconnect (bool), lockstep (in-process emulator only)."""
+    reconnect (bool), reset_faults (allow `reset_faults()`), lockstep (in-process emulator only)."""
+
+    PROFILE_OPTIONS = ("subclass", "reset_faults")
 
     def __init__(self, limits: Limits, url: str, subclass_hint: str | None = "p2dx", clock=None,
                  **options) -> None:
@@ -116,6 +122,7 @@ class P2OSBase(Base):
         self.watchdog = CommandWatchdog(float(options.pop("watchdog", WATCHDOG)), self._on_stale,
                                         name="p2os-watchdog", time_source=self._time)
         self.backoff = Backoff(initial=0.1, factor=2.0, maximum=2.0)
+        self.fault_reset = FaultReset(bool(options.pop("reset_faults", False)), self.watchdog.timeout)
         self.options = options                      # unknown options are kept, not fatal
         self.factors = p.factors_for(self.subclass_hint) or p.FACTORS["p2dx"]
         self.robot_id: tuple[str, str, str] | None = None
@@ -143,16 +150,19 @@ class P2OSBase(Base):
         self._motors_seen = False                   # motors reported on since this connection
         self._opened_once = False                   # open() succeeded (so close() has a robot)
         self.closing_note = ""                      # a stop that closing could not deliver
-        self.drive_fault: dict | None = None        # device, code, meaning: latched until close
+        self.drive_fault: dict | None = None        # device, code, meaning: latched until reset
+        self._estop = False                         # the newest SIP's e-stop bit
 
     # -- wiring -------------------------------------------------------------------------------------
     @classmethod
     def profile_problems(cls, options: dict) -> list[tuple[str, str]]:
-        """A profile sets only `subclass` (the others are the driver's own defaults)."""
-        found = [(key, f"unknown p2os option {key!r}; allowed: subclass") for key in options
-                 if key != "subclass"]
+        """A profile sets only `subclass` and `reset_faults` (the others are the driver's own)."""
+        found = [(key, f"unknown p2os option {key!r}; allowed: {', '.join(cls.PROFILE_OPTIONS)}")
+                 for key in options if key not in cls.PROFILE_OPTIONS]
         if "subclass" in options and not isinstance(options["subclass"], str):
             found.append(("subclass", f"subclass = {options['subclass']!r} must be a name such as \"p2dx\""))
+        if not isinstance(options.get("reset_faults", False), bool):
+            found.append(("reset_faults", f"reset_faults = {options['reset_faults']!r} must be true or false"))
         return found
 
     @classmethod
@@ -161,7 +171,8 @@ class P2OSBase(Base):
         max_range = profile.sonar.max_range if profile.sonar is not None else None
         return cls(profile.limits, url, subclass_hint=profile.base.options.get("subclass"),
                    clock=clock, sonar_max_range=max_range, sonar_count=_sonar_count(profile),
-                   baud=profile.base.baud)
+                   baud=profile.base.baud,
+                   reset_faults=profile.base.options.get("reset_faults", False))
 
     @classmethod
     def for_simulation(cls, profile, simulation, clock) -> "P2OSBase":
@@ -177,7 +188,8 @@ class P2OSBase(Base):
         max_range = profile.sonar.max_range if profile.sonar is not None else None
         base = cls(profile.limits, path, subclass_hint=profile.base.options.get("subclass"),
                    clock=clock, sonar_max_range=max_range, sonar_count=_sonar_count(profile),
-                   lockstep=lockstep, reconnect=lockstep is None)
+                   lockstep=lockstep, reconnect=lockstep is None,
+                   reset_faults=profile.base.options.get("reset_faults", False))
         base.emulator = emulator
         return base
 
@@ -212,6 +224,7 @@ class P2OSBase(Base):
         with self._lock:
             now = self._time()
             self.watchdog.feed(now)
+            self.fault_reset.note_command(v, w, now)
             if self.drive_fault is not None:
                 return                     # a drive fault holds still until the run ends
             self._cmd = (mm, deg)
@@ -223,6 +236,7 @@ class P2OSBase(Base):
     def stop(self) -> None:
         with self._lock:
             self._cmd = (0, 0)
+            self.fault_reset.note_command(0.0, 0.0, self._time())
             self.watchdog.disarm()
             if self._link_up:
                 self._send_velocity(0, 0, self._time())
@@ -477,13 +491,26 @@ class P2OSBase(Base):
 
     def _check_drive(self, sip: p.SIP) -> None:
         """Motors that go off after they were on (the motor switch, the e-stop, the controller
-        giving up) are a drive fault: stop, hold still, say which and why (issue 24)."""
+        giving up) are a drive fault: stop, hold still, say which and why (issue 24). A reset
+        waiting for its confirmation clears the fault when a SIP shows the motors on."""
         estop = bool(sip.flags & ESTOP_FLAG)
+        self._estop = estop
+        now = self._time()
         if sip.motors_enabled and not estop:
             self._motors_seen = True
+            if self.drive_fault is not None and self.fault_reset.confirm():
+                log.warning("%s: drive fault reset: the motors are on again (%s); zero until "
+                            "the next command", self.url, self.drive_fault["meaning"])
+                self.drive_fault = None
             return
-        if not self._motors_seen or self.drive_fault is not None:
-            return                         # still starting (ENABLE not yet in force), or known
+        if self.fault_reset.expired(now):
+            self.fault_reset.refuse(now, "the motors stayed off after ENABLE 1"
+                                    + (" (e-stop pressed)" if estop else ""))
+            log.warning("%s: drive fault reset did not take: %s", self.url,
+                        self.fault_reset.last_failure)
+        if (not self._motors_seen and not estop) or self.drive_fault is not None:
+            return                         # still starting (ENABLE not yet in force), or known;
+                                           # the e-stop bit is a fault from the first SIP on
         meaning = ("e-stop pressed (SIP FLAGS bit 5)" if estop else
                    "motors disabled by the controller (SIP FLAGS bit 0 clear: the motor switch, "
                    "the e-stop or a controller fault)")
@@ -496,11 +523,53 @@ class P2OSBase(Base):
             if self._link_up:
                 self._send_velocity(0, 0, self._time())
 
+    def fault_resettable(self) -> bool:
+        """A latched fault `reset_faults()` would act on now: the option is on, the e-stop is
+        released, no motion is commanded, no attempt is waiting or was just refused."""
+        return (self.drive_fault is not None and self._link_up and not self._estop
+                and self.fault_reset.may_try(self._time()))
+
+    def reset_faults(self) -> list[str]:
+        """Re-enable the motors after a drive fault (P2OS: ENABLE 1, as the motor button does),
+        zero first. An explicit act, never automatic; refused (FaultResetError) while motion
+        is commanded, while the e-stop is pressed, or without the option `reset_faults`. The
+        fault clears when a SIP shows the motors on; the command stays zero until the next
+        `command()`. Returns the devices a reset was sent for (none when there was no fault)."""
+        now = self._time()
+        where = f"{self.url}: P2OS motors"
+        if not self.fault_reset.enabled:
+            raise FaultResetError(f"{where}: fault reset refused: the driver option reset_faults "
+                                  f"is off (the profile's reset_faults = true, or --reset-faults)")
+        self.fault_reset.refuse_while_moving(now, where)
+        if self.drive_fault is None:
+            return []
+        if self._estop:
+            raise FaultResetError(f"{where}: fault reset refused: the e-stop is still pressed "
+                                  f"(SIP FLAGS bit 5); release it first")
+        with self._lock:
+            if not self._link_up:
+                raise FaultResetError(f"{where}: fault reset refused: the link is down")
+            self._cmd = (0, 0)
+            self.watchdog.disarm()
+            self._send_velocity(0, 0, now)
+            device, meaning = self.drive_fault["device"], self.drive_fault["meaning"]
+            self._motors_seen = False
+            self.fault_reset.start(now)         # before ENABLE: its SIP may come at once
+            port = self._port
+            try:
+                port.write(p.enable(True))
+            except (serial.SerialException, OSError, AttributeError) as exc:
+                self.fault_reset.refuse(now, f"ENABLE could not be sent ({exc})")
+                self._link_lost(f"write failed: {exc}")
+                raise FaultResetError(f"{where}: fault reset: ENABLE could not be sent ({exc})") from exc
+        log.warning("%s: drive fault reset: ENABLE 1 sent (%s)", self.url, meaning)
+        return [device]
+
     def _fault_extra(self) -> dict:
         fault = self.drive_fault
         if fault is None:
             return {}
-        return {"fault": f"{fault['device']}: {fault['meaning']}", "fault_device": fault["device"],
+        return {"fault_resettable": self.fault_resettable(),"fault": f"{fault['device']}: {fault['meaning']}", "fault_device": fault["device"],
                 "fault_code": fault["code"], "fault_meaning": fault["meaning"]}
 
     def _ring_size(self, factors: p.Factors) -> int:

@@ -42,6 +42,7 @@ from robots.p2os import protocol as p
 SIP_CYCLE = 0.1               # s
 FIRMWARE_WATCHDOG = 2.0       # s without any client packet
 BATTERY_DECIVOLTS = 125
+ESTOP_FLAG = 0x20             # SIP FLAGS bit 5: e-stop (ARIA, later firmware)
 BUMPER_FRONT, BUMPER_REAR = 1, 2          # the world's bumper bits
 ALL_BUMPER_SEGMENTS = 0x3E                # bits 1..5 of a bumper byte
 # FLASH acceleration defaults are per robot (the owner sets them), so `for_profile` takes the
@@ -106,6 +107,7 @@ class Firmware:
         self.origin = (0.0, 0.0, 0.0)
         self.max_vel = self.factors.max_vel
         self.max_rvel = self.factors.max_rvel
+        self.estop = False           # the e-stop button held (tests): motors off, ENABLE ignored
         self.trans_accel = self.flash["trans_accel"]
         self.trans_decel = self.flash["trans_decel"]
         self.rot_accel = self.flash["rot_accel"]
@@ -167,7 +169,7 @@ class Firmware:
         if kind == p.Cmd.CLOSE:
             self.reset()
         elif kind == p.Cmd.ENABLE:
-            self.motors = bool(as_int)
+            self.motors = bool(as_int) and not self.estop
         elif kind == p.Cmd.VEL:
             self.vel, self.move_goal = as_int, None
         elif kind in (p.Cmd.RVEL, p.Cmd.ROTATE):
@@ -233,6 +235,21 @@ class Firmware:
             "firmware_version": "interbot P2OS emulator"})
 
     # -- time ----------------------------------------------------------------------------------
+    def press_estop(self, held: bool = True) -> None:
+        """The e-stop button (tests): pressed, the motors go off at once and ENABLE is ignored
+        while held (SIP FLAGS bit 5); released, the motors stay off until ENABLE 1."""
+        self.estop = held
+        if held:
+            self.motors = False
+            self.vel = self.rvel = 0
+            self.move_goal = self.heading = None
+            self.estop_pending = True
+
+    def switch_motors_off(self) -> None:
+        """The MOTORS button pressed while on (tests): motors off until ENABLE 1."""
+        self.motors = False
+        self.vel = self.rvel = 0
+
     def check_watchdog(self, now: float) -> bool:
         """Trip after FIRMWARE_WATCHDOG s without a packet; True when it just tripped."""
         if (self.open and not self.watchdog_tripped and self.last_packet_t is not None
@@ -301,7 +318,8 @@ class Firmware:
             stall_bumpers |= ALL_BUMPER_SEGMENTS
         if snap.stalled:
             stall_bumpers |= 0x0101
-        flags = (0x01 if self.motors else 0) | (0x02 if self.sonar_on else 0)
+        flags = ((0x01 if self.motors else 0) | (0x02 if self.sonar_on else 0)
+                 | (ESTOP_FLAG if self.estop else 0))
         sonar = tuple((i, self._range_units(r)) for i, r in enumerate(snap.sonar)) \
             if self.sonar_on else ()
         return p.encode_sip(p.SIP(
@@ -365,6 +383,18 @@ class P2OSEmulator(EmulatorHost):
         kw.setdefault("rot_accel", round(math.degrees(limits.max_turn_accel)))
         return cls(world, subclass=profile.base.options.get("subclass", "p2dx"),
                    name=profile.name, sonar_max_range=max_range, **kw)
+
+    def press_estop(self, held: bool = True) -> None:
+        """The e-stop button, pressed or released (tests; `Firmware.press_estop`)."""
+        with self._lock:
+            self.firmware.press_estop(held)
+            self._apply()
+
+    def switch_motors_off(self) -> None:
+        """The MOTORS button pressed while the motors are on (tests)."""
+        with self._lock:
+            self.firmware.switch_motors_off()
+            self._apply()
 
     # -- time ----------------------------------------------------------------------------------
     def now(self) -> float:

@@ -18,7 +18,10 @@ FLOOD_KEEP bytes of a flood are decoded (`robots.link.arrival`); a motor report 
 LINK_TIMEOUT means the link is stale: the command is zeroed at once (the stale-link stop) and
 commands are kept out until reports return. SYS_STATUS is asked once a second; a brake the
 controller set by itself after we released it is a drive fault (zero, commands ignored,
-`extra["fault_device"]` for the trace's `fault` event) until the driver is closed.
+`extra["fault_device"]` for the trace's `fault` event) until the driver is closed, or until
+`reset_faults()` (with the option `reset_faults`): zero on both axes, MOT_BRAKE_RELEASE and a
+status request once no motion is commanded; the fault clears when SYS_STATUS reports the brake
+released (`robots.link.fault_reset`), and the command stays zero until the next `command()`.
 
 Two ways to run: in real time an I/O thread reads, resends and reconnects while the watchdog
 has its own thread; on a simulated clock (lock-step with an in-process emulator) `poll()` does
@@ -33,9 +36,10 @@ import time
 import serial
 
 from robots.base import Base, BaseState, clamp_velocity
-from robots.exceptions import LinkError, ProfileError, ProtocolError
+from robots.exceptions import FaultResetError, LinkError, ProfileError, ProtocolError
 from robots.link import Backoff, CommandWatchdog, LockStep
 from robots.link.arrival import read_arrived
+from robots.link.fault_reset import FaultReset
 from robots.profile import Limits
 from robots.rflex import protocol as p
 
@@ -53,11 +57,13 @@ STATUS_PERIOD = 1.0           # s between SYS_STATUS requests, driving or not: a
                               # cycle; ROS every 100th: "overwhelms the driver")
 FRAME_GAP = 0.001             # s after each frame in real time ("not recognised if too rapid")
 LOCKSTEP_TIMEOUT = 1.0        # s (real) to wait for the emulator's reports in lock-step
-OPTIONS = ("dist_conv", "angle_conv", "baud", "accel")
+OPTIONS = ("dist_conv", "angle_conv", "baud", "accel", "reset_faults")
 
 
 class RFlexBase(Base):
     """A B21r base over rFLEX. `url` is any pyserial URL (`/dev/ttyUSB0`, `socket://h:p`)."""
+
+    PROFILE_OPTIONS = OPTIONS
 
     def __init__(self, limits: Limits, url: str, clock=None, dist_conv: float = DIST_CONV,
                  angle_conv: float = ANGLE_CONV, *, baud: int = BAUD,
@@ -77,6 +83,7 @@ class RFlexBase(Base):
         self.angle_conv = float(angle_conv)
         self.baud = int(baud)
         self.accel = float(options.get("accel", limits.max_accel))
+        self.fault_reset = FaultReset(bool(options.get("reset_faults", False)), WATCHDOG_TIMEOUT)
         self.lockstep = lockstep
         self.open_timeout = open_timeout
         self.frame_gap = 0.0 if lockstep is not None else FRAME_GAP
@@ -112,7 +119,7 @@ class RFlexBase(Base):
         self._panels: dict[int, int] = {}
         self._battery = math.nan
         self._brake = True
-        self.drive_fault: dict | None = None  # device, code, meaning: latched until close
+        self.drive_fault: dict | None = None  # device, code, meaning: latched until reset
         self.closing_note = ""                # a stop that closing could not deliver
         self._report_t = -math.inf
         self._reports = 0
@@ -128,6 +135,8 @@ class RFlexBase(Base):
             value = options.get(key, 1.0)
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not 1.0 <= value <= 1e7:
                 found.append((key, f"{key} = {value!r}; allowed 1 .. 1e7 units"))
+        if not isinstance(options.get("reset_faults", False), bool):
+            found.append(("reset_faults", f"reset_faults = {options['reset_faults']!r} must be true or false"))
         return found
 
     @classmethod
@@ -211,7 +220,8 @@ class RFlexBase(Base):
                        "link_device": self.link_device,
                        **({"fault": f"{fault['device']}: {fault['meaning']}",
                            "fault_device": fault["device"], "fault_code": fault["code"],
-                           "fault_meaning": fault["meaning"]} if fault else {})})
+                           "fault_meaning": fault["meaning"],
+                           "fault_resettable": self._resettable(now, link_up)} if fault else {})})
 
     @property
     def link_device(self) -> str:
@@ -222,6 +232,7 @@ class RFlexBase(Base):
         """Clamp (NaN -> 0), remember, and send both axes now; the watchdog is re-armed."""
         if not self._opened or self._closed:
             raise LinkError(f"rflex base on {self.url} is not open; call open() first")
+        self.fault_reset.note_command(*clamp_velocity(v, w, self.limits), self._now())
         if self._port is None or self.drive_fault is not None:
             return                             # link down or a drive fault: nothing is kept
         self.watchdog.feed()                   # the caller is alive (as P2OS: fed while down)
@@ -235,6 +246,7 @@ class RFlexBase(Base):
     def stop(self) -> None:
         with self._state_lock:
             self._cmd = (0.0, 0.0)
+        self.fault_reset.note_command(0.0, 0.0, self._now())
         self.watchdog.disarm()
         if self._opened and not self._closed:
             self._send_axes()
@@ -432,6 +444,9 @@ class RFlexBase(Base):
         """Watchdog (lock-step), the 10 Hz resend, the silent-controller restart."""
         if self.lockstep is not None:
             self.watchdog.check(now)
+        if self.fault_reset.expired(now):
+            with self._state_lock:
+                self.fault_reset.refuse(now, "no status report after MOT_BRAKE_RELEASE")
         if now - self._report_t > LINK_TIMEOUT:
             if self._cmd != (0.0, 0.0):
                 self._stale_stop()
@@ -536,6 +551,7 @@ class RFlexBase(Base):
                 if report.brake and not self._brake:
                     self._brake_set_by_itself()
                 self._brake = bool(report.brake)
+                self._judge_reset(bool(report.brake))
 
     def _motor(self, report: p.MotorReport) -> None:
         """Keep each axis; integrate once both are fresh (ROS's odomReady mask)."""
@@ -570,6 +586,62 @@ class RFlexBase(Base):
                                        "(SYS_STATUS brake = 1: e-stop or motor power off?)"}
         self._cmd = (0.0, 0.0)               # (the caller holds the state lock)
         self.watchdog.disarm()
+
+    # -- fault reset ----------------------------------------------------------------------------
+    def _resettable(self, now: float, link_up: bool) -> bool:
+        return self.drive_fault is not None and link_up and self.fault_reset.may_try(now)
+
+    def fault_resettable(self) -> bool:
+        """A latched fault `reset_faults()` would act on now: the option is on, reports come,
+        no motion is commanded, no attempt is waiting or was just refused."""
+        now = self._now()
+        return self._resettable(now, self._port is not None and now - self._report_t <= LINK_TIMEOUT)
+
+    def reset_faults(self) -> list[str]:
+        """Release the brake after a drive fault (rFLEX: zero on both axes, MOT_BRAKE_RELEASE,
+        then SYS_STATUS to confirm). An explicit act, never automatic; refused
+        (FaultResetError) while motion is commanded, with the link down, or without the option
+        `reset_faults`. The fault clears when the status reports the brake released; if the
+        controller keeps it set (the e-stop still pressed) the fault stays. The command stays
+        zero until the next `command()`. Returns the devices a reset was sent for."""
+        now = self._now()
+        where = f"{self.url}: rFLEX brake"
+        if not self.fault_reset.enabled:
+            raise FaultResetError(f"{where}: fault reset refused: the driver option reset_faults "
+                                  f"is off (the profile's reset_faults = true, or --reset-faults)")
+        self.fault_reset.refuse_while_moving(now, where)
+        if self.drive_fault is None:
+            return []
+        if self._port is None or now - self._report_t > LINK_TIMEOUT:
+            raise FaultResetError(f"{where}: fault reset refused: the controller is not reporting")
+        device = self.drive_fault["device"]     # the reply may clear it before we return
+        with self._state_lock:
+            self._cmd = (0.0, 0.0)
+        self.watchdog.disarm()
+        self.fault_reset.start(now)
+        try:
+            self._send_frames(self._axis_frames(0.0, 0.0) +
+                              [p.brake_release(), p.system_status_request()])
+        except LinkError as exc:
+            self.fault_reset.refuse(now, f"the release could not be sent ({exc})")
+            self._lost("write failed")
+            raise FaultResetError(f"{where}: fault reset: the release could not be sent ({exc})") from exc
+        self._last_sent = (0.0, 0.0)
+        self._next_send = now + RESEND_PERIOD
+        return [device]
+
+    def _judge_reset(self, brake: bool) -> None:
+        """A status report while a reset waits: brake released clears the fault, brake set
+        means the controller kept it (the caller holds the state lock)."""
+        now = self._now()
+        if self.fault_reset.pending_since is None:
+            return
+        if brake:
+            self.fault_reset.refuse(now, "the controller kept its brake set after "
+                                         "MOT_BRAKE_RELEASE (the e-stop still pressed?)")
+        elif self.fault_reset.confirm():
+            self.drive_fault = None
+            self._cmd = (0.0, 0.0)
 
     def _watchdog_expired(self) -> None:
         with self._state_lock:

@@ -68,6 +68,9 @@ class RFlexController:
         self.parser = p.FrameParser(gap_timeout=None)
         self.physical_limits = world.body.limits
         self.brake = True                   # on after power-up (rflex.md §9)
+        self.estop = False                  # the e-stop held: brake set, release ignored (tests)
+        self.defaults_stop_axes = True      # our reading of MOT_SET_DEFAULTS; False: a controller
+                                            # whose defaults leave the velocity alone (tests)
         self.motor_period = 0.0             # s; 0 = reports off
         self.axis_mask = 0
         self.dio_period = 0.0
@@ -120,12 +123,13 @@ class RFlexController:
             self.sonar_on = command.on
             self._next_sonar = now
         elif command == p.Simple(p.MOT, p.MOT_BRAKE_RELEASE):
-            self.brake = False
+            self.brake = self.estop         # the e-stop holds the brake (our reading)
         elif command == p.Simple(p.MOT, p.MOT_BRAKE_SET):
             self.brake = True
             self._stop_axes()
         elif command == p.Simple(p.MOT, p.MOT_SET_DEFAULTS):
-            self._stop_axes()
+            if self.defaults_stop_axes:
+                self._stop_axes()
         elif command == p.Simple(p.SYS, p.SYS_STATUS):
             return p.encode_escaped(p.status_report(self._next_seq(), p.SystemStatus(
                 self._timestamp(), BATTERY_RAW, int(self.brake))))
@@ -139,6 +143,15 @@ class RFlexController:
     def _stop_axes(self) -> None:
         for axis in self.axes:
             axis.target = 0.0
+
+    def press_estop(self, held: bool = True) -> None:
+        """The e-stop (tests): pressed, the brake is set and the axes stop; released, the
+        brake stays set until the host releases it."""
+        self.estop = held
+        if held:
+            self.brake = True
+            self._stop_axes()
+            self._drive()
 
     def hang_up(self) -> None:
         """The host went away (a TCP take-over or hang-up): what the driver's own stop sequence
@@ -283,6 +296,11 @@ class RFlexEmulator(EmulatorHost):
         options = profile.base.options
         return cls(world, dist_conv=options.get("dist_conv", DIST_CONV),
                    angle_conv=options.get("angle_conv", ANGLE_CONV), **kw)
+
+    def press_estop(self, held: bool = True) -> None:
+        """The e-stop, pressed or released (tests; `RFlexController.press_estop`)."""
+        with self._lock:
+            self.controller.press_estop(held)
 
     # -- time -----------------------------------------------------------------------------------
     def attach(self, simulation) -> None:

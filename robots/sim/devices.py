@@ -10,16 +10,18 @@ from robots.sim.world import World
 
 
 class SimLaser(Laser):
-    """Casts a fresh scan of the world on each read."""
+    """Casts a fresh scan of the world on each read. `rng`: a random stream of its own for the
+    range errors (a second reader, such as the start-up self-check, leaves the run's alone)."""
 
-    def __init__(self, world: World, profile: RobotProfile) -> None:
+    def __init__(self, world: World, profile: RobotProfile, rng=None) -> None:
         if profile.laser is None:
             raise ValueError(f"robot '{profile.name}' has no laser")
         self.world = world
         self.spec = profile.laser
+        self.rng = rng
 
     def read(self) -> LaserScan:
-        angles, ranges = self.world.laser_scan()
+        angles, ranges = self.world.laser_scan(self.rng)
         return LaserScan(t=self.world.t, angles=angles, ranges=ranges,
                          origin=(self.spec.x, self.spec.y, self.spec.heading))
 

@@ -306,14 +306,15 @@ class World:
         ranges = cast_rays(origins, angles, None, circles, sonar.max_range, walls)
         return ranges.reshape(-1, len(SONAR_RAY_SPREAD)).min(axis=1)
 
-    def laser_scan(self) -> tuple[np.ndarray, np.ndarray]:
+    def laser_scan(self, rng: np.random.Generator | None = None) -> tuple[np.ndarray, np.ndarray]:
         """(angles in the robot frame, ranges in m from the laser) with the scanner's errors:
-        Gaussian range noise, and on a map_server map drop-outs and spurious short returns."""
+        Gaussian range noise, and on a map_server map drop-outs and spurious short returns.
+        `rng`: another random stream for the errors (a reader that must not change the run's)."""
         laser = self.profile.laser
         if laser is None:
             return np.zeros(0), np.zeros(0)
         ranges = self._cached("laser", self._laser_ranges)
-        ranges = self.laser_errors.apply(ranges, self.rng)      # robots/sim/laser_errors.py
+        ranges = self.laser_errors.apply(ranges, self.rng if rng is None else rng)  # sim/laser_errors.py
         return self._laser_offsets.copy(), ranges.copy()
 
     def _laser_ranges(self) -> np.ndarray:

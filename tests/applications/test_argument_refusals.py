@@ -121,6 +121,20 @@ def test_a_goto_application_on_a_real_base_without_a_map_is_refused(robot_end, c
     assert robot_end.connections == before
 
 
+def test_reset_faults_on_a_base_without_drive_faults_is_refused_before_the_robot_opens(
+        robot_end, tmp_path, capsys):
+    """--reset-faults is for the CAN, P2OS and rFLEX bases; a base without drive faults (the
+    plain simulated one) refuses it before the port is touched."""
+    horos = Path(__file__).resolve().parents[2] / "robots" / "profiles" / "horos.toml"
+    robot = tmp_path / "simbot.toml"
+    robot.write_text(horos.read_text().replace('driver = "p2os"', 'driver = "sim"'))
+    before = robot_end.connections
+    code = exit_code(["run", "survey", "--robot", str(robot), "--port", robot_end.url, "--reset-faults"])
+    line = one_line(capsys)
+    assert code == 2 and "--reset-faults" in line and "no drive faults to reset" in line, line
+    assert robot_end.connections == before
+
+
 OTHER_MISTAKES = [
     # (a whole command line, the argument named, words of the one line)
     (["replay", "{tmp}/missing.mcap"], "recording", "does not exist"),

@@ -120,6 +120,9 @@ def test_a_drive_in_fault_at_start_is_cleared_only_with_reset_faults(monkeypatch
 
 
 def test_reset_faults_is_refused_for_a_base_without_them(tmp_path, capsys):
-    code = main(["run", "survey", "--robot", "horos", "--fast", "--reset-faults", "--data", str(tmp_path)])
+    """The P2OS, rFLEX and CAN bases reset faults; the plain simulated base has none."""
+    robot = tmp_path / "simbot.toml"
+    robot.write_text(load_profile("horos").source.read_text().replace('driver = "p2os"', 'driver = "sim"'))
+    code = main(["run", "survey", "--robot", str(robot), "--fast", "--reset-faults", "--data", str(tmp_path)])
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1 and "has no drive faults to reset" in err[0]

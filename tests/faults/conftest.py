@@ -57,13 +57,13 @@ class RunningInterbot:
     """`interbot run APP --port URL` as a separate process (signals reach it as they would)."""
 
     def __init__(self, app: Path, url: str, tmp_path: Path, duration: float,
-                 robot: str = "horos") -> None:
+                 robot: str = "horos", extra: tuple[str, ...] = ()) -> None:
         self.trace_path = tmp_path / "trace.jsonl"
         env = dict(os.environ, PYTHONPATH=str(REPO))
         self.process = subprocess.Popen(
             [sys.executable, "-m", "applications.cli", "run", str(app), "--robot", robot,
              "--port", url, "--duration", str(duration), "--trace", str(self.trace_path),
-             "--data", str(tmp_path / "data")],
+             "--data", str(tmp_path / "data"), *extra],
             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=REPO, env=env)
 
     def finish(self, timeout: float = 60.0) -> Finished:
@@ -84,8 +84,8 @@ class RunningInterbot:
 def start_run(tmp_path, watch_app):
     started = []
 
-    def start(peer: ScriptedPioneer, duration: float) -> RunningInterbot:
-        run = RunningInterbot(watch_app, peer.url, tmp_path, duration)
+    def start(peer: ScriptedPioneer, duration: float, extra: tuple[str, ...] = ()) -> RunningInterbot:
+        run = RunningInterbot(watch_app, peer.url, tmp_path, duration, extra=extra)
         started.append(run)
         assert peer.wait_open(timeout=20), "interbot never opened the scripted robot"
         return run
@@ -99,8 +99,8 @@ def start_run_on(tmp_path, watch_app):
     """`interbot run` of the watch application with `robot` on any `url`."""
     started = []
 
-    def start(url: str, robot: str, duration: float) -> RunningInterbot:
-        run = RunningInterbot(watch_app, url, tmp_path, duration, robot=robot)
+    def start(url: str, robot: str, duration: float, extra: tuple[str, ...] = ()) -> RunningInterbot:
+        run = RunningInterbot(watch_app, url, tmp_path, duration, robot=robot, extra=extra)
         started.append(run)
         return run
     yield start

@@ -9,7 +9,9 @@ the client sends with the wall time it arrived. A test then switches its `mode` 
 - "garbage": random bytes every cycle instead of SIPs, and no handshake replies;
 - "flood": SIPs back to back as fast as the socket takes them;
 - `burst(n)`: n SIPs in one write (a queue of them), then silence;
-- `close()` drops the current connection (a pulled cable / a crashed MobileSim).
+- `close()` drops the current connection (a pulled cable / a crashed MobileSim);
+- `enable_switches_motors`: ENABLE 1/0 switches the SIP's motors bit (not while the e-stop
+  bit 5 is set), as the firmware does.
 
 A new connection takes over from the old one, as a serial line answers whoever sends SYNC0.
 """
@@ -55,6 +57,7 @@ class ScriptedPioneer:
         self.subclass = subclass
         self.sip = p.SIP(battery=125, flags=0x03)
         self.mode = "normal"
+        self.enable_switches_motors = False   # ENABLE sets FLAGS bit 0 (unless e-stop bit 5)
         self.received: list[Received] = []
         self.connections = 0
         self.sips_sent = 0
@@ -172,6 +175,9 @@ class ScriptedPioneer:
             if self._open:
                 if kind == p.Cmd.CLOSE:
                     self._open, self._stage = False, 0
+                elif kind == p.Cmd.ENABLE and self.enable_switches_motors:
+                    on = bool(p.decode_argument(packet.data)) and not self.sip.flags & 0x20
+                    self.sip = replace(self.sip, flags=(self.sip.flags & ~0x01) | int(on))
                 return ""
             label = ""
             if kind == 0:

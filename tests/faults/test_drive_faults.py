@@ -118,3 +118,52 @@ def test_rflex_silent_just_before_a_signal_is_in_the_trace_and_the_summary(rflex
     assert downs[-1]["reason"].startswith("while closing: the stop went out to a controller "
                                           "silent for"), downs
     assert "link to the base: down" in finished.out and "while closing" in finished.out
+
+
+# -- fault reset (--reset-faults) -------------------------------------------------------------------
+
+def test_p2os_reset_faults_reenables_the_motors_once_the_estop_is_released(peer, start_run):
+    peer.enable_switches_motors = True
+    run = start_run(peer, duration=6, extra=("--reset-faults",))
+    wait(1.5)
+    peer.sip = replace(peer.sip, flags=0x22)               # e-stop: motors off, bit 5
+    wait(1.5)
+    released = time.monotonic()
+    peer.sip = replace(peer.sip, flags=0x02)               # released: motors still off
+    finished = run.finish()
+    assert "Traceback" not in finished.err
+    assert finished.code == 3, finished.err                # a fault happened in this run
+    faults = fault_events(finished)
+    assert len(faults) == 1 and "e-stop pressed" in faults[0]["meaning"], faults
+    resets = [e for e in finished.trace if e["kind"] == "fault_reset"]
+    assert len(resets) == 1 and resets[0]["sent"] and resets[0]["device"] == "P2OS motors", resets
+    enables = [r for r in list(peer.received) if r.name == "ENABLE 1"]
+    assert len(enables) == 2 and enables[1].t >= released, enables   # connect, then the reset
+    assert "VEL 0" in [r.name for r in peer.received if enables[1].t - 0.2 <= r.t <= enables[1].t]
+    ups = [e for e in finished.trace if e["kind"] == "link" and e["state"] == "up"]
+    assert ups and ups[0]["t"] >= resets[0]["t"], ups
+    moves = [(e["from"], e["to"]) for e in finished.trace if e["kind"] == "transition"]
+    assert moves[-2:] == [("Wait", "Halted"), ("Halted", "Wait")], moves
+    assert "device fault reset sent: P2OS motors" in finished.out
+
+
+def test_rflex_reset_faults_releases_the_brake_once_the_estop_is_released(rflex_tcp, start_run_on):
+    emulator, url = rflex_tcp
+    run = start_run_on(url, "perses", duration=7, extra=("--reset-faults",))
+    assert opened(emulator), "interbot never started the rFLEX controller"
+    wait(1.0)
+    emulator.press_estop()
+    wait(2.0)
+    assert emulator.controller.brake
+    emulator.press_estop(False)
+    assert opened(emulator, timeout=3.0), "the brake was never released again"
+    finished = run.finish()
+    assert "Traceback" not in finished.err
+    assert finished.code == 3, finished.err
+    faults = fault_events(finished)
+    assert len(faults) == 1 and faults[0]["device"] == "rFLEX brake", faults
+    resets = [e for e in finished.trace if e["kind"] == "fault_reset" and e["sent"]]
+    assert resets and resets[-1]["t"] > faults[0]["t"], resets
+    moves = [(e["from"], e["to"]) for e in finished.trace if e["kind"] == "transition"]
+    assert moves[-2:] == [("Wait", "Halted"), ("Halted", "Wait")], moves
+    assert "device fault reset sent: rFLEX brake" in finished.out

@@ -16,6 +16,7 @@ from robots.profile import load_profile
 from robots.sim.simulation import Simulation
 
 ARGOS = load_profile("argos")
+ARGOS_START = (0.0, -0.75)          # where the simulated ARGOS stands at first (the office)
 S = p.State402
 OPTIONAL_INDICES = (0x1016, 0x605A, 0x605C, 0x6007, 0x6083, 0x6084, 0x6085, 0x607F, 0x607E, 0x6502,
                     0x603F)
@@ -182,3 +183,63 @@ def test_polarity_of_velocity_only_is_refused(opened):
     with pytest.raises(StartupError, match=r"node 1 \(left wheel\): polarity 0x607E = 0x40 inverts the "
                                            r"velocity only"):
         base.open()
+
+
+# -- the self-check against the laser ------------------------------------------------------------------
+def with_laser(made):
+    """The pair with the laser watching the self-check (as robots.hardware wires it)."""
+    import numpy as np
+    from robots.sim.devices import SimLaser
+    base, emulator, simulation, clock = made
+    base.scan_source = SimLaser(simulation.world, ARGOS, rng=np.random.default_rng(1)).read
+    return made
+
+
+def test_the_laser_sees_each_wheel_turn_the_robot_as_the_profile_predicts(opened):
+    base, emulator, simulation, clock = with_laser(opened())
+    base.open()
+    turns = base.self_check_turns
+    assert turns[1]["predicted_deg"] < 0 < turns[2]["predicted_deg"]
+    for node in (1, 2):
+        assert turns[node]["laser_deg"] == pytest.approx(turns[node]["predicted_deg"], rel=0.15)
+    advance = base.self_check_advance
+    assert advance["laser_m"] == pytest.approx(advance["predicted_m"], abs=0.008)
+
+
+@pytest.mark.parametrize("truth, driver, words", [
+    ({2: True}, {"right_mirrored": False},
+     r"node 2 \(right wheel\): start-up self-check: its wheel drove backwards though its encoder "
+     r"says forwards .*right_mirrored = false\); set right_mirrored = true"),
+    ({2: False}, {"right_mirrored": True},
+     r"node 2 \(right wheel\): .*drove backwards.*set right_mirrored = false"),
+    ({1: True}, {}, r"node 1 \(left wheel\): .*drove backwards.*polarity 0x607E"),
+    ({1: True, 2: False}, {},
+     r"each wheel turned the robot the other way .*swapped \(left_node = 1, right_node = 2\)"),
+    ({}, {"left_node": 2, "right_node": 1},
+     r"the laser saw the robot move -\d+ mm: it drives from its other end; the wheels are swapped and mirrored"),
+    ({}, {"track_width": 0.84}, r"turned x2\.\d\d what the profile's geometry predicts.*track_width = 0\.84"),
+])
+def test_a_mirroring_or_geometry_the_laser_contradicts_is_refused_before_driving(
+        opened, truth, driver, words):
+    base, emulator, simulation, clock = with_laser(opened(driver=driver))
+    emulator.mirrored.update(truth)
+    with pytest.raises(StartupError, match=words) as refused:
+        base.open()
+    assert "\n" not in str(refused.value) and "refused before driving" in str(refused.value)
+    assert all(d.target == 0 for d in emulator.drives.values())
+    body = simulation.world.body
+    assert math.hypot(body.x - ARGOS_START[0], body.y - ARGOS_START[1]) < 0.05    # a few mm only
+
+
+def test_the_laser_check_runs_in_a_real_time_simulation_too():
+    """Real time: the scans' stamps are robot time, the world steps as the drives move."""
+    from robots.hardware import open_hardware
+    hardware = open_hardware("argos", fast=False)
+    try:
+        base = hardware.base
+        assert not [n for n in base.startup_notes if "self-check" in n], base.startup_notes
+        for node in (1, 2):
+            turn = base.self_check_turns[node]
+            assert turn["laser_deg"] == pytest.approx(turn["predicted_deg"], rel=0.15)
+    finally:
+        hardware.close()
