@@ -70,7 +70,7 @@ class FollowParams:
     predict_for: float = 2.0       # s: the prediction runs on the velocity this long, then stands
     gate: float = 0.8              # m: the re-acquisition gate right after the loss ...
     gate_growth: float = 1.0       # m/s: ... grows at walking pace ...
-    max_gate: float = 6.0          # m: ... up to this
+    max_gate: float = 12.0         # m: ... up to this (a search reaches that far)
     jump: float = 1.5              # m: the target track this far off the prediction is a swap
     call: str = CALL
 
@@ -121,7 +121,10 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._search_heading: float | None = None
         self._trail: list[tuple[float, float]] = []   # where the customer walked, every 0.3 m
         self._search_goal: tuple[float, float] | None = None
-        self._searched_ahead = False
+        self._plan = None                     # the search plan of this loss (searching.py)
+        self._plan_index = 0
+        self._searched: list[str] = []        # its places looked at so far
+        self._looking_since: float | None = None
         self._recent: list[tuple[float, float, float]] = []    # (t, x, y) seen, newest last
         self._waiting_since: float | None = None
         self._contest: _Belief | None = None          # the customer before someone came close
@@ -233,7 +236,8 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._search_heading = None
         self._search_goal = None
         self._search_turns = 0
-        self._searched_ahead = False
+        self._plan, self._plan_index, self._searched = None, 0, []
+        self._looking_since = None
         d = math.hypot(track.x - robot[0], track.y - robot[1])
         speed = self._pace(track, now)
         if self.state.phase == WAITING:     # hysteresis: the tracks' velocity noise is ~0.1 m/s
@@ -274,13 +278,14 @@ class Following(Identity, Keeping, Searching, Room, Skill):
             self.state = replace(self.state, losses=self.state.losses + 1)
         lost_for = now - self._lost_since
         seen = (self._belief.x, self._belief.y)
-        predicted = self._free_towards(seen, self._belief.at(now, p.predict_for)) or seen
+        predicted = self._free_towards(seen, self._where_she_should_be(now)) or seen
         self.motion.followed = None            # unseen: everybody near counts for the speed cap
         if lost_for >= p.give_up_after:
             seen = self.state.last_seen
             self.state = replace(self.state, distance=None, lost_for=lost_for, predicted=predicted)
+            places = ", ".join(self._searched) or "nowhere yet"
             self._fail(GAVE_UP_REASON, f"not seen for {lost_for:.0f} s; last seen at "
-                       f"({seen[0]:.1f}, {seen[1]:.1f}), searched there and called "
+                       f"({seen[0]:.1f}, {seen[1]:.1f}), searched {places} and called "
                        f"{self.state.calls} time(s)", now)
             return
         if self.ambiguous:
@@ -338,7 +343,8 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._search_heading = None
         self._trail = []
         self._search_goal = None
-        self._searched_ahead = False
+        self._plan, self._plan_index, self._searched = None, 0, []
+        self._looking_since = None
         self._recent = []
         self._waiting_since = None
         self._contest = None

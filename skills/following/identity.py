@@ -160,8 +160,11 @@ class Identity:
         self._looks += 1
 
     def _gate(self, unseen: float) -> float:
+        """How far from the prediction she can be after `unseen` s: the gate grows at walking
+        pace, or at her own where she walks faster (a fast walker searched for far away)."""
         p = self.params
-        return min(p.gate + p.gate_growth * max(unseen, 0.0), p.max_gate)
+        growth = max(p.gate_growth, getattr(self, "_usual_pace", 0.0))
+        return min(p.gate + growth * max(unseen, 0.0), p.max_gate)
 
     def _note_births(self, now: float) -> None:
         """Where each track was first seen: a track born far from where the customer could
