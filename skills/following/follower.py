@@ -134,7 +134,8 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._look: np.ndarray | None = None           # what the customer looks like ...
         self._looks = 0                                # ... from this many camera views
         self._look_t: float | None = None              # time of the newest view used
-        self._mismatches = 0
+        self._views: list[tuple[float, float]] = []   # (t, appearance score) of her track's
+        self._views_of: int | None = None              # ... views, and that track's id
         self._matched: _Belief | None = None           # her state at the last view like her
         self._matched_t = -math.inf                    # ... and its time
         self.ambiguous = False        # two candidates fit alike (skills.following.score)
@@ -352,7 +353,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._first_seen = {}
         self._usual_pace = USUAL_PACE
         self._look, self._looks, self._look_t = None, 0, None
-        self._mismatches = 0
+        self._views, self._views_of = [], None
         self._matched, self._matched_t = None, -math.inf
         self.ambiguous = False
         self._said_unsure = False
