@@ -113,6 +113,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self.state = FollowState(setpoint=params.distance)
         self._belief: _Belief | None = None
         self._others: set[int] = set()
+        self._strangers: set[int] = set()     # look-alikes seen apart from her: never her
         self._lost_since: float | None = None
         self._last_call = -math.inf
         self._goal: tuple[float, float] | None = None
@@ -336,6 +337,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
     def _reset(self) -> None:
         self._belief = None
         self._others = set()
+        self._strangers = set()
         self._lost_since = None
         self._last_call = -math.inf
         self._goal = None

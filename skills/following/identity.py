@@ -97,7 +97,7 @@ class Identity:
             if seen_score >= score.THRESHOLD:
                 same = self._untangle(same, tracks, now)
                 if same is not None:
-                    self._note_others(tracks, same.id)
+                    self._note_others(tracks, same.id, now)
                     return same
             elif looks_unlike:
                 # the camera says her track is on somebody else now (someone who crossed her
@@ -114,6 +114,7 @@ class Identity:
                       if t.status == CONFIRMED and t.last_seen >= now - FRESH
                       and math.hypot(t.x - predicted[0], t.y - predicted[1]) <= gate
                       and (self._look_known or self._born_where_she_could_be(t))
+                      and t.id not in self._strangers
                       and (t.id not in self._others or self._seen_as_her_since_the_loss(t))]
         velocity = ((self._belief.vx, self._belief.vy)
                     if now - self._belief.t < p.predict_for else (0.0, 0.0))
@@ -220,13 +221,21 @@ class Identity:
         reach = self._gate(born[0] - self._belief.t) + BIRTH_MARGIN
         return math.hypot(born[1] - at[0], born[2] - at[1]) <= reach
 
-    def _note_others(self, tracks, target: int) -> None:
+    def _note_others(self, tracks, target: int, now: float) -> None:
         """People seen at the same time as the customer are somebody else, for good; not those
         close to them, whose identity the tracker may just have swapped with theirs, nor one
-        who looks like her (her track may be the one that passed to somebody else)."""
-        self._others.update(t.id for t in tracks if t.id != target and t.status == CONFIRMED
-                            and t.id not in self._contest_ids
-                            and not (self._look_known and self._may_be_her(t)))
+        who looks like her (her track may be the one that passed to somebody else) unless her
+        own track's views scored as her within UNLIKE_FOR s: then a look-alike seen apart from
+        her is a stranger (`_strangers`), never taken for her, however like her it looks."""
+        confirmed_her = self._look_known and now - self._matched_t <= UNLIKE_FOR
+        for t in tracks:
+            if t.id == target or t.status != CONFIRMED or t.id in self._contest_ids:
+                continue
+            if not (self._look_known and self._may_be_her(t)):
+                self._others.add(t.id)
+            elif confirmed_her:
+                self._others.add(t.id)
+                self._strangers.add(t.id)
 
     def _untangle(self, target, tracks, now: float):
         """Two people passing within CONTEST_NEAR of each other can swap track ids. While

@@ -166,3 +166,24 @@ def test_while_followed_her_track_is_her_by_the_one_score_and_its_threshold():
     perception.believed = (far,)
     following.sense(t)
     assert following.state.lost
+
+
+def test_a_look_alike_seen_apart_from_her_is_never_taken_for_her():
+    # a look-alike (red, like her) stands 1.2 m from her while the camera sees both: when she
+    # is hidden, the look-alike near where she should be is not her, however like her it looks
+    following, perception = follower()
+    t = learn_her(following, perception)
+    x = 2.0 + 0.5 * (t - 0.1)
+    for _ in range(5):
+        perception.believed = (seen(1, x, 0.0, t, RED), seen(6, x - 1.2, 0.3, t, RED))
+        following.sense(t)
+        t += 0.1
+    assert following.state.target == 1 and 6 in following._strangers
+    for _ in range(20):                         # she is hidden; the look-alike stays in view
+        perception.believed = (seen(6, x - 1.0, 0.2, t, RED),)
+        following.sense(t)
+        assert following.state.lost and following.state.target == 1, t
+        t += 0.1
+    perception.believed = (seen(6, x - 1.0, 0.2, t, RED), seen(9, x + 0.2, 0.0, t, RED))
+    following.sense(t)                          # she steps out again: a new track, her look
+    assert not following.state.lost and following.state.target == 9
