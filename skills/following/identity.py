@@ -7,8 +7,10 @@ position (growing with the time unseen at walking pace) may become the customer,
 that was seen as somebody else while the customer was in view, and never two that fit equally
 (the robot waits rather than guesses). Once the camera has shown her a few times, her look (a
 running average of the camera's colour histograms of her, `skills.people.appearance`) decides:
-a track that looks like her may be taken back whatever its id, only such a track, and her own
-track stops being hers when its fresh views stop looking like her. Without appearance, a track
+a track that looks like her may be taken back whatever its id, only such a track, and a
+look-alike seen apart from her while her own track looked like her is a stranger for good.
+While she is followed, the same identity score (`skills.following.score`) and its one
+threshold decide each tick whether her track is still her (`_followed_score`). Without appearance, a track
 born after the loss outside the gate of that moment (someone who came from elsewhere) is not
 her either. Two people passing close may swap track ids: `_untangle` puts her back on the
 track nearest where she should be.
