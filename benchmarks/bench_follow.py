@@ -334,7 +334,8 @@ def main() -> None:
 
 
 def print_seed(family: str, seed: int, r: Result) -> None:
-    print(f"{family} seed {seed:2d}: ±0.4 m {r.in_band / max(r.ticks, 1):6.1%} "
+    print(f"{family} seed {seed:2d}: {r.ticks / 10:.0f} s following, "
+          f"±0.4 m {r.in_band / max(r.ticks, 1):6.1%} "
           f"(±0.3 m {r.in_tight_band / max(r.ticks, 1):6.1%}), losses "
           f"{[(round(s, 1), None if d is None else round(d, 1)) for s, d in r.episodes]}, "
           f"wrong person {r.wrong_ticks / 10:.1f} s, misses {r.missed}/{r.visible}, clearance "

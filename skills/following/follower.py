@@ -70,7 +70,7 @@ class FollowParams:
     predict_for: float = 2.0       # s: the prediction runs on the velocity this long, then stands
     gate: float = 0.8              # m: the re-acquisition gate right after the loss ...
     gate_growth: float = 1.0       # m/s: ... grows at walking pace ...
-    max_gate: float = 6.0          # m: ... up to this
+    max_gate: float = 12.0         # m: ... up to this (a search reaches that far)
     jump: float = 1.5              # m: the target track this far off the prediction is a swap
     call: str = CALL
 
@@ -113,6 +113,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self.state = FollowState(setpoint=params.distance)
         self._belief: _Belief | None = None
         self._others: set[int] = set()
+        self._strangers: set[int] = set()     # look-alikes seen apart from her: never her
         self._lost_since: float | None = None
         self._last_call = -math.inf
         self._goal: tuple[float, float] | None = None
@@ -121,7 +122,10 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._search_heading: float | None = None
         self._trail: list[tuple[float, float]] = []   # where the customer walked, every 0.3 m
         self._search_goal: tuple[float, float] | None = None
-        self._searched_ahead = False
+        self._plan = None                     # the search plan of this loss (searching.py)
+        self._plan_index = 0
+        self._searched: list[str] = []        # its places looked at so far
+        self._looking_since: float | None = None
         self._recent: list[tuple[float, float, float]] = []    # (t, x, y) seen, newest last
         self._waiting_since: float | None = None
         self._contest: _Belief | None = None          # the customer before someone came close
@@ -131,7 +135,8 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._look: np.ndarray | None = None           # what the customer looks like ...
         self._looks = 0                                # ... from this many camera views
         self._look_t: float | None = None              # time of the newest view used
-        self._mismatches = 0
+        self._views: list[tuple[float, float]] = []   # (t, appearance score) of her track's
+        self._views_of: int | None = None              # ... views, and that track's id
         self._matched: _Belief | None = None           # her state at the last view like her
         self._matched_t = -math.inf                    # ... and its time
         self.ambiguous = False        # two candidates fit alike (skills.following.score)
@@ -233,7 +238,8 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._search_heading = None
         self._search_goal = None
         self._search_turns = 0
-        self._searched_ahead = False
+        self._plan, self._plan_index, self._searched = None, 0, []
+        self._looking_since = None
         d = math.hypot(track.x - robot[0], track.y - robot[1])
         speed = self._pace(track, now)
         if self.state.phase == WAITING:     # hysteresis: the tracks' velocity noise is ~0.1 m/s
@@ -274,13 +280,14 @@ class Following(Identity, Keeping, Searching, Room, Skill):
             self.state = replace(self.state, losses=self.state.losses + 1)
         lost_for = now - self._lost_since
         seen = (self._belief.x, self._belief.y)
-        predicted = self._free_towards(seen, self._belief.at(now, p.predict_for)) or seen
+        predicted = self._free_towards(seen, self._where_she_should_be(now)) or seen
         self.motion.followed = None            # unseen: everybody near counts for the speed cap
         if lost_for >= p.give_up_after:
             seen = self.state.last_seen
             self.state = replace(self.state, distance=None, lost_for=lost_for, predicted=predicted)
+            places = ", ".join(self._searched) or "nowhere yet"
             self._fail(GAVE_UP_REASON, f"not seen for {lost_for:.0f} s; last seen at "
-                       f"({seen[0]:.1f}, {seen[1]:.1f}), searched there and called "
+                       f"({seen[0]:.1f}, {seen[1]:.1f}), searched {places} and called "
                        f"{self.state.calls} time(s)", now)
             return
         if self.ambiguous:
@@ -330,6 +337,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
     def _reset(self) -> None:
         self._belief = None
         self._others = set()
+        self._strangers = set()
         self._lost_since = None
         self._last_call = -math.inf
         self._goal = None
@@ -338,7 +346,8 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._search_heading = None
         self._trail = []
         self._search_goal = None
-        self._searched_ahead = False
+        self._plan, self._plan_index, self._searched = None, 0, []
+        self._looking_since = None
         self._recent = []
         self._waiting_since = None
         self._contest = None
@@ -346,7 +355,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._first_seen = {}
         self._usual_pace = USUAL_PACE
         self._look, self._looks, self._look_t = None, 0, None
-        self._mismatches = 0
+        self._views, self._views_of = [], None
         self._matched, self._matched_t = None, -math.inf
         self.ambiguous = False
         self._said_unsure = False

@@ -7,8 +7,10 @@ position (growing with the time unseen at walking pace) may become the customer,
 that was seen as somebody else while the customer was in view, and never two that fit equally
 (the robot waits rather than guesses). Once the camera has shown her a few times, her look (a
 running average of the camera's colour histograms of her, `skills.people.appearance`) decides:
-a track that looks like her may be taken back whatever its id, only such a track, and her own
-track stops being hers when its fresh views stop looking like her. Without appearance, a track
+a track that looks like her may be taken back whatever its id, only such a track, and a
+look-alike seen apart from her while her own track looked like her is a stranger for good.
+While she is followed, the same identity score (`skills.following.score`) and its one
+threshold decide each tick whether her track is still her (`_followed_score`). Without appearance, a track
 born after the loss outside the gate of that moment (someone who came from elsewhere) is not
 her either. Two people passing close may swap track ids: `_untangle` puts her back on the
 track nearest where she should be.
@@ -37,8 +39,9 @@ UNTANGLE_REACH = 1.2      # m from where the customer should be after a contest,
 BIRTH_MARGIN = 0.3        # m a new track may be born outside the gate and still be the customer
 LOOK_WEIGHT = 0.1         # share of each new camera view of the customer in her look
 LOOK_KNOWN = 5            # views of her before her look is trusted
-MISMATCHES = 2            # fresh views in a row unlike her, and none like her for
-UNLIKE_FOR = 0.6          # this long (s): her track is on somebody else
+MISMATCHES = 2            # her track's last views, and those within
+UNLIKE_FOR = 0.6          # this long (s), of which the best counts (see _followed_score)
+VIEWS_KEPT = 20           # appearance scores of her track's views kept
 
 
 @dataclass
@@ -91,17 +94,21 @@ class Identity:
         same = next((t for t in tracks if t.id == self.state.target
                      and t.id not in self._others), None)
         if same is not None and same.status == CONFIRMED:      # seen within lost_after (0.35 s)
-            if math.hypot(same.x - predicted[0], same.y - predicted[1]) <= max(gate, p.jump):
+            # while she is followed the same score decides whether her track is still her
+            seen_score, looks_unlike = self._followed_score(same, predicted, gate, now)
+            if seen_score >= score.THRESHOLD:
                 same = self._untangle(same, tracks, now)
-                if same is not None and self._looks_like_someone_else(same, now):
-                    self._others.add(same.id)
-                    self._belief = self._matched or self._belief
-                    predicted = self._belief.at(now, p.predict_for)
-                    gate = self._gate(now - self._belief.t)
-                    same = None
                 if same is not None:
-                    self._note_others(tracks, same.id)
+                    self._note_others(tracks, same.id, now)
                     return same
+            elif looks_unlike:
+                # the camera says her track is on somebody else now (someone who crossed her
+                # close, hidden behind her until then): she is hidden, as at the last view of her
+                self._others.add(same.id)
+                self._views, self._views_of = [], None
+                self._belief = self._matched or self._belief
+                predicted = self._belief.at(now, p.predict_for)
+                gate = self._gate(now - self._belief.t)
         # who may be her: fresh confirmed tracks inside the gate (where she can have walked),
         # not seen as somebody else beside her (unless seen looking like her since), and
         # without her look, born where she could be; of those the identity score decides
@@ -109,6 +116,7 @@ class Identity:
                       if t.status == CONFIRMED and t.last_seen >= now - FRESH
                       and math.hypot(t.x - predicted[0], t.y - predicted[1]) <= gate
                       and (self._look_known or self._born_where_she_could_be(t))
+                      and t.id not in self._strangers
                       and (t.id not in self._others or self._seen_as_her_since_the_loss(t))]
         velocity = ((self._belief.vx, self._belief.vy)
                     if now - self._belief.t < p.predict_for else (0.0, 0.0))
@@ -122,12 +130,13 @@ class Identity:
         return self._look is not None and self._looks >= LOOK_KNOWN
 
     def _may_be_her(self, track) -> bool:
-        """Once her look is known, only a track the camera has seen looking like her; before
-        (or on a robot whose detector reports no appearance), one born where she could be."""
+        """Once her look is known, only a track whose camera view scores as her (appearance
+        log odds at least the score's THRESHOLD); before (or on a robot whose detector reports
+        no appearance), one born where she could be."""
         if not self._look_known:
             return self._born_where_she_could_be(track)
         return (track.appearance is not None
-                and appearance.distance(self._look, track.appearance) <= appearance.SAME_PERSON)
+                and score.appearance_score(track, self._look) >= score.THRESHOLD)
 
     def _seen_as_her_since_the_loss(self, track) -> bool:
         """The camera saw this track looking like her after she was lost: the tracker may
@@ -135,33 +144,63 @@ class Identity:
         return (self._look_known and track.appearance_t is not None
                 and track.appearance_t > self._belief.t and self._may_be_her(track))
 
-    def _looks_like_someone_else(self, track, now: float) -> bool:
-        """Learn her look from fresh camera views of her track while nobody is close to her;
-        once it is known, MISMATCHES fresh views in a row unlike her mean the track has passed
-        to somebody else (someone who crossed her close, hidden behind her until then)."""
+    def _followed_score(self, track, predicted, gate: float, now: float) -> tuple[float, bool]:
+        """The identity score of her followed track this tick, and whether the camera's views
+        of it say somebody else. Position is scored against `jump` (a track further off than
+        that from where she was a tick ago scores below THRESHOLD: an id handed to somebody
+        else), motion against her velocity, and appearance by the best of the track's recent
+        views (the last MISMATCHES and any within UNLIKE_FOR s: two people at one spot make
+        one track whose views alternate, and she is there while some look like her). While
+        she is followed a view like her adds nothing (she is believed to be her already; a
+        view cannot make an impossible jump possible); views unlike her count against."""
+        p = self.params
+        self._note_view(track, now)
+        b = self._belief
+        position_and_motion = (score.position_score(track, predicted, max(gate, p.jump))
+                               + score.motion_score(track, (b.vx, b.vy)))
+        looks = self._recent_view_score(now)
+        if looks is None or self._contest is not None:
+            return position_and_motion, False   # no fresh view, or someone close: no evidence
+        return position_and_motion + min(looks, 0.0), looks < 0.0
+
+    def _note_view(self, track, now: float) -> None:
+        """Learn her look from fresh camera views of her track while nobody is close to her,
+        and keep each view's appearance score; remember her state at the last view like her."""
+        if track.id != self._views_of:
+            self._views, self._views_of = [], track.id     # another track: its own views
         fresh = (track.appearance is not None and track.appearance_t is not None
                  and track.appearance_t >= now - FRESH and track.appearance_t != self._look_t)
         if not fresh or self._contest is not None:
-            return False        # someone close to her: the camera's view may be theirs
+            return                  # someone close to her: the camera's view may be theirs
         self._look_t = track.appearance_t
-        if self._look_known and appearance.distance(self._look, track.appearance) \
-                > appearance.SAME_PERSON:
-            self._mismatches += 1
-            # two people at one spot (at one shelf) make one track whose views alternate
-            # between them: she is still there as long as some views look like her
-            return self._mismatches >= MISMATCHES and now - self._matched_t >= UNLIKE_FOR
-        self._mismatches = 0
-        self._matched, self._matched_t = self._belief, now
-        self._learn(track.appearance)
-        return False
+        if not self._look_known:
+            self._learn(track.appearance)
+            self._matched, self._matched_t = self._belief, now
+            return
+        looks = score.appearance_score(track, self._look)
+        self._views.append((now, looks))
+        del self._views[:-VIEWS_KEPT]
+        if looks >= score.THRESHOLD:
+            self._matched, self._matched_t = self._belief, now
+            self._learn(track.appearance)
+
+    def _recent_view_score(self, now: float) -> float | None:
+        """The best appearance score of her track's last MISMATCHES views and of those within
+        UNLIKE_FOR s; None without any."""
+        recent = [looks for k, (t, looks) in enumerate(reversed(self._views))
+                  if k < MISMATCHES or now - t <= UNLIKE_FOR]
+        return max(recent) if recent else None
 
     def _learn(self, seen) -> None:
         self._look = appearance.blend(self._look, seen, max(LOOK_WEIGHT, 1.0 / (self._looks + 1)))
         self._looks += 1
 
     def _gate(self, unseen: float) -> float:
+        """How far from the prediction she can be after `unseen` s: the gate grows at walking
+        pace, or at her own where she walks faster (a fast walker searched for far away)."""
         p = self.params
-        return min(p.gate + p.gate_growth * max(unseen, 0.0), p.max_gate)
+        growth = max(p.gate_growth, getattr(self, "_usual_pace", 0.0))
+        return min(p.gate + growth * max(unseen, 0.0), p.max_gate)
 
     def _note_births(self, now: float) -> None:
         """Where each track was first seen: a track born far from where the customer could
@@ -184,13 +223,21 @@ class Identity:
         reach = self._gate(born[0] - self._belief.t) + BIRTH_MARGIN
         return math.hypot(born[1] - at[0], born[2] - at[1]) <= reach
 
-    def _note_others(self, tracks, target: int) -> None:
+    def _note_others(self, tracks, target: int, now: float) -> None:
         """People seen at the same time as the customer are somebody else, for good; not those
         close to them, whose identity the tracker may just have swapped with theirs, nor one
-        who looks like her (her track may be the one that passed to somebody else)."""
-        self._others.update(t.id for t in tracks if t.id != target and t.status == CONFIRMED
-                            and t.id not in self._contest_ids
-                            and not (self._look_known and self._may_be_her(t)))
+        who looks like her (her track may be the one that passed to somebody else) unless her
+        own track's views scored as her within UNLIKE_FOR s: then a look-alike seen apart from
+        her is a stranger (`_strangers`), never taken for her, however like her it looks."""
+        confirmed_her = self._look_known and now - self._matched_t <= UNLIKE_FOR
+        for t in tracks:
+            if t.id == target or t.status != CONFIRMED or t.id in self._contest_ids:
+                continue
+            if not (self._look_known and self._may_be_her(t)):
+                self._others.add(t.id)
+            elif confirmed_her:
+                self._others.add(t.id)
+                self._strangers.add(t.id)
 
     def _untangle(self, target, tracks, now: float):
         """Two people passing within CONTEST_NEAR of each other can swap track ids. While

@@ -1,10 +1,24 @@
 """Searching: what the robot does while the customer is unseen.
 
 - **hidden**: the robot keeps going towards where her Kalman state predicts her, stopping
-  `distance` short of it.
-- **searching**: hidden for `search_after` s: the robot drives to within `distance` of the
-  predicted place, turns round there, then once more 3 m on along her trail, and calls out
-  every `call_every` s. (Giving up after `give_up_after` s is the phase machine's.)
+  `distance` short of it (a customer faster than the robot is kept up with as far as it can).
+- **searching**: hidden for `search_after` s: the robot works through a *search plan* made
+  once, at the moment the search begins (`search_plan`), and calls out every `call_every` s:
+
+  1. the predicted place (her last seen state run on for `predict_for` s), looking along her
+     heading (round in thirds when she stood);
+  2. then the places where she is likely to reappear, expanding outwards from where she
+     vanished: SEARCH_AHEAD on along the direction her trail last took, and the map's aisle
+     ends and crossings (its places named `aisle…`; in the store, where each aisle meets the
+     front or back aisle) within SEARCH_REACH of walking (round shelves, `room.walking_distances`), nearest first, those along her
+     heading counted nearer than those aside or behind (a place straight behind her counts
+     twice its walking distance). At an aisle end the robot looks into the aisle (the
+     place's heading; the people detector's 240° take in the cross aisle on both sides too)
+     for LOOK_DWELL s;
+  3. when all are seen, it goes back to the plan's second place (the likeliest after the
+     predicted one, where she had been heading) and
+     waits there, looking into the aisle, until she comes back into view or the application's
+     `give_up_after` runs out (the phase machine's; the reason names the places searched).
 
 A part of `Following` (`skills.following.follower`); it reads `params`, `navigation`,
 `speech`, the belief and her trail (`skills.following.identity`) and where the robot fits
@@ -13,16 +27,96 @@ A part of `Following` (`skills.following.follower`); it reads `params`, `navigat
 from __future__ import annotations
 
 import math
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 from skills.motion import Goal
 from skills.status import Status
 
-SEARCH_AHEAD = 3.0        # m beyond the last seen place, along her trail, searched second
+SEARCH_AHEAD = 3.0        # m beyond the last seen place, along her trail
+SEARCH_REACH = 14.0       # m of walking from where she vanished: aisle ends further are left out
+MAX_LOOKOUTS = 7          # places in a plan at most (the predicted place included)
+BEHIND_WEIGHT = 1.0       # a place straight behind her counts (1 + this) times its distance
+MERGE = 1.5               # m: a place this near one already planned is seen from there
+LOOK_DWELL = 1.5          # s looking along each bearing
+ARRIVE = 0.5              # m from an aisle end counts as there
+LOOKOUT_PREFIX = "aisle"  # the map's places that are aisle ends and crossings
+HEADING_BASE = 1.5        # m of her trail her heading is taken over
+ALIGNED = 0.15            # rad: a turn this close to its bearing is done
+
+
+@dataclass(frozen=True)
+class Lookout:
+    """A place of the search plan: where to stand, where to look on arrival (None: round in
+    thirds), why it is in the plan."""
+    x: float
+    y: float
+    bearings: tuple[float, ...] | None
+    why: str
+
+
+def search_plan(predicted, seen, heading, ends, walk=None, ahead=None) -> list[Lookout]:
+    """The places to search, in order, for a customer last seen at `seen` walking along
+    `heading` (a unit vector, or None when she stood), predicted at `predicted`.
+
+    `ends` are the map's aisle ends and crossings as (name, x, y, heading rad: into the
+    aisle); `walk(x, y)` is the walking distance from `seen` (None: cannot be walked to;
+    default: the straight line); `ahead` is the point SEARCH_AHEAD on along her trail where
+    the robot fits (None: no such point). See the module's docstring for the order."""
+    walk = walk or (lambda x, y: math.hypot(x - seen[0], y - seen[1]))
+    plan = [Lookout(predicted[0], predicted[1], _along(heading), "where she should be")]
+    candidates = []
+    if ahead is not None:
+        candidates.append((_cost(ahead, seen, heading, walk), Lookout(
+            ahead[0], ahead[1], _along(heading), f"{SEARCH_AHEAD:.0f} m on along her way")))
+    for name, x, y, th in ends:
+        cost = _cost((x, y), seen, heading, walk)
+        if cost is not None:
+            candidates.append((cost, Lookout(x, y, (th,), name)))
+    for _, lookout in sorted((c for c in candidates if c[0] is not None), key=lambda c: c[0]):
+        if len(plan) >= MAX_LOOKOUTS:
+            break
+        if all(math.hypot(lookout.x - q.x, lookout.y - q.y) >= MERGE for q in plan):
+            plan.append(lookout)
+    return plan
+
+
+def _along(heading):
+    """Along her heading (the people detector sees 240°: ahead and both sides); None (round
+    in thirds) when she stood."""
+    if heading is None:
+        return None
+    return (math.atan2(heading[1], heading[0]),)
+
+
+def _cost(point, seen, heading, walk) -> float | None:
+    """Walking distance to `point`, counted longer the further it lies off her heading."""
+    d = walk(point[0], point[1])
+    if d is None or d > SEARCH_REACH:
+        return None
+    if heading is None:
+        return d
+    dx, dy = point[0] - seen[0], point[1] - seen[1]
+    r = math.hypot(dx, dy)
+    cos = 1.0 if r < 1e-6 else (dx * heading[0] + dy * heading[1]) / r
+    return d * (1.0 + BEHIND_WEIGHT * (1.0 - cos) / 2.0)
 
 
 class Searching:
-    """Approaching the prediction, searching round it and ahead (a part of `Following`)."""
+    """Approaching the prediction, then working through the search plan (a part of
+    `Following`)."""
+
+    def _where_she_should_be(self, now: float) -> tuple[float, float]:
+        """Her last seen state run on for up to `predict_for` s; walking, along the direction
+        her trail last took at no less than her usual pace (a track lost at the edge of the
+        detector's range has slowed and veered before it was dropped: a fast walker is
+        further on than its velocity says)."""
+        b, p = self._belief, self.params
+        heading = self._heading()
+        if b.speed < p.standing or heading is None:
+            return b.at(now, p.predict_for)
+        pace = max(b.speed, self._usual_pace)
+        dt = min(max(now - b.t, 0.0), p.predict_for)
+        return b.x + heading[0] * pace * dt, b.y + heading[1] * pace * dt
 
     def _approach_prediction(self, predicted, robot, now: float) -> None:
         """Keep going to where the customer should be, stopping `distance` short of it."""
@@ -38,61 +132,139 @@ class Searching:
         self._drive_to(goal, self._belief.speed + p.speed_gain * (d - p.distance), now)
 
     def _search(self, predicted, robot, now: float) -> None:
-        """Drive to within `distance` of the predicted place; there, turn round in thirds; call
-        out now and then."""
+        """Work through the search plan (made at the first call of a loss); call out now and
+        then."""
         p = self.params
         if self.speech is not None and now - self._last_call >= p.call_every:
             self._last_call = now
             self.speech.say(p.call, now)
             self.state = replace(self.state, calls=self.state.calls + 1)
-        goal = self._search_goal or predicted
+        if self._plan is None:
+            self._plan = self._make_plan(predicted)
+            self._plan_index, self._searched = 0, []
+            self._search_goal = None
+        lookout = self._plan[min(self._plan_index, len(self._plan) - 1)]
+        if self._plan_index == 0 and self._search_goal is None:
+            self._search_goal = (lookout.x, lookout.y)
+        goal = self._search_goal or (lookout.x, lookout.y)
+        if not self._arrived(goal, lookout, robot, now):
+            self._drive_to(goal, self.navigation.limits.max_speed if self.navigation else 0.4,
+                           now)
+            return
+        if self._look_round(lookout, robot, now):
+            return
+        if lookout.why not in self._searched:
+            self._searched.append(lookout.why)
+        self._next_lookout()
+
+    def _arrived(self, goal, lookout, robot, now: float) -> bool:
+        """Within reach of the place (the predicted place: within `distance`, from where it
+        can see it; an aisle end: ARRIVE), or navigation finished with it. The predicted
+        place out of reach: the last free place of her trail instead."""
+        p = self.params
         d = math.hypot(goal[0] - robot[0], goal[1] - robot[1])
         nav = self.navigation
         # navigation's outcome counts only for this goal, not for the approach while hidden
         # (which stops `distance` short of the prediction, out of sight round a shelf end)
         ours = self._goal is not None and math.hypot(self._goal[0] - goal[0],
                                                      self._goal[1] - goal[1]) <= p.goal_step
-        # within `distance` of the place it can see it, and she may be standing right there
-        arrived = nav is None or d < p.distance or (ours and nav.status.status in (
+        near = p.distance if self._plan_index == 0 else ARRIVE
+        arrived = nav is None or d < near or (ours and nav.status.status in (
             Status.SUCCEEDED, Status.FAILED))
-        if nav is not None and ours and nav.status.failed and self._trail:
-            # the predicted place cannot be reached: search from the last place on the trail
+        if self._plan_index == 0 and nav is not None and ours and nav.status.failed \
+                and self._trail:
             fallback = next((pt for pt in reversed(self._trail) if self._free(*pt)), None)
             if fallback is not None and fallback != self._search_goal:
                 self._search_goal = fallback
                 self._goal = None
-                arrived = False
-        goal = self._search_goal or predicted
-        if not arrived:
-            self._drive_to(goal, 0.4, now)
-            return
-        if self._search_heading is None or abs(_wrap(self._search_heading - robot[2])) < 0.15:
-            if self._search_turns >= 3 and self._search_further(goal):
-                return                  # looked all round here: on to where she was heading
+                return False
+        return arrived
+
+    def _look_round(self, lookout, robot, now: float) -> bool:
+        """Look round at the place: in thirds where no bearings are given, else along each
+        bearing for LOOK_DWELL s. True while still looking."""
+        if self._search_heading is not None and abs(_wrap(self._search_heading - robot[2])) \
+                >= ALIGNED:
+            self._turn(now)
+            return True
+        if lookout.bearings is None:
+            if self._search_turns >= 3:
+                return False
             self._search_heading = _wrap(robot[2] + 2 * math.pi / 3)
             self._search_turns += 1
+            self._turn(now)
+            return True
+        if self._search_heading is not None and self._looking_since is None:
+            self._looking_since = now
+        if self._looking_since is not None and now - self._looking_since < LOOK_DWELL:
+            self._hold(now)
+            return True
+        if self._search_turns >= len(lookout.bearings):
+            return False
+        self._search_heading = lookout.bearings[self._search_turns]
+        self._search_turns += 1
+        self._looking_since = None
+        self._turn(now)
+        return True
+
+    def _turn(self, now: float) -> None:
         self._hold(now)
         self.motion.start(Goal("turn_to", bearing=self._search_heading), now)
 
-    def _search_further(self, here) -> bool:
-        """After a full turn at the predicted place, search SEARCH_AHEAD further along the
-        direction her trail last took (she went on round a shelf end, out of sight from the
-        corner): once. True if there is such a place."""
-        if self._searched_ahead or len(self._trail) < 2:
-            return False
-        self._searched_ahead = True
-        (x0, y0), (x1, y1) = self._trail[max(0, len(self._trail) - 4)], self._trail[-1]
-        step = math.hypot(x1 - x0, y1 - y0)
-        if step < 0.2:
-            return False
-        ahead = (x1 + (x1 - x0) / step * SEARCH_AHEAD, y1 + (y1 - y0) / step * SEARCH_AHEAD)
-        # where the robot fits: near that point (she walked close along a shelf), else short of it
-        goal = self._nearest_free(*ahead) or self._free_towards((x1, y1), ahead)
-        if goal is None or math.hypot(goal[0] - here[0], goal[1] - here[1]) < 1.0:
-            return False
-        self._search_goal, self._goal = goal, None
-        self._search_turns, self._search_heading = 0, None
-        return True
+    def _next_lookout(self) -> None:
+        """On to the next place of the plan; after the last, back to the likeliest place after
+        the predicted one, to wait there (looking along it, over and over)."""
+        self._search_turns, self._search_heading, self._looking_since = 0, None, None
+        self._goal = None
+        if self._plan_index + 1 < len(self._plan):
+            self._plan_index += 1
+        else:
+            self._plan_index = min(1, len(self._plan) - 1)
+        lookout = self._plan[self._plan_index]
+        self._search_goal = (lookout.x, lookout.y)
+
+    def _make_plan(self, predicted) -> list[Lookout]:
+        seen = (self._belief.x, self._belief.y)
+        heading = self._heading()
+        ahead = None
+        if heading is not None:
+            x1, y1 = self._trail[-1] if self._trail else seen
+            point = (x1 + heading[0] * SEARCH_AHEAD, y1 + heading[1] * SEARCH_AHEAD)
+            # where the robot fits: near that point (she walked close along a shelf), else
+            # short of it
+            ahead = self._nearest_free(*point) or self._free_towards((x1, y1), point)
+        return search_plan(predicted, seen, heading, self._lookouts(), self._walking_from(seen),
+                           ahead)
+
+    def _heading(self):
+        """The direction her trail last took (a unit vector), else her velocity's; None when
+        she stood."""
+        if len(self._trail) >= 2:
+            x1, y1 = self._trail[-1]
+            # over HEADING_BASE of trail at least: a track fading out at the edge of the
+            # detector's range drifts over its last few points
+            x0, y0 = next(((x, y) for x, y in reversed(self._trail)
+                           if math.hypot(x1 - x, y1 - y) >= HEADING_BASE), self._trail[0])
+            step = math.hypot(x1 - x0, y1 - y0)
+            if step >= 0.2:
+                return (x1 - x0) / step, (y1 - y0) / step
+        b = self._belief
+        if b.speed >= self.params.standing:
+            return b.vx / b.speed, b.vy / b.speed
+        return None
+
+    def _lookouts(self) -> list[tuple[str, float, float, float]]:
+        """The map's aisle ends and crossings (its places named LOOKOUT_PREFIX…)."""
+        nav = self.navigation
+        if nav is None:
+            return []
+        return [(name, x, y, th) for name, (x, y, th) in sorted(nav.grid.places.items())
+                if name.startswith(LOOKOUT_PREFIX)]
+
+    @property
+    def searched(self) -> list[str]:
+        """The places of the current plan looked at so far."""
+        return list(self._searched)
 
 
 def _wrap(angle: float) -> float:

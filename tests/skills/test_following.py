@@ -116,3 +116,25 @@ def test_never_follows_a_look_alike_who_crosses_close_past_her_out_of_the_store(
     assert log.status.running                # still with her (or waiting, unsure): not gave up
     assert log.true_distance and log.true_distance[-1] <= 1.6     # and next to her at the end
     assert log.robot_contacts == 0
+
+
+def test_a_customer_faster_than_the_robot_is_searched_for_along_her_way_and_found():
+    # 1.4 m/s against PERSES's 0.6: beyond the detector's 5 m she is lost; the search along
+    # her way (into aisle A4) finds her at the snacks
+    log = follow_in_store("perses", "store_fast.toml", "fiona")
+    assert log.hidden_at, "she never got away: the scenario no longer tests a fast walker"
+    # a loss long enough to search (over `search_after`, 4 s) ended within 10 s
+    assert any(4.0 <= found - lost <= 10.0 for lost, found in zip(log.hidden_at, log.found_at))
+    assert log.wrong_person == 0
+    assert log.robot_contacts == 0
+    if log.status.failed:                         # she outran it again later: says where it looked
+        assert "searched where she should be" in log.status.reason
+
+
+def test_a_customer_hidden_behind_a_stand_in_for_6_s_is_found_again():
+    log = follow_in_store("perses", "store_stand_in.toml", "stella")
+    assert all(found - lost <= 10.0 for lost, found in zip(log.hidden_at, log.found_at))
+    assert len(log.found_at) == len(log.hidden_at)
+    assert log.wrong_person == 0
+    assert log.robot_contacts == 0
+    assert log.status.running

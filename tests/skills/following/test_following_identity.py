@@ -142,3 +142,48 @@ def test_her_look_outweighs_a_stranger_nearer_her_prediction():
     perception.believed = (seen(7, where[0] + 0.1, where[1], t + 0.3, BLUE),)
     following.sense(t + 0.3)                               # she vanishes again: the blue one
     assert following.state.lost and following.state.target == 8      # alone is not her
+
+
+def test_while_followed_her_track_is_her_by_the_one_score_and_its_threshold():
+    from skills.following import score
+    following, perception = follower()
+    t = learn_her(following, perception)
+    # one view unlike her (a shopper passing behind her in the camera's view) is not enough
+    perception.believed = (seen(1, 2.55, 0.0, t, BLUE, vx=0.5),)
+    following.sense(t)
+    assert not following.state.lost and following.state.target == 1
+    t += 0.1
+    # her track 1.4 m on from where she was a tick ago still scores above THRESHOLD ...
+    track_now = seen(1, 2.6 + 1.4, 0.0, t, RED, vx=0.5)
+    predicted = following._belief.at(t, following.params.predict_for)
+    value, _ = following._followed_score(track_now, predicted, 0.9, t)
+    assert value >= score.THRESHOLD
+    # ... 2 m on it does not, whatever it looks like: nobody walks 2 m in a tick (an id
+    # handed to somebody else); her look cannot make that jump possible
+    far = seen(1, 2.6 + 2.0, 0.0, t, RED, vx=0.5)
+    value, _ = following._followed_score(far, predicted, 0.9, t)
+    assert value < score.THRESHOLD
+    perception.believed = (far,)
+    following.sense(t)
+    assert following.state.lost
+
+
+def test_a_look_alike_seen_apart_from_her_is_never_taken_for_her():
+    # a look-alike (red, like her) stands 1.2 m from her while the camera sees both: when she
+    # is hidden, the look-alike near where she should be is not her, however like her it looks
+    following, perception = follower()
+    t = learn_her(following, perception)
+    x = 2.0 + 0.5 * (t - 0.1)
+    for _ in range(5):
+        perception.believed = (seen(1, x, 0.0, t, RED), seen(6, x - 1.2, 0.3, t, RED))
+        following.sense(t)
+        t += 0.1
+    assert following.state.target == 1 and 6 in following._strangers
+    for _ in range(20):                         # she is hidden; the look-alike stays in view
+        perception.believed = (seen(6, x - 1.0, 0.2, t, RED),)
+        following.sense(t)
+        assert following.state.lost and following.state.target == 1, t
+        t += 0.1
+    perception.believed = (seen(6, x - 1.0, 0.2, t, RED), seen(9, x + 0.2, 0.0, t, RED))
+    following.sense(t)                          # she steps out again: a new track, her look
+    assert not following.state.lost and following.state.target == 9

@@ -1,39 +1,103 @@
-"""Searching (skills.following.searching), without a world: after `search_after` s unseen the
-robot turns round in thirds where she should be, calls out, then looks further along her
-trail."""
+"""Searching (skills.following.searching), without a world: the search plan (the order of the
+places visited, given where she vanished and her heading), walking round shelves, and the
+robot working through a plan: looking along her heading, calling, on to the next place."""
 from __future__ import annotations
 
 import math
 
 from follow_fakes import Speech, follower, track
-from skills.following import SEARCHING
+from skills.following import GAVE_UP_REASON, SEARCHING
+from skills.following.room import walking_distances
+from skills.following.searching import MAX_LOOKOUTS, search_plan
+from skills.navigation.gridmap import load_map
+
+NORTH, SOUTH = math.pi / 2, -math.pi / 2
+# a row of aisles (x = 5, 8, 11, 14, 17), their south ends at y = 6.5 and north ends at 16.5
+ENDS = [(f"aisle{k}_{side}", 2.0 + 3 * k, y, th) for k in range(1, 6)
+        for side, y, th in (("south", 6.5, NORTH), ("north", 16.5, SOUTH))]
 
 
-def test_it_turns_round_in_thirds_calls_and_then_searches_ahead_along_her_trail():
-    speech = Speech()
-    following, perception = follower(speech)
+def names(plan):
+    return [lookout.why for lookout in plan]
+
+
+def test_the_plan_starts_where_she_should_be_and_goes_on_along_her_way():
+    # she walked north up aisle 4 (x = 14) and vanished 2.5 m short of its north end
+    plan = search_plan((14.0, 15.5), (14.0, 14.0), (0.0, 1.0), ENDS, ahead=(14.0, 17.0))
+    assert names(plan)[:2] == ["where she should be", "3 m on along her way"]
+    assert plan[0].bearings == (NORTH,)                  # looking on along her heading
+    # the aisle's north end lies within 1.5 m of where she should be: seen from there
+    assert "aisle4_north" not in names(plan)
+    # expanding outwards: the neighbouring aisles' north ends next, the end behind her later
+    assert set(names(plan)[2:4]) == {"aisle3_north", "aisle5_north"}
+    assert plan[2].bearings == (SOUTH,)                  # at an aisle end: into the aisle
+    assert names(plan).index("aisle4_south") > names(plan).index("aisle5_north")
+    assert len(plan) <= MAX_LOOKOUTS
+
+
+def test_places_behind_her_count_for_more_than_places_ahead_at_the_same_distance():
+    # in the front aisle (y = 5) between aisles 3 and 4, walking east
+    ahead = search_plan((13.0, 5.0), (12.5, 5.0), (1.0, 0.0), ENDS)
+    back = search_plan((12.0, 5.0), (12.5, 5.0), (-1.0, 0.0), ENDS)
+    assert names(ahead)[1] == "aisle4_south" and names(back)[1] == "aisle3_south"
+    # she stood: round in thirds where she should be, then simply nearest first
+    stood = search_plan((12.5, 5.0), (12.5, 5.0), None, ENDS)
+    assert stood[0].bearings is None
+    assert names(stood)[1:3] in (["aisle3_south", "aisle4_south"], ["aisle4_south", "aisle3_south"])
+
+
+def test_the_plan_counts_the_walk_round_shelves_and_leaves_out_what_is_too_far():
+    # a place 3 m away as the crow flies but 12 m round a shelf comes after one 5 m away
+    walk = {(14.0, 16.5): 5.0, (17.0, 16.5): 12.0, (11.0, 16.5): 6.0}
+    plan = search_plan((14.0, 14.0), (14.0, 14.0), None,
+                       [(n, x, y, th) for n, x, y, th in ENDS if (x, y) in walk],
+                       walk=lambda x, y: walk.get((x, y)))
+    assert names(plan) == ["where she should be", "aisle4_north", "aisle3_north", "aisle5_north"]
+    none = search_plan((14.0, 14.0), (14.0, 14.0), None, ENDS[:1], walk=lambda x, y: None)
+    assert names(none) == ["where she should be"]          # no way leads there
+
+
+def test_walking_distances_go_round_the_store_shelves():
+    walk = walking_distances(load_map("store"), (14.0, 10.0))    # aisle A4, mid-way
+    assert abs(walk(14.0, 16.5) - 6.5) < 0.3                       # straight up the aisle
+    # aisle A5 is 3 m east through a shelf unit: round its south end, 3.5 + 3 + 3.5 m
+    assert 9.5 <= walk(17.0, 10.0) <= 10.5
+    assert walk(40.0, 10.0) is None                                # outside the store
+
+
+def _lose_her_walking_east(following, perception, speech):
     for k in range(11):                                   # she walks along x, then vanishes
         t = 0.1 * k
         perception.believed = (track(1, 2.0 + 0.5 * t, 0.0, t, vx=0.5),)
         if k == 0:
-            following.follow(0.0, target=1)
+            following.follow(0.0, target=1, give_up_after=12.0)
         following.sense(t)
     perception.believed = ()
-    bearings, now = [], 1.0
+    now = 1.0
     while now < 1.0 + following.params.search_after + 0.05:
         now += 0.1
         following.sense(now)
+    return now
+
+
+def test_it_looks_along_her_heading_calls_goes_on_and_gives_up_naming_the_places():
+    speech = Speech()
+    following, perception = follower(speech)
+    now = _lose_her_walking_east(following, perception, speech)
     assert following.state.phase == SEARCHING
     assert [text for _, text in speech.said] == [following.params.call]
-    for _ in range(4):                                     # each turn done: the next third
-        goal = following.motion.goal
-        assert goal.kind == "turn_to"
-        bearings.append(goal.bearing)
-        following.localization.state.th = goal.bearing
+    goal = following.motion.goal
+    assert goal.kind == "turn_to" and abs(goal.bearing) < 0.2    # east, where she was going
+    following.localization.state.th = goal.bearing
+    while following._plan_index == 0:                    # looks a while, then on
         now += 0.1
         following.sense(now)
-    steps = {round(abs(math.remainder(b - a, 2 * math.pi)), 2)
-             for a, b in zip(bearings, bearings[1:3])}
-    assert steps == {round(2 * math.pi / 3, 2)}
-    ahead = following._search_goal
-    assert ahead is not None and ahead[0] > 2.5 + 2.5      # 3 m on along where she walked
+    assert now - 5.0 >= 1.5 - 0.1
+    assert following._search_goal[0] > 2.5 + 2.5         # 3 m on along where she walked
+    while following.state.phase == SEARCHING:
+        now += 0.1
+        following.localization.state.th = getattr(following.motion.goal, "bearing", 0.0) or 0.0
+        following.sense(now)
+    status = following.status
+    assert status.failed and status.reason.startswith(GAVE_UP_REASON)
+    assert "searched where she should be, 3 m on along her way" in status.reason
