@@ -227,6 +227,8 @@ def main(argv=None) -> int:
     parser.add_argument("--threshold", type=float, default=None,
                         help="the least fit taken (default: the language's calibrated one)")
     parser.add_argument("--snr", type=float, default=None, help="white noise at this dB SNR")
+    parser.add_argument("--noise-floor", type=float, default=None,
+                        help="the recognizer's noise floor (RMS; default: its own)")
     parser.add_argument("--misses", action="store_true", help="list every miss")
     args = parser.parse_args(argv)
     which = "calibration" if args.calibrate else args.which
@@ -240,6 +242,8 @@ def main(argv=None) -> int:
             threshold = (default_threshold(language) if args.threshold is None
                          else args.threshold)
             recognizer = AnswerRecognizer(_Silent(), language=language, threshold=threshold)
+            if args.noise_floor is not None:
+                recognizer.noise_floor = args.noise_floor
             mine: tuple[list, list] = ([], [])
             for app in args.apps.split(","):
                 start = time.perf_counter()

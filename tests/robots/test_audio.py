@@ -6,12 +6,13 @@ import subprocess
 import time
 import wave
 
+import numpy as np
 import pytest
 
 from robots.audio.espeak import EspeakSpeaker, espeak_voices, wav_duration
 from robots.audio.pronounce import ipa_to_phones, pronounce
 from robots.audio.recognizer import (DEFAULT_THRESHOLD, AnswerRecognizer, default_threshold,
-                                     sayings, spoken_forms)
+                                     sayings, spoken_forms, with_noise_floor)
 from robots.audio.source import MicrophoneSource, WavFileSource, WavQueueSource
 from robots.clock import RealClock
 from robots.exceptions import RobotError
@@ -81,6 +82,16 @@ def test_an_answer_fits_better_than_a_word_that_is_no_answer(tmp_path):
     assert default_threshold("de-at") < default_threshold("en-us") == DEFAULT_THRESHOLD
 
 
+def test_the_noise_floor_is_small_seeded_and_can_be_left_out():
+    """Digital silence gets the noise floor a microphone has, the same each time (the same
+    sound must decode the same), about 40 dB under speech; 0 leaves the sound as it is."""
+    silence = bytes(2 * 16000)
+    floored = with_noise_floor(silence, 20.0)
+    assert floored == with_noise_floor(silence, 20.0)
+    assert 18.0 < np.frombuffer(floored, dtype="<i2").std() < 22.0
+    assert with_noise_floor(silence, 0.0) == silence
+
+
 def test_answers_of_several_words_are_heard_whole(tmp_path):
     """Every word of a several-word answer must be heard: the decoder's lattice best path
     dropped the later words ("Follow me" came out as "follow" and was lost), so it is off."""
@@ -123,7 +134,7 @@ def test_recognition_floor_on_a_held_out_voice(tmp_path, language):
             kept += recognizer.hear_utterance(
                 WavFileSource(spoken(tmp_path, text, *voice))._data, choices) is None
     recognizer.close()
-    floor = {"en": (0.9, 0.8), "de": (0.7, 0.7)}[language]     # (recognised, rejected)
+    floor = {"en": (0.8, 0.9), "de": (0.9, 0.9)}[language]     # (recognised, rejected)
     assert heard / total >= floor[0], f"{heard}/{total} recognised"
     assert kept / count >= floor[1], f"{kept}/{count} rejected"
 
