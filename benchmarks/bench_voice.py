@@ -1,15 +1,23 @@
 """Spoken answers: how many of each bundled application's answers the recognizer hears, and how
-many other words it rejects, per application and language.
+many other words it rejects, per application, language, answer length and voice.
 
-Each answer button of every question is spoken by espeak-ng in three voices of the language
-(the part before brackets, for "Room S1 (seminar room)"); each must be recognised as that
-button among the question's buttons (recognition rate). Ten words that are no answer are
-spoken in the first voice against every question; each must be rejected (rejection rate).
-The recognizer decodes each whole utterance with the grammar and rivals it listens with
+Each answer button of every question is spoken by espeak-ng in each voice of a set (the part
+before brackets, for "Room S1 (seminar room)"); each must be recognised as that button among
+the question's buttons (recognition rate). Words and phrases that are no answer are spoken
+against every question, each in one voice of the set in turn; each must be rejected
+(rejection rate). The recognizer decides on each whole utterance as it does while listening
 (`AnswerRecognizer.hear_utterance`); the microphone's endpointing is not part of this.
 
-    python benchmarks/bench_voice.py [--apps survey,guide] [--languages en,de]
-                                     [--threshold -20] [--voices 3]
+Two sets of voices and other words, which share none: `calibration` (the threshold is chosen
+on it: `--calibrate` prints the rates for a range of thresholds and the one where the lower of
+the two rates is highest) and `test` (the figures; other espeak-ng voices, speeds and pitches,
+and other words). `--snr DB` mixes white noise into every utterance at that signal-to-noise
+ratio (the speech's mean power over the noise's; seeded, so the same run gives the same
+figures).
+
+    python benchmarks/bench_voice.py [--set test|calibration] [--calibrate]
+                                     [--apps survey,guide] [--languages en,de]
+                                     [--threshold -31] [--snr 20] [--misses]
 
 The engine is pocketsphinx (robots/audio/recognizer.py says why); figures in
 docs/tablet-and-voice.md.
@@ -19,26 +27,57 @@ Benchmarks are not a layer: this script reads the applications (L3) and the reco
 from __future__ import annotations
 
 import argparse
+import hashlib
 import re
 import subprocess
 import sys
 import tempfile
 import time
+from collections import defaultdict
 from pathlib import Path
+
+import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from applications.appfolder import load_folder            # noqa: E402
-from robots.audio.recognizer import DEFAULT_THRESHOLD, AnswerRecognizer   # noqa: E402
+from robots.audio.recognizer import AnswerRecognizer, default_threshold   # noqa: E402
 from robots.audio.source import WavFileSource               # noqa: E402
 
 APPS = ("survey", "guide", "receptionist", "shopping")
-VOICES = {"en": ("en-us", "en", "en-us+f3"), "de": ("de", "de+f3", "de+m3")}
+# (espeak-ng voice, extra options): the calibration voices are espeak-ng's plain voices; the
+# test voices are other variants, at other speeds (-s, words per minute) and pitches (-p).
+VOICES = {
+    "calibration": {
+        "en": (("en-us", ()), ("en", ()), ("en-us+f3", ())),
+        "de": (("de", ()), ("de+f3", ()), ("de+m3", ())),
+    },
+    "test": {
+        "en": (("en-us+m1", ("-s", "140", "-p", "40")),
+               ("en-gb-x-rp+f2", ("-s", "190", "-p", "65")),
+               ("en-us+klatt", ("-s", "170")),
+               ("en-gb-scotland+m4", ("-s", "160", "-p", "55"))),
+        "de": (("de+m1", ("-s", "140", "-p", "40")), ("de+f2", ("-s", "190", "-p", "65")),
+               ("de+klatt", ("-s", "170")), ("de+m4", ("-s", "160", "-p", "55"))),
+    },
+}
 OTHER_WORDS = {
-    "en": ("banana", "window", "seven", "yesterday", "telephone", "coffee", "elephant",
-           "tomorrow", "umbrella", "morning"),
-    "de": ("Banane", "Fenster", "sieben", "gestern", "Telefon", "Elefant", "morgen",
-           "Regenschirm", "Kartoffel", "Zeitung"),
+    "calibration": {
+        "en": ("banana", "window", "seven", "yesterday", "telephone", "coffee", "elephant",
+               "tomorrow", "umbrella", "morning"),
+        "de": ("Banane", "Fenster", "sieben", "gestern", "Telefon", "Elefant", "morgen",
+               "Regenschirm", "Kartoffel", "Zeitung"),
+    },
+    "test": {
+        "en": ("potato", "bicycle", "eleven", "hello", "kitchen", "where is the toilet",
+               "I am hungry", "garden", "newspaper", "what time is it", "chocolate", "maybe",
+               "twenty", "thank you very much", "computer", "the weather is nice", "mister",
+               "orange juice", "excuse me", "library"),
+        "de": ("Kartoffel", "Fahrrad", "elf", "hallo", "Küche", "wo ist die Toilette",
+               "ich habe Hunger", "Garten", "vielleicht", "wie spät ist es", "Schokolade",
+               "zwanzig", "vielen Dank", "Rechner", "das Wetter ist schön", "Herr",
+               "Orangensaft", "Entschuldigung", "Bibliothek", "Mittagessen"),
+    },
 }
 
 
@@ -61,12 +100,29 @@ def spoken(text: str) -> str:
     return re.sub(r"\s*\(.*\)\s*$", "", text) or text
 
 
-def utterance(folder: Path, text: str, voice: str) -> bytes:
-    path = folder / f"{abs(hash((text, voice)))}.wav"
+def words_in(text: str) -> int:
+    """How many words a button is said with (espeak-ng reads "Dr." as one)."""
+    return len(re.findall(r"[\w']+", spoken(text)))
+
+
+def utterance(folder: Path, text: str, voice: tuple[str, tuple[str, ...]],
+              snr: float | None) -> bytes:
+    """16 kHz samples of `text` spoken by `voice`, with white noise at `snr` dB if given."""
+    name, options = voice
+    key = hashlib.sha1(repr((text, name, options)).encode()).hexdigest()[:16]
+    path = folder / f"{key}.wav"
     if not path.exists():
-        subprocess.run(["espeak-ng", "-v", voice, "-w", str(path), "--", text], check=True,
-                       capture_output=True)
-    return WavFileSource(path)._data
+        subprocess.run(["espeak-ng", "-v", name, *options, "-w", str(path), "--", text],
+                       check=True, capture_output=True)
+    data = WavFileSource(path)._data
+    if snr is None:
+        return data
+    samples = np.frombuffer(data, dtype="<i2").astype(float)
+    loud = samples[np.abs(samples) > 0]
+    power = float(np.mean(loud ** 2)) if loud.size else 0.0
+    noise = np.random.default_rng(int(key, 16)).normal(0.0, np.sqrt(power / 10 ** (snr / 10)),
+                                                        samples.size)
+    return np.clip(samples + noise, -32768, 32767).astype("<i2").tobytes()
 
 
 def questions(app: str, language: str) -> list[tuple[str, tuple[str, ...]]]:
@@ -81,55 +137,144 @@ def questions(app: str, language: str) -> list[tuple[str, tuple[str, ...]]]:
     return found
 
 
-def measure(app: str, language: str, recognizer: AnswerRecognizer, folder: Path,
-            voices: int) -> dict:
-    heard = total = rejected = others = 0
-    misses: list[str] = []
-    asked = questions(app, language)
-    for _, buttons in asked:
+def fits(app: str, language: str, recognizer: AnswerRecognizer, folder: Path, which: str,
+         snr: float | None) -> tuple[list[dict], list[dict]]:
+    """Every answer utterance and every other-word utterance of `app`, with the choice it fits
+    best and its fit (the threshold is applied afterwards, so one pass serves every one)."""
+    answers, others = [], []
+    voices = VOICES[which][language]
+    for _, buttons in questions(app, language):
         for button in buttons:
-            for voice in VOICES[language][:voices]:
-                got = recognizer.hear_utterance(utterance(folder, spoken(button), voice), buttons)
-                total += 1
-                heard += got == button
-                if got != button:
-                    misses.append(f"{spoken(button)!r}/{voice} -> {got!r}")
-        for word in OTHER_WORDS[language]:
-            got = recognizer.hear_utterance(utterance(folder, word, VOICES[language][0]), buttons)
-            others += 1
-            rejected += got is None
-            if got is not None:
-                misses.append(f"{word!r} (no answer) -> {got!r}")
-    return {"heard": heard, "total": total, "rejected": rejected, "others": others,
-            "misses": misses}
+            for voice in voices:
+                choice, fit = recognizer.fit(utterance(folder, spoken(button), voice, snr),
+                                             buttons)
+                answers.append({"app": app, "text": spoken(button), "voice": voice[0],
+                                "words": words_in(button), "right": choice == button,
+                                "choice": choice, "fit": fit})
+        for index, word in enumerate(OTHER_WORDS[which][language]):
+            voice = voices[index % len(voices)]
+            choice, fit = recognizer.fit(utterance(folder, word, voice, snr), buttons)
+            others.append({"app": app, "text": word, "voice": voice[0], "choice": choice,
+                           "fit": fit})
+    return answers, others
+
+
+def taken(item: dict, threshold: float) -> bool:
+    return item["choice"] is not None and item["fit"] is not None and item["fit"] >= threshold
+
+
+def rate(hits: int, total: int) -> str:
+    return f"{hits:4d}/{total:<4d} {100 * hits / max(1, total):5.1f} %"
+
+
+def recognised(items: list[dict], threshold: float) -> tuple[int, int]:
+    return sum(i["right"] and taken(i, threshold) for i in items), len(items)
+
+
+def rejected(items: list[dict], threshold: float) -> tuple[int, int]:
+    return sum(not taken(i, threshold) for i in items), len(items)
+
+
+def report(language: str, answers: list[dict], others: list[dict], threshold: float) -> None:
+    """The language's rates by answer length and by voice, and its worst cases."""
+    print(f"  {language}: all {rate(*recognised(answers, threshold))} recognised, "
+          f"{rate(*rejected(others, threshold))} rejected")
+    groups: dict[str, list[dict]] = defaultdict(list)
+    for item in answers:
+        groups[f"{min(item['words'], 3)}{'+' if item['words'] >= 3 else ''} word(s)"].append(item)
+    for name in sorted(groups):
+        print(f"    {name:18} {rate(*recognised(groups[name], threshold))} recognised")
+    by_voice: dict[str, tuple[list, list]] = defaultdict(lambda: ([], []))
+    for item in answers:
+        by_voice[item["voice"]][0].append(item)
+    for item in others:
+        by_voice[item["voice"]][1].append(item)
+    for voice, (mine, theirs) in by_voice.items():
+        print(f"    {voice:18} {rate(*recognised(mine, threshold))} recognised "
+              f"{rate(*rejected(theirs, threshold))} rejected")
+    cells = [(a, v) for a in {i["app"] for i in answers} for v in by_voice]
+    worst = min(cells, key=lambda c: recognised([i for i in answers if i["app"] == c[0]
+                                                 and i["voice"] == c[1]], threshold)[0]
+                / max(1, recognised([i for i in answers if i["app"] == c[0]
+                                     and i["voice"] == c[1]], threshold)[1]))
+    cell = [i for i in answers if i["app"] == worst[0] and i["voice"] == worst[1]]
+    print(f"    worst application and voice: {worst[0]}/{worst[1]} "
+          f"{rate(*recognised(cell, threshold))} recognised")
+
+
+def calibrate(answers: list[dict], others: list[dict]) -> float:
+    """Print both rates over a range of thresholds; return the one whose lower rate is
+    highest (ties: the higher threshold)."""
+    best, best_score = 0.0, -1.0
+    for threshold in np.arange(-60.0, 0.5, 1.0):
+        heard, total = recognised(answers, threshold)
+        kept, count = rejected(others, threshold)
+        score = min(heard / max(1, total), kept / max(1, count))
+        print(f"  threshold {threshold:6.1f}: {rate(heard, total)} recognised "
+              f"{rate(kept, count)} rejected")
+        if score >= best_score:
+            best, best_score = float(threshold), score
+    print(f"calibrated threshold: {best:g} (lower of the two rates {100 * best_score:.1f} %)")
+    return best
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--apps", default=",".join(APPS))
     parser.add_argument("--languages", default="en,de")
-    parser.add_argument("--threshold", type=float, default=DEFAULT_THRESHOLD)
-    parser.add_argument("--voices", type=int, default=3, help="voices per language (1–3)")
+    parser.add_argument("--set", dest="which", choices=("test", "calibration"), default="test")
+    parser.add_argument("--calibrate", action="store_true",
+                        help="sweep the threshold on the calibration set (implies --set "
+                             "calibration)")
+    parser.add_argument("--threshold", type=float, default=None,
+                        help="the least fit taken (default: the language's calibrated one)")
+    parser.add_argument("--snr", type=float, default=None, help="white noise at this dB SNR")
+    parser.add_argument("--noise-floor", type=float, default=None,
+                        help="the recognizer's noise floor (RMS; default: its own)")
     parser.add_argument("--misses", action="store_true", help="list every miss")
     args = parser.parse_args(argv)
-    print(f"threshold {args.threshold:g}, {args.voices} voice(s) per language")
+    which = "calibration" if args.calibrate else args.which
+    print(f"set {which}, threshold "
+          f"{'per language' if args.threshold is None else f'{args.threshold:g}'}, "
+          f"noise {'none' if args.snr is None else f'{args.snr:g} dB SNR'}")
     print(f"{'application':14} {'lang':4} {'recognised':>16} {'rejected':>16} {'s/utt':>6}")
+    everything: dict[str, tuple[list, list]] = {}
     with tempfile.TemporaryDirectory() as tmp:
         for language in args.languages.split(","):
-            recognizer = AnswerRecognizer(_Silent(), language=language,
-                                          threshold=args.threshold)
+            threshold = (default_threshold(language) if args.threshold is None
+                         else args.threshold)
+            recognizer = AnswerRecognizer(_Silent(), language=language, threshold=threshold)
+            if args.noise_floor is not None:
+                recognizer.noise_floor = args.noise_floor
+            mine: tuple[list, list] = ([], [])
             for app in args.apps.split(","):
                 start = time.perf_counter()
-                result = measure(app, language, recognizer, Path(tmp), args.voices)
-                count = result["total"] + result["others"]
-                per = (time.perf_counter() - start) / max(1, count)
-                print(f"{app:14} {language:4} "
-                      f"{result['heard']:4d}/{result['total']:<4d} {100 * result['heard'] / max(1, result['total']):5.1f} % "
-                      f"{result['rejected']:4d}/{result['others']:<4d} {100 * result['rejected'] / max(1, result['others']):5.1f} % "
-                      f"{per:6.2f}", flush=True)
+                answers, others = fits(app, language, recognizer, Path(tmp), which, args.snr)
+                per = (time.perf_counter() - start) / max(1, len(answers) + len(others))
+                print(f"{app:14} {language:4} {rate(*recognised(answers, threshold))} "
+                      f"{rate(*rejected(others, threshold))} {per:6.2f}", flush=True)
                 if args.misses:
-                    for miss in result["misses"]:
-                        print(f"    {miss}")
+                    for item in answers:
+                        if not (item["right"] and taken(item, threshold)):
+                            print(f"    {item['text']!r}/{item['voice']} -> {item['choice']!r}"
+                                  f" (fit {item['fit']})")
+                    for item in others:
+                        if taken(item, threshold):
+                            print(f"    {item['text']!r} (no answer)/{item['voice']} -> "
+                                  f"{item['choice']!r} (fit {item['fit']})")
+                mine[0].extend(answers)
+                mine[1].extend(others)
+            everything[language] = (mine[0], mine[1], threshold)
+    print("by language, answer length and voice:")
+    for language, (answers, others, threshold) in everything.items():
+        report(language, answers, others, threshold)
+    if args.calibrate:
+        for language, (answers, others, _) in everything.items():
+            print(f"calibration, {language}:")
+            calibrate(answers, others)
+        print("calibration, all languages:")
+        calibrate([a for x in everything.values() for a in x[0]],
+                  [o for x in everything.values() for o in x[1]])
     return 0
 
 

@@ -6,23 +6,25 @@ import subprocess
 import time
 import wave
 
+import numpy as np
 import pytest
 
 from robots.audio.espeak import EspeakSpeaker, espeak_voices, wav_duration
 from robots.audio.pronounce import ipa_to_phones, pronounce
-from robots.audio.recognizer import DEFAULT_THRESHOLD, AnswerRecognizer, sayings, spoken_forms
+from robots.audio.recognizer import (DEFAULT_THRESHOLD, AnswerRecognizer, default_threshold,
+                                     sayings, spoken_forms, with_noise_floor)
 from robots.audio.source import MicrophoneSource, WavFileSource, WavQueueSource
 from robots.clock import RealClock
 from robots.exceptions import RobotError
 
 
-def spoken(tmp_path, text: str, voice: str = "en-us"):
-    path = tmp_path / f"{text.replace(' ', '_')}.wav"
-    subprocess.run(["espeak-ng", "-v", voice, "-w", str(path), text], check=True)
+def spoken(tmp_path, text: str, voice: str = "en-us", *options: str):
+    path = tmp_path / f"{text.replace(' ', '_')}-{voice}{''.join(options)}.wav"
+    subprocess.run(["espeak-ng", "-v", voice, *options, "-w", str(path), text], check=True)
     return path
 
 
-def hear(path, choices, prompt="q1", threshold=DEFAULT_THRESHOLD, language="en"):
+def hear(path, choices, prompt="q1", threshold=None, language="en"):
     recognizer = AnswerRecognizer(WavFileSource(path), language=language, threshold=threshold)
     recognizer.listen(prompt, choices)
     recognizer.wait(60.0)
@@ -54,9 +56,9 @@ def test_a_language_espeak_ng_cannot_pronounce_is_refused():
 
 
 def test_raising_the_threshold_accepts_fewer(tmp_path):
-    """The threshold is how much better an answer must fit than the rival words: the same
-    utterance is taken at a low threshold and rejected at a high one, and a word that is no
-    answer is let through only when the threshold is very low."""
+    """The threshold is the least fit (per frame, against the free loop of phones) an answer is
+    taken with: the same utterance is taken at a low threshold and rejected at a high one, and
+    a word that is no answer is let through only when the threshold is very low."""
     yes = spoken(tmp_path, "yes")
     banana = spoken(tmp_path, "banana")
     low, default, high = -80.0, DEFAULT_THRESHOLD, 50.0
@@ -66,17 +68,88 @@ def test_raising_the_threshold_accepts_fewer(tmp_path):
     assert hear(banana, ("yes", "no"), threshold=low)[0] is not None
 
 
+def test_an_answer_fits_better_than_a_word_that_is_no_answer(tmp_path):
+    """The fit the threshold is compared with: the answer said fits far better than another
+    word forced onto the closest answer; German is calibrated lower (it fits worse through
+    the English model)."""
+    recognizer = AnswerRecognizer(WavFileSource(spoken(tmp_path, "yes")))
+    choices = ("yes", "no")
+    said = recognizer.fit(WavFileSource(spoken(tmp_path, "no"))._data, choices)
+    other = recognizer.fit(WavFileSource(spoken(tmp_path, "umbrella"))._data, choices)
+    recognizer.close()
+    assert said[0] == "no" and other[1] is not None
+    assert said[1] > DEFAULT_THRESHOLD > other[1]
+    assert default_threshold("de-at") < default_threshold("en-us") == DEFAULT_THRESHOLD
+
+
+def test_the_noise_floor_is_small_seeded_and_can_be_left_out():
+    """Digital silence gets the noise floor a microphone has, the same each time (the same
+    sound must decode the same), about 40 dB under speech; 0 leaves the sound as it is."""
+    silence = bytes(2 * 16000)
+    floored = with_noise_floor(silence, 20.0)
+    assert floored == with_noise_floor(silence, 20.0)
+    assert 18.0 < np.frombuffer(floored, dtype="<i2").std() < 22.0
+    assert with_noise_floor(silence, 0.0) == silence
+
+
+def test_answers_of_several_words_are_heard_whole(tmp_path):
+    """Every word of a several-word answer must be heard: the decoder's lattice best path
+    dropped the later words ("Follow me" came out as "follow" and was lost), so it is off."""
+    choices = ("Find a product", "Follow me", "Nothing, thanks")
+    for text in choices:
+        heard, rejected = hear(spoken(tmp_path, text), choices)
+        assert heard == ("q1", text), rejected
+
+
+# A held-out voice (not one the thresholds were calibrated on), slower and lower than usual.
+FLOOR_VOICES = {"en": ("en-us+m1", "-s", "140", "-p", "40"),
+                "de": ("de+f2", "-s", "190", "-p", "65")}
+FLOOR_CASES = {
+    "en": ((("yes", "no"), ("1", "2", "3", "4", "5"),
+            ("Find a product", "Follow me", "Nothing, thanks")),
+           ("banana", "where is the toilet", "kitchen", "hello")),
+    "de": ((("ja", "nein"), ("1", "2", "3", "4", "5"),
+            ("Ein Produkt finden", "Folgen Sie mir", "Nichts, danke")),
+           ("Banane", "wo ist die Toilette", "Küche", "hallo")),
+}
+
+
+@pytest.mark.parametrize("language", ["en", "de"])
+def test_recognition_floor_on_a_held_out_voice(tmp_path, language):
+    """A floor under the benchmark's rates (benchmarks/bench_voice.py measures them all):
+    the survey's and the shopping assistant's first buttons, said by a voice the thresholds
+    were not calibrated on, are heard as themselves, and words that are no answer are
+    rejected, at the language's default threshold."""
+    voice = FLOOR_VOICES[language]
+    questions, others = FLOOR_CASES[language]
+    recognizer = AnswerRecognizer(WavFileSource(spoken(tmp_path, "yes")), language=language)
+    heard = total = kept = count = 0
+    for choices in questions:
+        for text in choices:
+            total += 1
+            heard += recognizer.hear_utterance(
+                WavFileSource(spoken(tmp_path, text, *voice))._data, choices) == text
+        for text in others:
+            count += 1
+            kept += recognizer.hear_utterance(
+                WavFileSource(spoken(tmp_path, text, *voice))._data, choices) is None
+    recognizer.close()
+    floor = {"en": (0.8, 0.9), "de": (0.9, 0.9)}[language]     # (recognised, rejected)
+    assert heard / total >= floor[0], f"{heard}/{total} recognised"
+    assert kept / count >= floor[1], f"{kept}/{count} rejected"
+
+
 def test_german_answers_go_through_espeak_ngs_pronunciation_to_the_decoder(tmp_path):
     """No German acoustic model can be had here: German buttons are pronounced by espeak-ng in
     English phones and decoded with the English model. The test follows the German path up to
     the model (the grammar's words carry espeak-ng's German pronunciation) and through it for
     "ja"; how often German answers are heard is measured by benchmarks/bench_voice.py."""
     recognizer = AnswerRecognizer(WavFileSource(spoken(tmp_path, "ja", voice="de")),
-                                  language="de", threshold=-60.0)
+                                  language="de")
     words = recognizer._sayable(("q1", ("ja", "nein", "3")))[1]
     assert sorted(recognizer.decoder.lookup_word(w) for w in words) == ["D R AY", "N AY N",
                                                                        "Y AA"]
-    assert any(word.startswith("de_") for word, _ in recognizer.rivals)   # German rivals too
+    assert recognizer.threshold == default_threshold("de")
     recognizer.listen("q1", ("ja", "nein"))
     recognizer.wait(60.0)
     assert recognizer.take_heard() == ("q1", "ja")
