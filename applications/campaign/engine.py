@@ -89,7 +89,7 @@ class Worker:
     def run(self, spec: RunSpec, where: Path) -> dict[str, Any]:
         prepare(spec, where)
         start = time.perf_counter()
-        process = self._started()
+        process = self._started(where.parent)
         job = {"argv": spec.argv(where), "output": str(where / "output.txt")}
         try:
             process.stdin.write(json.dumps(job) + "\n")
@@ -107,10 +107,13 @@ class Worker:
                 (where / "output.txt").write_text("", encoding="utf-8")
         return summarize(where, code, time.perf_counter() - start)
 
-    def _started(self) -> subprocess.Popen:
+    def _started(self, runs: Path) -> subprocess.Popen:
+        """The worker process; its command line names the folder of the runs it serves, so
+        that `ps` (and a test) tells which campaign a worker belongs to."""
         if self.process is None or self.process.poll() is not None:
             self.process = subprocess.Popen(
-                [sys.executable, "-m", "applications.campaign.worker"], stdin=subprocess.PIPE,
+                [sys.executable, "-m", "applications.campaign.worker", str(runs)],
+                stdin=subprocess.PIPE,
                 stdout=subprocess.PIPE, env=self.env, text=True, encoding="utf-8")
             with _LIVE_LOCK:
                 _LIVE.add(self.process)

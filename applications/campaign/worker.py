@@ -9,23 +9,28 @@ stdin: it runs `interbot ARGV` exactly as the command line would, with its stdou
 world, database and learner from its arguments, so a run gives the same result in a worker
 as in a process of its own (tests/applications/test_campaign.py compares the two).
 
-    python -m applications.campaign.worker
+    python -m applications.campaign.worker [RUNS-FOLDER]
+
+(RUNS-FOLDER only names, in `ps`, the campaign the worker serves.)
 """
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import sys
 
 
 def run_job(argv: list[str], output: str) -> int:
-    """`interbot ARGV` with fds 1 and 2 (and sys.stdout/stderr) going to `output`."""
+    """`interbot ARGV` with sys.stdout/stderr (line by line) and fds 1 and 2 going to
+    `output`."""
     from applications import cli
 
     sys.stdout.flush()
     sys.stderr.flush()
     saved = os.dup(1), os.dup(2)
-    with open(output, "w", encoding="utf-8") as out:
+    with open(output, "w", encoding="utf-8", buffering=1) as out, \
+            contextlib.redirect_stdout(out), contextlib.redirect_stderr(out):
         os.dup2(out.fileno(), 1)
         os.dup2(out.fileno(), 2)
         try:
