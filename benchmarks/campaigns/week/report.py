@@ -76,6 +76,30 @@ def pooled(found: dict, name: str) -> tuple[float, float]:
     return rate(before), rate(after)
 
 
+def best_per_context(found: dict, after: bool) -> tuple[float, list[str]]:
+    """What the truly best choice per observed context gives in a phase, estimated from every
+    strategy's episodes in it: per context the alternative with the highest success rate,
+    weighted by how often the context came; and a line per context and alternative."""
+    counts: dict[tuple[str, str], list[int]] = {}
+    for (_, _, shift), episodes in found.items():
+        for _, context, alternative, success in phases(episodes, shift)[1 if after else 0]:
+            tally = counts.setdefault((context, alternative), [0, 0])
+            tally[0] += 1
+            tally[1] += success
+    contexts = sorted({c for c, _ in counts})
+    total = sum(n for n, _ in counts.values())
+    expected, lines = 0.0, []
+    for context in contexts:
+        options = {a: (n, k) for (c, a), (n, k) in counts.items() if c == context}
+        best = max(options, key=lambda a: options[a][1] / options[a][0])
+        seen = sum(n for n, _ in options.values())
+        expected += seen / total * options[best][1] / options[best][0]
+        lines.append(f"  {context:<16} {seen / total:6.1%} of episodes: " + ", ".join(
+            f"{a} {k}/{n} = {k / n:.1%}" for a, (n, k) in sorted(options.items()))
+            + f"; best {best}")
+    return expected, lines
+
+
 def recovery(after: list[tuple], oracle_after: float) -> tuple[int | None, int | None]:
     """Episodes after the shift until the choice for people alone is mostly the new best, and
     until the success rate over the last 100 episodes is within 10 % of the oracle's."""
@@ -156,6 +180,13 @@ def main() -> None:
               f" {len(before):10d} {rate(before):8.1%} {len(after):10d} {rate(after):8.1%}")
     for name, (before, after) in levels.items():
         print(f"{name} over its seeds: {before:.1%} before the shift, {after:.1%} after")
+    for after in (False, True):
+        expected, lines = best_per_context(found, after)
+        if lines:
+            print(f"\n{'after' if after else 'before'} the shift, per context the tracker "
+                  f"reported (all strategies' episodes): the best per context gives "
+                  f"{expected:.1%}")
+            print("\n".join(lines))
     oracle_before, oracle_after = levels["oracle"]
     print(f"\nthe learner per block of {BLOCK} episodes before the shift, against the oracle's "
           f"{oracle_before:.1%} (within 10 %: at least {0.9 * oracle_before:.1%})")
