@@ -44,7 +44,7 @@ class CampaignCommand:
         results = Results(out / "results.sqlite")
         try:
             done = results.finished(failed_too=not args.retry_failed)
-            todo = [(run, out / "runs" / _folder_name(run.key)) for run in campaign.runs
+            todo = [(run, out / "runs" / run.folder_name) for run in campaign.runs
                     if run.key not in done]
             if args.list:
                 for run in campaign.runs:
@@ -153,7 +153,3 @@ def _terminate_as_interrupt():
     finally:
         for number, handler in old.items():
             signal.signal(number, handler)
-
-
-def _folder_name(key: str) -> str:
-    return "".join(c if c.isalnum() or c in "=-_." else "_" for c in key)

@@ -1,14 +1,19 @@
-"""Running the grid: one run is exactly an `interbot run` in a process of its own (its output,
-trace, learner statistics and, if asked, recording in the run's folder); an engine spreads the
-runs — local processes by default, or Ray — and hands back each result as it comes.
+"""Running the grid: one run is exactly an `interbot run` (its output, trace, learner statistics
+and, if asked, recording in the run's folder); an engine spreads the runs — local worker
+processes by default (applications.campaign.worker: each imports the robot stack once and runs
+many runs in turn), or Ray (a process per run) — and hands back each result as it comes.
+
+The sessions of a chain (a simulated week, spec.py) run one after another, each starting from a
+copy of the databases the session before left in its folder; different chains run at once.
 
 A run is made only from its spec and seed, so the same run gives the same result wherever it
-runs: in a local process, or in a Ray worker on this or another machine.
+runs: in a worker, in a process of its own, or in a Ray worker on this or another machine.
 """
 from __future__ import annotations
 
 import json
 import os
+import queue
 import re
 import shutil
 import subprocess
@@ -16,7 +21,6 @@ import sys
 import threading
 import time
 from collections.abc import Iterable, Iterator
-from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from dataclasses import asdict
 from pathlib import Path
 from typing import Any
@@ -27,16 +31,32 @@ _LIVE: set[subprocess.Popen] = set()        # the runs this process started and 
 _LIVE_LOCK = threading.Lock()
 
 
-def run_one(run: dict[str, Any], folder: str, pythonpath: str | None = None) -> dict[str, Any]:
-    """Run one spec (as a dict, so it travels to Ray workers) into `folder`; its result."""
-    spec = RunSpec(**run)
-    where = Path(folder)
-    if where.exists():                       # a run interrupted earlier starts afresh
+def prepare(spec: RunSpec, where: Path) -> None:
+    """An empty folder for the run (a run interrupted earlier starts afresh); a later session
+    of a chain starts with copies of the databases the session before left."""
+    if where.exists():
         shutil.rmtree(where)
     where.mkdir(parents=True)
+    before = spec.previous
+    if before is not None:
+        for database in sorted((where.parent / before.folder_name).glob("*.sqlite")):
+            shutil.copyfile(database, where / database.name)
+
+
+def _environment(pythonpath: str | None) -> dict[str, str]:
     env = dict(os.environ)
     if pythonpath is not None:
         env["PYTHONPATH"] = pythonpath
+    return env
+
+
+def run_one(run: dict[str, Any], folder: str, pythonpath: str | None = None) -> dict[str, Any]:
+    """Run one spec (as a dict, so it travels to Ray workers) into `folder`, in a process of
+    its own; its result."""
+    spec = RunSpec(**run)
+    where = Path(folder)
+    prepare(spec, where)
+    env = _environment(pythonpath)
     start = time.perf_counter()
     with open(where / "output.txt", "w", encoding="utf-8") as out:
         process = subprocess.Popen([sys.executable, "-m", "applications.cli",
@@ -50,6 +70,77 @@ def run_one(run: dict[str, Any], folder: str, pythonpath: str | None = None) -> 
             with _LIVE_LOCK:
                 _LIVE.discard(process)
     return summarize(where, code, time.perf_counter() - start)
+
+
+def run_chain(runs: list[tuple[dict[str, Any], str]], pythonpath: str | None = None
+              ) -> list[dict[str, Any]]:
+    """The sessions of one chain in order, each in a process of its own (for Ray)."""
+    return [run_one(run, folder, pythonpath) for run, folder in runs]
+
+
+class Worker:
+    """A long-lived `python -m applications.campaign.worker` process running runs in turn;
+    started again if it dies (a run that killed it counts as failed, exit code -9)."""
+
+    def __init__(self, pythonpath: str | None) -> None:
+        self.env = _environment(pythonpath)
+        self.process: subprocess.Popen | None = None
+
+    def run(self, spec: RunSpec, where: Path) -> dict[str, Any]:
+        prepare(spec, where)
+        start = time.perf_counter()
+        process = self._started(where.parent)
+        job = {"argv": spec.argv(where), "output": str(where / "output.txt")}
+        try:
+            process.stdin.write(json.dumps(job) + "\n")
+            process.stdin.flush()
+            reply = process.stdout.readline()
+        except (BrokenPipeError, ValueError):
+            reply = ""
+        if reply:
+            code = int(json.loads(reply)["code"])
+        else:                                   # the worker died (or was stopped) mid-run
+            code = process.wait()
+            code = code if code else -9
+            self.close()
+            if not (where / "output.txt").exists():
+                (where / "output.txt").write_text("", encoding="utf-8")
+        return summarize(where, code, time.perf_counter() - start)
+
+    def _started(self, runs: Path) -> subprocess.Popen:
+        """The worker process; its command line names the folder of the runs it serves, so
+        that `ps` (and a test) tells which campaign a worker belongs to."""
+        if self.process is None or self.process.poll() is not None:
+            self.process = subprocess.Popen(
+                [sys.executable, "-m", "applications.campaign.worker", str(runs)],
+                stdin=subprocess.PIPE,
+                stdout=subprocess.PIPE, env=self.env, text=True, encoding="utf-8")
+            with _LIVE_LOCK:
+                _LIVE.add(self.process)
+        return self.process
+
+    def close(self) -> None:
+        process, self.process = self.process, None
+        if process is None:
+            return
+        with _LIVE_LOCK:
+            _LIVE.discard(process)
+        if process.poll() is None:
+            process.stdin.close()
+            try:
+                process.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                process.kill()
+                process.wait()
+
+
+def chains(runs: Iterable[tuple[RunSpec, Path]]) -> list[list[tuple[RunSpec, Path]]]:
+    """The runs grouped by chain (a run on its own is a chain of one), sessions in order."""
+    grouped: dict[str, list[tuple[RunSpec, Path]]] = {}
+    for spec, folder in runs:
+        name = spec.key.replace(f",session={spec.session}", "") if spec.sessions > 1 else spec.key
+        grouped.setdefault(name, []).append((spec, folder))
+    return [sorted(chain, key=lambda item: item[0].session) for chain in grouped.values()]
 
 
 def stop_live_runs() -> None:
@@ -87,22 +178,50 @@ def summarize(folder: Path, code: int, wall: float) -> dict[str, Any]:
 
 def local(runs: Iterable[tuple[RunSpec, Path]], workers: int,
           pythonpath: str | None = None) -> Iterator[tuple[RunSpec, dict[str, Any]]]:
-    """Up to `workers` runs at once, each its own process; results as they finish."""
-    pending = list(runs)
-    with ThreadPoolExecutor(max_workers=workers) as pool:
-        futures = {}
+    """Up to `workers` chains at once, each thread with a worker process of its own; results
+    as they finish."""
+    todo: queue.Queue = queue.Queue()
+    for chain in chains(runs):
+        todo.put(chain)
+    done: queue.Queue = queue.Queue()
+    stop = threading.Event()
+
+    def serve() -> None:
+        worker = Worker(pythonpath)
         try:
-            for spec, folder in pending:
-                futures[pool.submit(run_one, asdict(spec), str(folder), pythonpath)] = spec
-            while futures:
-                done, _ = wait(futures, return_when=FIRST_COMPLETED)
-                for future in done:
-                    yield futures.pop(future), future.result()
-        except BaseException:
-            for future in futures:
-                future.cancel()
-            stop_live_runs()
-            raise
+            while not stop.is_set():
+                try:
+                    chain = todo.get_nowait()
+                except queue.Empty:
+                    return
+                for spec, folder in chain:
+                    if stop.is_set():
+                        return
+                    done.put((spec, worker.run(spec, folder)))
+        except BaseException as exc:              # handed to the caller, never lost
+            done.put(exc)
+        finally:
+            worker.close()
+            done.put(None)
+
+    threads = [threading.Thread(target=serve, daemon=True)
+               for _ in range(max(1, min(workers, todo.qsize())))]
+    for thread in threads:
+        thread.start()
+    running = len(threads)
+    try:
+        while running:
+            item = done.get()
+            if item is None:
+                running -= 1
+            elif isinstance(item, BaseException):
+                raise item
+            else:
+                yield item
+    except BaseException:
+        stop.set()
+        stop_live_runs()
+        raise
 
 
 def ray(runs: Iterable[tuple[RunSpec, Path]], address: str, workers: int,
@@ -125,13 +244,14 @@ def ray(runs: Iterable[tuple[RunSpec, Path]], address: str, workers: int,
     if started:
         ray_module.init(**options)
     try:
-        task = ray_module.remote(num_cpus=1)(run_one)
-        futures = {task.remote(asdict(spec), str(folder), pythonpath): spec
-                   for spec, folder in runs}
+        task = ray_module.remote(num_cpus=1)(run_chain)
+        futures = {task.remote([(asdict(spec), str(folder)) for spec, folder in chain],
+                               pythonpath): [spec for spec, _ in chain]
+                   for chain in chains(runs)}
         while futures:
             done, _ = ray_module.wait(list(futures), num_returns=1)
             for ref in done:
-                yield futures.pop(ref), ray_module.get(ref)
+                yield from zip(futures.pop(ref), ray_module.get(ref))
     finally:
         if started:
             ray_module.shutdown()

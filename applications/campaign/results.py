@@ -17,7 +17,7 @@ CREATE TABLE IF NOT EXISTS runs (
     freeze INTEGER NOT NULL, exit_code INTEGER NOT NULL, robot_seconds REAL NOT NULL,
     wall_seconds REAL NOT NULL, episodes INTEGER NOT NULL, successes INTEGER NOT NULL,
     surveys INTEGER NOT NULL, answers INTEGER NOT NULL, folder TEXT NOT NULL,
-    last_line TEXT NOT NULL, finished REAL NOT NULL);
+    last_line TEXT NOT NULL, finished REAL NOT NULL, session INTEGER NOT NULL DEFAULT 0);
 CREATE TABLE IF NOT EXISTS episodes (
     key TEXT NOT NULL, n INTEGER NOT NULL, point TEXT NOT NULL, context TEXT NOT NULL,
     alternative TEXT NOT NULL, success INTEGER NOT NULL, after REAL NOT NULL, t REAL NOT NULL,
@@ -32,6 +32,9 @@ class Results:
         self.db = sqlite3.connect(self.path)
         self.db.execute("PRAGMA synchronous=FULL")
         self.db.executescript(SCHEMA)
+        columns = {row[1] for row in self.db.execute("PRAGMA table_info(runs)")}
+        if "session" not in columns:            # a results file from before sessions
+            self.db.execute("ALTER TABLE runs ADD COLUMN session INTEGER NOT NULL DEFAULT 0")
 
     def close(self) -> None:
         self.db.close()
@@ -46,13 +49,13 @@ class Results:
         with self.db:
             self.db.execute("DELETE FROM episodes WHERE key=?", (run.key,))
             self.db.execute(
-                "INSERT OR REPLACE INTO runs VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)",
+                "INSERT OR REPLACE INTO runs VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)",
                 (run.key, run.group, run.app, run.robot, run.map, run.scenario, run.seed,
                  run.choose, run.learner, int(run.freeze), result["exit_code"],
                  result["robot_seconds"], result["wall_seconds"], len(episodes),
                  sum(e["success"] for e in episodes), result["surveys"], result["answers"],
                  str(folder), result["last_line"][0] if result["last_line"] else "",
-                 time.time()))
+                 time.time(), run.session))
             self.db.executemany(
                 "INSERT INTO episodes VALUES (?,?,?,?,?,?,?,?)",
                 [(run.key, n, e["point"], e["context"], e["alternative"], int(e["success"]),
@@ -67,8 +70,12 @@ class Results:
             "ORDER BY grp").fetchall()
 
     def outcomes(self, group: str) -> list[list[bool]]:
-        """Each run's episode outcomes in order, for the runs of one group."""
-        keys = [r[0] for r in self.db.execute("SELECT key FROM runs WHERE grp=? ORDER BY seed",
-                                              (group,))]
-        return [[bool(s) for (s,) in self.db.execute(
-            "SELECT success FROM episodes WHERE key=? ORDER BY n", (key,))] for key in keys]
+        """Each seed's episode outcomes in order (the sessions of a chain one after another),
+        for the runs of one group."""
+        rows = self.db.execute(
+            "SELECT runs.seed, episodes.success FROM runs JOIN episodes ON episodes.key = "
+            "runs.key WHERE runs.grp=? ORDER BY runs.seed, runs.session, episodes.n", (group,))
+        per_seed: dict[int, list[bool]] = {}
+        for seed, success in rows:
+            per_seed.setdefault(seed, []).append(bool(success))
+        return list(per_seed.values())

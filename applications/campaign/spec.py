@@ -26,13 +26,14 @@ from __future__ import annotations
 import itertools
 import os
 import tomllib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from applications.exceptions import ApplicationError
 
 CAMPAIGN_KEYS = {"name", "app", "robots", "maps", "scenarios", "seeds", "duration", "workers",
-                 "record"}
+                 "record", "sessions", "shift"}
+MAX_SESSIONS = 1000         # session i of seed s runs with seed s * MAX_SESSIONS + i
 LEARNER_KEYS = {"choose": ("file", "learn", "first", "random", "rotate"),
                 "learner": ("thompson", "ucb"), "freeze": (False, True), "window": None}
 
@@ -51,23 +52,52 @@ class RunSpec:
     window: int = 0
     duration: float | None = None
     record: bool = False
+    session: int = 0                # its place in a chain of sessions (0: the first)
+    sessions: int = 1               # the chain's length (1: a run on its own)
+    shift_at: int = 0               # from this session on (0: never) the world changes to
+    shift_scenario: str | None = None   # this scenario
+    shift_app: str | None = None        # and this application (None: the same)
 
     @property
     def key(self) -> str:
         return (f"app={Path(self.app).name},robot={self.robot or '-'},map={self.map or '-'},"
                 f"scenario={Path(self.scenario).stem},seed={self.seed},"
                 f"choose={self.choose or '-'},learner={self.learner},freeze={int(self.freeze)}"
-                + (f",window={self.window}" if self.window else ""))
+                + (f",window={self.window}" if self.window else "")
+                + (f",shift={Path(self.shift_scenario or self.scenario).stem}@{self.shift_at}"
+                   if self.shift_at else "")
+                + (f",session={self.session}" if self.sessions > 1 else ""))
 
     @property
     def group(self) -> str:
-        """The run's row of the summary: everything but the seed."""
-        return self.key.replace(f",seed={self.seed},", ",")
+        """The run's row of the summary: everything but the seed (and the session)."""
+        key = self.key.replace(f",seed={self.seed},", ",")
+        return key.replace(f",session={self.session}", "") if self.sessions > 1 else key
+
+    @property
+    def folder_name(self) -> str:
+        """The run's folder under the campaign's `runs/`."""
+        return "".join(c if c.isalnum() or c in "=-_." else "_" for c in self.key)
+
+    @property
+    def previous(self) -> "RunSpec | None":
+        """The session before this one in its chain (whose statistics it starts from)."""
+        return replace(self, session=self.session - 1) if self.session > 0 else None
+
+    @property
+    def shifted(self) -> bool:
+        return bool(self.shift_at) and self.session >= self.shift_at
+
+    @property
+    def run_seed(self) -> int:
+        return self.seed * MAX_SESSIONS + self.session if self.sessions > 1 else self.seed
 
     def argv(self, folder: Path) -> list[str]:
         """The `interbot run` arguments, writing into the run's `folder`."""
-        argv = ["run", self.app, "--fast", "--quiet", "--scenario", self.scenario,
-                "--seed", str(self.seed), "--learner", self.learner,
+        app = (self.shift_app or self.app) if self.shifted else self.app
+        scenario = (self.shift_scenario or self.scenario) if self.shifted else self.scenario
+        argv = ["run", app, "--fast", "--quiet", "--scenario", scenario,
+                "--seed", str(self.run_seed), "--learner", self.learner,
                 "--data", str(folder), "--trace", str(folder / "trace.jsonl")]
         for flag, value in (("--robot", self.robot), ("--map", self.map),
                             ("--choose", self.choose)):
@@ -139,14 +169,40 @@ class _Reader:
         if not isinstance(workers, int) or isinstance(workers, bool) or workers < 1:
             raise self.fail("campaign.workers", f"= {workers!r} must be a whole number >= 1")
         grid = {name: self.choices(learner, name) for name in LEARNER_KEYS}
+        sessions = head.get("sessions", 1)
+        if (not isinstance(sessions, int) or isinstance(sessions, bool)
+                or not 1 <= sessions <= MAX_SESSIONS):
+            raise self.fail("campaign.sessions", f"= {sessions!r} must be a whole number "
+                            f"1 .. {MAX_SESSIONS}")
+        shift = self.shift(head.get("shift"), sessions)
         runs = tuple(
             RunSpec(app, robot, map_, scenario, seed, None if choose == "file" else choose,
                     method, freeze, window,
-                    float(duration) if duration is not None else None, record)
-            for app, robot, map_, scenario, choose, method, freeze, window, seed
+                    float(duration) if duration is not None else None, record,
+                    session, sessions, *shift)
+            for app, robot, map_, scenario, choose, method, freeze, window, seed, session
             in itertools.product(apps, robots, maps, scenarios, grid["choose"], grid["learner"],
-                                 grid["freeze"], grid["window"], seeds))
+                                 grid["freeze"], grid["window"], seeds, range(sessions)))
         return Campaign(str(head.get("name", self.path.stem)), self.path, runs, workers)
+
+    def shift(self, table, sessions: int) -> tuple[int, str | None, str | None]:
+        """(session, scenario, app) of `shift = { session = N, scenario = "...", app = "..." }`."""
+        if table is None:
+            return 0, None, None
+        self.known(table, "campaign.shift", {"session", "scenario", "app"})
+        at = table.get("session")
+        if not isinstance(at, int) or isinstance(at, bool) or not 1 <= at < sessions:
+            raise self.fail("campaign.shift.session", f"= {at!r} must be a session "
+                            f"1 .. {sessions - 1} (campaign.sessions = {sessions})")
+        scenario = table.get("scenario")
+        if scenario is not None and not (isinstance(scenario, str) and scenario):
+            raise self.fail("campaign.shift.scenario", f"= {scenario!r} must be a scenario")
+        app = table.get("app")
+        if scenario is None and app is None:
+            raise self.fail("campaign.shift", "says nothing changes: give a scenario, an app "
+                            "or both")
+        return (at, self.scenario(scenario) if scenario else None,
+                self.app(app) if app is not None else None)
 
     def known(self, table, name: str, allowed: set[str]) -> None:
         if not isinstance(table, dict):
