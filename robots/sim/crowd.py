@@ -108,7 +108,8 @@ class Crowd:
         before = {id(p): (p.x, p.y, p.heading, p.cart_heading) for p in people}
         present_before = {id(p) for p in people if p.in_world}
         for person in people:
-            if not person.in_world and not person.gone and not self._room_at(person, world):
+            if (not person.in_world and not person.gone and person.due(world.t)
+                    and not self._room_at(person, world)):
                 continue        # their spot is taken: they appear once it is free
             person.step(h, world)
         walking = [p for p in people if p.in_world and id(p) in present_before]

@@ -90,13 +90,17 @@ class SimPerson:
             return self.steps[self.index]
         return None
 
+    def due(self, t: float) -> bool:
+        """Whether the plan's time to appear has come."""
+        return t + 1e-9 >= self.plan.appear
+
     def step(self, dt: float, world: "World") -> None:
         """Advance the script by dt seconds of sim time."""
         self.speed = 0.0
         if self.gone:
             return
         if not self.in_world:
-            if world.t + 1e-9 < self.plan.appear:
+            if not self.due(world.t):
                 return
             self.in_world = True
             self._begin(0, world)
