@@ -90,7 +90,8 @@ class SkillSet:
         self.obstacles = ObstacleSensing(bb, ev, self.profile, self.localization, hardware.laser)
         user_range = self.profile.people_detector.range if self.profile.people_detector else 5.0
         self.perception = PeoplePerception(bb, ev, self.localization, hardware.people_detector,
-                                           hardware.laser, user_range=user_range)
+                                           hardware.laser, user_range=user_range,
+                                           grid=self.map)
         self.motion = Motion(bb, ev, hardware.base, self.profile.limits, self.localization,
                              self.perception)
         self.speech = (Speech(bb, ev, hardware.speaker, hardware.screen)
