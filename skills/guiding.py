@@ -197,11 +197,11 @@ class Guiding(Skill):
 
     def _track_behind(self, pose):
         """The nearest confirmed track behind the robot within reach (in any direction near
-        the goal, and while the robot stands waiting: a visitor who caught up may stand
-        beside it)."""
+        the goal). Not in any direction while the robot waits: ARGOS, which cannot see behind
+        it, took someone standing 3.2 m ahead for its visitor and never turned round to look
+        (the guide's group_blocking scenario)."""
         nav = self.blackboard.value("navigation/state")
-        anywhere = (nav is not None and nav.distance_left <= NEAR_GOAL) or (
-            self.state.phase == WAITING)
+        anywhere = (nav is not None and nav.distance_left <= NEAR_GOAL)
         behind = [t for t in self.perception.tracks
                   if (anywhere or abs(self._off_way(t.x, t.y, pose)) > BEHIND)
                   and math.hypot(t.x - pose.x, t.y - pose.y) <= self.reach
