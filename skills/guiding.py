@@ -9,8 +9,8 @@ nearest of:
    loses them within seconds, and the track may jump onto a leg-like return ahead: it does not
    outrank a nearer sighting behind);
 2. a confirmed track behind the robot (more than 90° off the way it leads, that is the
-   direction of its path; in any direction within 1 m of the goal or while the robot stands
-   waiting), within `reach` and with no wall of the map in between, and
+   direction of its path; in any direction within 1 m of the goal), within `reach` and with
+   no wall of the map in between, and
 3. the sonars looking back (more than 110° off the way): an echo that no wall of the map
    explains is something standing in the open behind the robot; the nearest one counts, at
    its range plus a person's body radius.
