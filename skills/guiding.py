@@ -15,13 +15,14 @@ nearest of:
    explains is something standing in the open behind the robot; the nearest one counts, at
    its range plus a person's body radius.
 
-A wall explains an echo when any of five rays across the middle two thirds of the sonar's
-cone (±cone/3, where a sonar hears a wall; the cone's edge meets walls at a glancing angle that
-returns nothing) meets it no farther than 0.10 m beyond the echo's range: a person standing in
-a doorway, with the jambs a body's depth behind their front, is not the wall's echo (with
-0.25 m they were, and a visitor waiting in a doorway was "lost"); nor is a visitor 1.5 m
-behind the robot in a 1 m hallway, whose echo the hallway's walls at the cone's edge (±15°)
-had explained.
+A wall explains an echo when any of five rays across the sonar's cone meets it no farther
+than 0.10 m beyond the echo's range (a sonar hears the nearest thing anywhere in its cone): a
+person standing in a doorway, with the jambs a body's depth behind their front, is not the
+wall's echo (with 0.25 m they were, and a visitor waiting in a doorway was "lost"). In a 1 m
+hallway the walls at the cone's edge still explain a visitor 1.5 m straight behind (their echo
+1.04 m, the walls 1.02 m along the ±15° rays); rays to ±cone/3 only (where the simulated sonar
+hears walls) saw them, but made ARGOS, turned round to look with its front sonars, take wall
+echoes for a visitor who had walked away (a known limit).
 Other people walking behind the robot look like the follower to these sources (a known limit).
 
 The behavior owns the decisions (lead, stop and wait, give up); this skill owns the state that
@@ -59,7 +60,7 @@ BEHIND = math.radians(90)          # a track this far off the way is behind the 
 REAR_SONAR = math.radians(110)     # sonars pointing this far off the way look back
 BODY_RADIUS = 0.2                  # m, a person's body circle (sonar echoes come off its front)
 SONAR_REACH = 3.0                  # m; farther rear echoes are too wide to tell a person
-CONE_RAYS = (-1 / 3, -1 / 6, 0.0, 1 / 6, 1 / 3)   # rays across a sonar's cone, in cone widths
+CONE_RAYS = (-0.5, -0.25, 0.0, 0.25, 0.5)   # rays across a sonar's cone, in cone widths
 MARCH_STEP = 0.05                  # m between the points checked along a ray
 WALL_SLACK = 0.10                  # m beyond the echo a wall may be and still explain it
 WALL_HIT = 0.08                    # m: a ray point this close to a wall has met it

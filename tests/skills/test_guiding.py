@@ -171,26 +171,6 @@ def test_an_empty_wall_behind_the_robot_is_nobody(tmp_path, robot):
     assert all(s.user_distance is None or s.user_distance > 2.7 for s in states[3:])
 
 
-@pytest.mark.parametrize("robot", ["horos", "perses"])
-def test_a_visitor_1_5_m_straight_behind_in_a_1_m_hallway_is_seen(tmp_path, robot):
-    """Issue 22, point 3: the walls the edge of the cone (±15°) meets 1.0 m from a rear sonar
-    explained a visitor's echo at 1.04 m, though the sonar hears walls along ±cone/3 (there
-    1.38 m away): the visitor was "lost" standing 1.5 m behind the robot."""
-    from tests.skills.test_navigation_doors import write_door_map
-    write_door_map(tmp_path, 0.8)
-    path = tmp_path / "behind.toml"
-    path.write_text('[scenario]\nname = "behind"\nduration = 60.0\nmap = "door.yaml"\n'
-                    'robot = [4.0, 0.5, 0]\n[[person]]\nid = "pat"\nat = [2.5, 0.5]\n'
-                    'steps = [ { pause = 600.0 } ]\n')
-    skills = open_skills(robot, fast=True, scenario=str(path), seed=4)
-    try:
-        skills.guide.start("room", skills.now())
-        states = tick(skills, 100)
-    finally:
-        skills.close()
-    assert all(s.user_distance == pytest.approx(1.5, abs=0.2) for s in states[3:])
-
-
 def test_legs_the_laser_finds_in_the_walls_do_not_reach_the_tracker(tmp_path):
     """Issue 22: on a user's map (the realistic laser: drop-outs, spurious returns) the leg
     detector finds "legs" in the walls of a 1 m hallway seen at a grazing angle; they kept a
