@@ -6,8 +6,9 @@ is compensated; the tracker fuses a camera and a laser detection of the same per
 
 Laser leg pairs keep tracks alive and sharpen them, but only the camera may *confirm* a track
 (`TrackerParams.confirming_sources`): door jambs and wall ends look like legs to a scan and,
-without a map, would become permanent phantom people. With a map, a leg detection inside a
-wall of it is dropped before tracking: a wall seen at a grazing angle, cut by drop-outs or
+without a map, would become permanent phantom people. Given a map (a user's map, or any map
+on a real robot: skills/skillset.py), a leg detection inside a wall of it is dropped before
+tracking: a wall seen at a grazing angle, cut by drop-outs or
 by the leg detector's range into short pieces, kept a guided visitor's track alive in front of
 the robot (issue 22). On a robot without a person detector every leg pair may confirm. The user (the interaction partner) is chosen by
 `skills.people.user.UserSelector`.
