@@ -1,13 +1,16 @@
 """Guiding: watch the person who follows the robot, and keep the guide's state for the graph.
 
 While the robot leads someone (GuidePerson), that person walks *behind* it, where the laser
-does not look and the camera (240°) barely does. So the follower is estimated each tick from:
+does not look and the camera (240°) barely does. So the follower is estimated each tick as the
+nearest of:
 
-1. the guided user's own people track, while the tracker keeps it (at the start the user
-   stands in front of the robot; once behind it the camera loses them within seconds);
-2. else the nearest of: a confirmed track behind the robot (more than 90° off the way it leads,
-   that is the direction of its path; in any direction within 1 m of the goal), within `reach`
-   and with no wall of the map in between, and
+1. the guided user's own people track, while the tracker keeps it and no wall of the map is in
+   between (at the start the user stands in front of the robot; once behind it the camera
+   loses them within seconds, and the track may jump onto a leg-like return ahead: it does not
+   outrank a nearer sighting behind);
+2. a confirmed track behind the robot (more than 90° off the way it leads, that is the
+   direction of its path; in any direction within 1 m of the goal), within `reach` and with
+   no wall of the map in between, and
 3. the sonars looking back (more than 110° off the way): an echo that no wall of the map
    explains is something standing in the open behind the robot; the nearest one counts, at
    its range plus a person's body radius.
@@ -15,7 +18,11 @@ does not look and the camera (240°) barely does. So the follower is estimated e
 A wall explains an echo when any of five rays across the sonar's cone meets it no farther
 than 0.10 m beyond the echo's range (a sonar hears the nearest thing anywhere in its cone): a
 person standing in a doorway, with the jambs a body's depth behind their front, is not the
-wall's echo (with 0.25 m they were, and a visitor waiting in a doorway was "lost").
+wall's echo (with 0.25 m they were, and a visitor waiting in a doorway was "lost"). In a 1 m
+hallway the walls at the cone's edge still explain a visitor 1.5 m straight behind (their echo
+1.04 m, the walls 1.02 m along the ±15° rays); rays to ±cone/3 only (where the simulated sonar
+hears walls) saw them, but made ARGOS, turned round to look with its front sonars, take wall
+echoes for a visitor who had walked away (a known limit).
 Other people walking behind the robot look like the follower to these sources (a known limit).
 
 The behavior owns the decisions (lead, stop and wait, give up); this skill owns the state that
@@ -160,10 +167,12 @@ class Guiding(Skill):
         if pose is None:
             return
         self._forward = self._way(pose)
-        seen = self._own_track(pose)
-        if seen is None:       # the nearest of a track behind the robot and a rear echo
-            found = [f for f in (self._track_behind(pose), self._from_sonar(pose)) if f]
-            seen = min(found, key=lambda f: f[0], default=None)
+        # the nearest of the user's own track, a track behind the robot and a rear echo: the
+        # own track alone once jumped onto furniture ahead (a leg-like return) while the
+        # visitor stood 1.5 m behind, beside a wall, and the robot waited for the furniture
+        found = [f for f in (self._own_track(pose), self._track_behind(pose),
+                             self._from_sonar(pose)) if f]
+        seen = min(found, key=lambda f: f[0], default=None)
         if seen is not None:
             self._seen_at = now
             distance, bearing, xy, source = seen
@@ -183,14 +192,19 @@ class Guiding(Skill):
     def _own_track(self, pose):
         """The guided user's own track, while the tracker still has it."""
         own = next((t for t in self.perception.tracks if t.id == self.user_id), None)
-        return None if own is None else _seen(own, pose)
+        if own is None or not self._in_sight(own.x, own.y, pose):
+            return None
+        return _seen(own, pose)
 
     def _track_behind(self, pose):
-        """The nearest confirmed track behind the robot within reach."""
+        """The nearest confirmed track behind the robot within reach (in any direction near
+        the goal). Not in any direction while the robot waits: ARGOS, which cannot see behind
+        it, took someone standing 3.2 m ahead for its visitor and never turned round to look
+        (the guide's group_blocking scenario)."""
         nav = self.blackboard.value("navigation/state")
-        near_goal = nav is not None and nav.distance_left <= NEAR_GOAL
+        anywhere = (nav is not None and nav.distance_left <= NEAR_GOAL)
         behind = [t for t in self.perception.tracks
-                  if (near_goal or abs(self._off_way(t.x, t.y, pose)) > BEHIND)
+                  if (anywhere or abs(self._off_way(t.x, t.y, pose)) > BEHIND)
                   and math.hypot(t.x - pose.x, t.y - pose.y) <= self.reach
                   and self._in_sight(t.x, t.y, pose)]
         nearest = min(behind, key=lambda t: math.hypot(t.x - pose.x, t.y - pose.y), default=None)

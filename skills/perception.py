@@ -6,11 +6,16 @@ is compensated; the tracker fuses a camera and a laser detection of the same per
 
 Laser leg pairs keep tracks alive and sharpen them, but only the camera may *confirm* a track
 (`TrackerParams.confirming_sources`): door jambs and wall ends look like legs to a scan and,
-without a map, would become permanent phantom people. On a robot without a person detector
-every leg pair may confirm. The user (the interaction partner) is chosen by
+without a map, would become permanent phantom people. Given a map (a user's map, or any map
+on a real robot: skills/skillset.py), a leg detection inside a wall of it is dropped before
+tracking: a wall seen at a grazing angle, cut by drop-outs or
+by the leg detector's range into short pieces, kept a guided visitor's track alive in front of
+the robot (issue 22). On a robot without a person detector every leg pair may confirm. The user (the interaction partner) is chosen by
 `skills.people.user.UserSelector`.
 """
 from __future__ import annotations
+
+import numpy as np
 
 from robots.devices import Detection, Laser, PersonDetector
 from skills.device_link import DeviceLink
@@ -28,9 +33,10 @@ class PeoplePerception(Skill):
 
     def __init__(self, blackboard, events, localization: Localization,
                  detector: PersonDetector | None, laser: Laser | None,
-                 user_range: float = 5.0) -> None:
+                 user_range: float = 5.0, grid=None) -> None:
         super().__init__(blackboard, events)
         self.localization = localization
+        self.grid = grid           # the map (skills.navigation.gridmap.GridMap), if any
         self.detector = detector
         self.laser = laser
         self.camera_link = DeviceLink(events, "camera")   # a real camera may stop delivering
@@ -52,6 +58,8 @@ class PeoplePerception(Skill):
         pose = (state.x, state.y, state.th)
         world = [(*robot_to_world(d.x, d.y, d.cov, pose), d.source, d.appearance)
                  for d in detections]
+        if self.grid is not None and world:
+            world = self._off_walls(world)
         tracks = self.tracker.update(now, world)
         self.tracks = tuple(t for t in tracks if t.status == "confirmed")
         self.believed = tuple(t for t in tracks if t.believed)
@@ -64,6 +72,17 @@ class PeoplePerception(Skill):
         self.write("people/user_approach",
                    None if self.user is None else approach_speed(self.user, robot_xy), now)
         self.set_status(RUNNING, now)
+
+    def _off_walls(self, world: list) -> list:
+        """The detections but laser legs inside a wall of the map (clearance 0: an occupied
+        or unknown cell), which are the wall itself."""
+        laser = [k for k, d in enumerate(world) if d[3] == "laser"]
+        if not laser:
+            return world
+        xs = np.array([world[k][0] for k in laser], dtype=float)
+        ys = np.array([world[k][1] for k in laser], dtype=float)
+        inside = {k for k, wall in zip(laser, self.grid.clearance(xs, ys) <= 0.0) if wall}
+        return [d for k, d in enumerate(world) if k not in inside]
 
     def _detections(self, now: float) -> list[Detection]:
         camera = []

@@ -90,7 +90,8 @@ class SkillSet:
         self.obstacles = ObstacleSensing(bb, ev, self.profile, self.localization, hardware.laser)
         user_range = self.profile.people_detector.range if self.profile.people_detector else 5.0
         self.perception = PeoplePerception(bb, ev, self.localization, hardware.people_detector,
-                                           hardware.laser, user_range=user_range)
+                                           hardware.laser, user_range=user_range,
+                                           grid=_map_for_people(hardware, self.map))
         self.motion = Motion(bb, ev, hardware.base, self.profile.limits, self.localization,
                              self.perception)
         self.speech = (Speech(bb, ev, hardware.speaker, hardware.screen)
@@ -322,6 +323,16 @@ def _robot_map(hardware: Hardware, map: str | Path | GridMap | None) -> GridMap 
 
 
 _floor_maps: dict[tuple, GridMap] = {}
+
+
+def _map_for_people(hardware: Hardware, grid: GridMap | None) -> GridMap | None:
+    """The map people perception drops wall legs with: a user's map, and any map on a real
+    robot; not a bundled simulated floor, whose laser has no drop-outs (its walls make no legs)
+    and whose recorded runs replay unchanged (as robots/sim/laser_errors.py keeps them)."""
+    floor = hardware.floor
+    if floor is not None and getattr(floor, "source", None) is None:
+        return None
+    return grid
 
 
 def _is_floor_map(hardware: Hardware, grid: GridMap | None) -> bool:

@@ -1,5 +1,6 @@
 """The robot's body in the simulated world: a unicycle (differential drive) with acceleration
-limits and a circular footprint that stops when it would run into a wall or a person.
+limits and a footprint (a circle, or the oriented rectangle of a box-shaped base:
+robots/sim/outline.py) that stops when it would run into a wall or a person.
 
 The firmware-like watchdog is not here but in the base that drives the body: the body keeps
 its last command, as motors do.
@@ -13,6 +14,7 @@ import numpy as np
 
 from robots.base import clamp_velocity
 from robots.profile import Limits
+from robots.sim.outline import Rectangle
 from robots.sim.raycast import point_segment_distances
 
 BUMPER_FRONT = 1
@@ -36,12 +38,14 @@ def _approach(current: float, target: float, max_change: float) -> float:
 class UnicycleBody:
     """Pose (x, y, th), velocities (v, w) and the command they ramp towards."""
 
-    def __init__(self, x: float, y: float, th: float, limits: Limits, radius: float) -> None:
+    def __init__(self, x: float, y: float, th: float, limits: Limits, radius: float,
+                 rectangle: Rectangle | None = None) -> None:
         self.x = float(x)
         self.y = float(y)
         self.th = float(th)
         self.limits = limits
-        self.radius = float(radius)
+        self.radius = float(radius)        # the bounding circle people keep away from
+        self.rectangle = rectangle         # the outline of a box-shaped base (None: the circle)
         self.v = 0.0
         self.w = 0.0
         self.cmd_v = 0.0
@@ -60,7 +64,9 @@ class UnicycleBody:
         self.v = _approach(self.v, self.cmd_v, self.limits.max_accel * dt)
         self.w = _approach(self.w, self.cmd_w, self.limits.max_turn_accel * dt)
         x, y, th = self._integrate(dt)
-        if self.v != 0.0 and obstacles is not None and self._blocked(x, y, obstacles):
+        turns = self.rectangle is not None and self.w != 0.0     # a corner sweeps round
+        if ((self.v != 0.0 or turns) and obstacles is not None
+                and self._blocked(x, y, obstacles, th)):
             self.bumpers = BUMPER_FRONT if self.v > 0 else BUMPER_REAR
             self.stalled = True
             self.v = 0.0
@@ -83,8 +89,13 @@ class UnicycleBody:
         th2 = (th2 + math.pi) % (2 * math.pi) - math.pi
         return x, y, th2
 
-    def clearance(self, x: float, y: float, obstacles: Obstacles) -> float:
-        """Smallest gap between the footprint at (x, y) and any obstacle (negative: overlap)."""
+    def clearance(self, x: float, y: float, obstacles: Obstacles,
+                  th: float | None = None) -> float:
+        """Smallest gap between the footprint at (x, y[, th]) and any obstacle (negative:
+        overlap)."""
+        if self.rectangle is not None:
+            return min(self.gap_to_walls(obstacles.segments, x, y, th),
+                       self.gap_to_circles(obstacles.circles, x, y, th))
         gap = math.inf
         if len(obstacles.segments):
             gap = float(point_segment_distances(x, y, obstacles.segments).min()) - self.radius
@@ -94,9 +105,49 @@ class UnicycleBody:
             gap = min(gap, float(centre.min()) - self.radius)
         return gap
 
-    def _blocked(self, x: float, y: float, obstacles: Obstacles) -> bool:
+    def gap_to_walls(self, segments: np.ndarray, x: float | None = None,
+                     y: float | None = None, th: float | None = None) -> float:
+        """Smallest gap between the footprint (at its pose, or the one given) and wall
+        segments (m, 4); inf without any."""
+        x, y, th = self._pose(x, y, th)
+        if not len(segments):
+            return math.inf
+        if self.rectangle is not None:
+            return self.rectangle.gap_to_segments(x, y, th, segments)
+        return float(point_segment_distances(x, y, segments).min()) - self.radius
+
+    def gap_to_circles(self, circles: np.ndarray, x: float | None = None,
+                       y: float | None = None, th: float | None = None) -> float:
+        """Smallest gap between the footprint and circles (k, 3) cx, cy, r; inf without any."""
+        x, y, th = self._pose(x, y, th)
+        if not len(circles):
+            return math.inf
+        if self.rectangle is not None:
+            return float(self.rectangle.gap_to_circles(x, y, th, circles).min())
+        centre = np.hypot(circles[:, 0] - x, circles[:, 1] - y) - circles[:, 2]
+        return float(centre.min()) - self.radius
+
+    def gap_to_circle(self, cx: float, cy: float, r: float) -> float:
+        """Gap between the footprint where it stands and one circle (a person's body)."""
+        if self.rectangle is not None:
+            return self.rectangle.gap_to_point(self.x, self.y, self.th, cx, cy) - r
+        return math.hypot(cx - self.x, cy - self.y) - self.radius - r
+
+    def circles(self) -> np.ndarray:
+        """(k, 3) circles that make up the footprint where it stands, for the crowd, which
+        keeps people out of circles: the bounding circle of a round body; a rectangle's
+        filling circles (robots/sim/outline.py)."""
+        if self.rectangle is not None:
+            return self.rectangle.circles(self.x, self.y, self.th)
+        return np.array([(self.x, self.y, self.radius)])
+
+    def _pose(self, x, y, th) -> tuple[float, float, float]:
+        return (self.x if x is None else x, self.y if y is None else y,
+                self.th if th is None else th)
+
+    def _blocked(self, x: float, y: float, obstacles: Obstacles, th: float) -> bool:
         """True when the move ends in overlap and goes deeper (backing out is always allowed)."""
-        after = self.clearance(x, y, obstacles)
+        after = self.clearance(x, y, obstacles, th)
         if after >= 0.0:
             return False
-        return after < self.clearance(self.x, self.y, obstacles)
+        return after < self.clearance(self.x, self.y, obstacles, self.th)

@@ -339,9 +339,9 @@ class Crowd:
             for circle in person.cart_circles():
                 rows.append(circle)
                 owners.append(k)
-        body = world.body
-        rows.append((body.x, body.y, body.radius))
-        owners.append(-1)
+        for circle in world.body.circles():       # the footprint: one circle, or a rectangle's
+            rows.append(tuple(circle))
+            owners.append(-1)
         return np.array(rows), np.array(owners)
 
     def _overlaps(self, people, world):
@@ -399,7 +399,7 @@ class Crowd:
         circles = [(person.x, person.y, BODY_RADIUS)] + person.cart_circles()
         others = [(p.x, p.y, BODY_RADIUS) for p in present]
         others += [c for p in present for c in p.cart_circles()]
-        others.append((world.body.x, world.body.y, world.body.radius))
+        others.extend(tuple(c) for c in world.body.circles())
         for x, y, r in circles:
             for ox, oy, orad in others:
                 if math.hypot(x - ox, y - oy) < r + orad - OVERLAP_SLACK:

@@ -1,8 +1,8 @@
 """What an evaluation measures in the simulated world: clearances, contacts and intrusions
 into personal space, from the ground truth after every substep.
 
-Distances are *gaps* between outlines: the robot's circular footprint (its profile radius) and
-a person's body circle (0.2 m, with their cart if they push one) or a wall segment. A gap of
+Distances are *gaps* between outlines: the robot's footprint (its profile radius, or the
+oriented rectangle of a box-shaped base: robots/sim/outline.py) and a person's body circle (0.2 m, with their cart if they push one) or a wall segment. A gap of
 zero is touching.
 
 - **Clearance**: the smallest gap seen, to walls and to each person.
@@ -100,7 +100,13 @@ class Measures:
         every wall within `NEAR_WALLS` of the body's footprint (as `World.step` passes them);
         without it all walls are searched."""
         body = world.body
-        if near_walls is None:
+        if body.rectangle is not None:               # the real outline, not the circle
+            gap_wall = body.gap_to_walls(world.floor.segments if near_walls is None
+                                         else near_walls)
+            if near_walls is not None and not len(near_walls) and (
+                    self.min_wall_clearance > NEAR_WALLS):
+                gap_wall = body.gap_to_walls(world.floor.segments)
+        elif near_walls is None:
             gap_wall = _nearest_of_many(body.x, body.y, world.floor.segments) - body.radius
         elif len(near_walls):
             gap_wall = _nearest(body.x, body.y, near_walls) - body.radius
@@ -117,10 +123,10 @@ class Measures:
         for person in world.present_people():
             dx, dy = person.x - body.x, person.y - body.y
             centre = math.hypot(dx, dy)
-            gap = centre - body.radius - BODY_RADIUS
+            gap = body.gap_to_circle(person.x, person.y, BODY_RADIUS)
             if person.plan.cart:                                 # the cart is part of them
                 for cx, cy, radius in person.cart_circles():
-                    gap = min(gap, math.hypot(cx - body.x, cy - body.y) - body.radius - radius)
+                    gap = min(gap, body.gap_to_circle(cx, cy, radius))
             gaps[person.id] = gap
             closest = min(closest, gap)
             if gap < self.min_person_clearance.get(person.id, math.inf):

@@ -21,6 +21,7 @@ from robots.exceptions import FloorError, ScenarioError
 from robots.profile import RobotProfile
 from robots.sim.appearance import anyone, appearance_of, observed
 from robots.sim.body import Obstacles, UnicycleBody
+from robots.sim.outline import Rectangle
 from robots.sim.crowd import Crowd
 from robots.sim.floor import Floor
 from robots.sim.laser_errors import LaserErrors
@@ -89,7 +90,9 @@ class World:
         if scenario is not None:
             _check_floor(scenario, floor)
         x, y, th = self._start_pose()
-        self.body = UnicycleBody(x, y, th, profile.limits, profile.radius)
+        self.body = UnicycleBody(x, y, th, profile.limits, profile.radius,
+                                 Rectangle(profile.length, profile.width)
+                                 if profile.shape == "rectangle" else None)
         self.odometry = WheelOdometry((x, y, th), profile.odometry, odometry_rng(seed))
         self.people: list[SimPerson] = []
         if scenario is not None:

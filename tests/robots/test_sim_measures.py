@@ -13,7 +13,8 @@ from sim_driver import Driver
 
 HOROS = load_profile("horos")
 OFFICE = load_floor("office")
-RADIUS = HOROS.radius
+FRONT = HOROS.length / 2       # HOROS's body is its rectangle: centre to front (and back)
+SIDE = HOROS.width / 2         # centre to either side
 
 
 def world_with(*people, robot=(0.0, 0.0, 180.0)):
@@ -31,7 +32,7 @@ def test_driving_into_a_wall_is_one_contact_and_the_clearance_goes_to_zero():
     assert world.body.stalled
     assert measures.contacts == [measures.contacts[0]] and measures.contacts[0].kind == "wall"
     assert measures.contacts[0].robot_moving
-    assert measures.contacts[0].t == pytest.approx((10.0 - RADIUS) / 0.3, abs=1.0)
+    assert measures.contacts[0].t == pytest.approx((10.0 - FRONT) / 0.3, abs=1.0)
     assert measures.min_wall_clearance == pytest.approx(0.0, abs=0.02)
     assert measures.contact_count("person") == 0 and measures.intrusion_count() == 0
 
@@ -41,10 +42,10 @@ def test_clearance_to_walls_and_each_person_is_the_smallest_gap_seen():
     Driver(world, [(-8.0, 0.0)], speed=0.4)
     world.step(25.0)
     measures = world.measures
-    assert measures.min_wall_clearance == pytest.approx(1.2 - RADIUS, abs=0.02)
-    assert measures.min_person_clearance["a"] == pytest.approx(0.8 - RADIUS - BODY_RADIUS,
+    assert measures.min_wall_clearance == pytest.approx(1.2 - SIDE, abs=0.02)
+    assert measures.min_person_clearance["a"] == pytest.approx(0.8 - SIDE - BODY_RADIUS,
                                                                abs=0.02)
-    assert measures.min_person_clearance["b"] == pytest.approx(0.9 - RADIUS - BODY_RADIUS,
+    assert measures.min_person_clearance["b"] == pytest.approx(0.9 - SIDE - BODY_RADIUS,
                                                                abs=0.02)
     assert measures.min_clearance_to_people == measures.min_person_clearance["a"]
     assert measures.max_speed_near_people == pytest.approx(0.4, abs=0.01)
@@ -59,7 +60,7 @@ def test_a_person_walking_into_the_standing_robot_is_their_contact_and_intrusion
     assert [(i.person, i.by) for i in measures.intrusions] == [("p", "person")]
     assert measures.intrusion_seconds["robot"] == 0.0
     assert measures.intrusion_seconds["person"] == pytest.approx(
-        (0.45 - (0.3 - RADIUS - BODY_RADIUS)) / 1.0, abs=0.1)
+        (0.45 - (0.3 - FRONT - BODY_RADIUS)) / 1.0, abs=0.1)
 
 
 def test_the_robot_closing_in_on_a_person_intrudes_once_per_episode():
@@ -69,7 +70,7 @@ def test_the_robot_closing_in_on_a_person_intrudes_once_per_episode():
     measures = world.measures
     assert driver.arrived
     assert [(i.person, i.by) for i in measures.intrusions] == [("p", "robot")]
-    assert measures.min_person_clearance["p"] == pytest.approx(0.7 - RADIUS - BODY_RADIUS,
+    assert measures.min_person_clearance["p"] == pytest.approx(0.7 - FRONT - BODY_RADIUS,
                                                                abs=0.03)
     assert measures.contacts == []
     driver.waypoints = [(0.0, 0.0)]                  # backing off is no intrusion
@@ -87,5 +88,5 @@ def test_summary_has_every_figure():
                             "contacts_person", "intrusions_by_robot", "intrusions_by_person",
                             "intrusion_seconds_robot", "intrusion_seconds_person",
                             "max_speed_near_people"}
-    assert summary["min_clearance_to_people"] == pytest.approx(2.0 - RADIUS - BODY_RADIUS)
+    assert summary["min_clearance_to_people"] == pytest.approx(2.0 - FRONT - BODY_RADIUS)
     assert all(math.isfinite(v) for v in summary.values())
