@@ -27,6 +27,7 @@ class Rectangle:
                                  [self.half_length, -self.half_width],
                                  [-self.half_length, -self.half_width],
                                  [-self.half_length, self.half_width]])
+        self._last_wall_gap: tuple | None = None     # (x, y, th, segments, gap)
 
     def circles(self, x: float, y: float, th: float) -> np.ndarray:
         """(6, 3) circles cx, cy, r that fill the rectangle at pose (x, y, th), for what
@@ -64,7 +65,17 @@ class Rectangle:
         """The smallest gap from the rectangle at pose (x, y, th) to wall segments (m, 4).
 
         Apart, the nearest points are an end of a wall or a corner of the rectangle; a wall
-        crossing the rectangle gives the deepest of points sampled along its inside part."""
+        crossing the rectangle gives the deepest of points sampled along its inside part.
+        The last answer is kept: the world asks twice per substep (the collision stop and the
+        measures) and again and again while the robot stands, at the same pose."""
+        last = self._last_wall_gap
+        if last is not None and last[3] is segments and last[:3] == (x, y, th):
+            return last[4]
+        gap = self._gap_to_segments(x, y, th, segments)
+        self._last_wall_gap = (x, y, th, segments, gap)
+        return gap
+
+    def _gap_to_segments(self, x: float, y: float, th: float, segments: np.ndarray) -> float:
         if not len(segments):
             return math.inf
         ax, ay = _to_body(x, y, th, segments[:, 0], segments[:, 1])
