@@ -39,8 +39,12 @@ class FaultReset:
         v, w, when = self.requested
         return bool(v or w) and now - when <= self.watchdog_timeout
 
-    def refuse_while_moving(self, now: float, where: str) -> None:
-        """FaultResetError while a non-zero command is within the watchdog time."""
+    def refuse_unless_allowed(self, now: float, where: str) -> None:
+        """FaultResetError when the option is off, or while a non-zero command is within the
+        watchdog time."""
+        if not self.enabled:
+            raise FaultResetError(f"{where}: fault reset refused: the driver option reset_faults "
+                                  f"is off (the profile's reset_faults = true, or --reset-faults)")
         if self.motion_commanded(now):
             v, w, _ = self.requested
             raise FaultResetError(f"{where}: fault reset refused: motion is commanded "

@@ -537,10 +537,7 @@ class P2OSBase(Base):
         `command()`. Returns the devices a reset was sent for (none when there was no fault)."""
         now = self._time()
         where = f"{self.url}: P2OS motors"
-        if not self.fault_reset.enabled:
-            raise FaultResetError(f"{where}: fault reset refused: the driver option reset_faults "
-                                  f"is off (the profile's reset_faults = true, or --reset-faults)")
-        self.fault_reset.refuse_while_moving(now, where)
+        self.fault_reset.refuse_unless_allowed(now, where)
         if self.drive_fault is None:
             return []
         if self._estop:

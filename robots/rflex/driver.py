@@ -606,10 +606,7 @@ class RFlexBase(Base):
         zero until the next `command()`. Returns the devices a reset was sent for."""
         now = self._now()
         where = f"{self.url}: rFLEX brake"
-        if not self.fault_reset.enabled:
-            raise FaultResetError(f"{where}: fault reset refused: the driver option reset_faults "
-                                  f"is off (the profile's reset_faults = true, or --reset-faults)")
-        self.fault_reset.refuse_while_moving(now, where)
+        self.fault_reset.refuse_unless_allowed(now, where)
         if self.drive_fault is None:
             return []
         if self._port is None or now - self._report_t > LINK_TIMEOUT:
