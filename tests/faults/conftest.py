@@ -134,3 +134,20 @@ def record_delay(kind: str, delay: float) -> None:
 
 def wait(seconds: float) -> None:
     time.sleep(seconds)
+
+
+def argos_drives_in_real_time():
+    """ARGOS's two emulated CiA 402 drives on a virtual CAN bus, stepping the simulated world
+    on the real clock: (profile, clock, emulator). The caller opens a driver on
+    `virtual:{emulator.channel}` (or the emulator's socketcand server) and closes both."""
+    from robots.canopen.emulator import CanOpenEmulator
+    from robots.clock import RealClock
+    from robots.profile import load_profile
+    from robots.sim.simulation import Simulation
+    argos = load_profile("argos")
+    clock = RealClock()
+    simulation = Simulation(argos, None, 0, clock)
+    emulator = CanOpenEmulator.for_profile(argos, simulation.world, clock=clock)
+    emulator.attach(simulation)
+    emulator.start_clock(simulation)
+    return argos, clock, emulator

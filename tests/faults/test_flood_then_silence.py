@@ -12,6 +12,7 @@ import pytest
 
 from robots.p2os.driver import P2OSBase
 from robots.profile import load_profile
+from tests.faults.conftest import argos_drives_in_real_time
 
 NOTICED_WITHIN = 0.5          # s from the robot end's last byte to "link down" (issue 24)
 
@@ -231,15 +232,7 @@ def babble_on_the_bus(channel: str, how: str) -> float:
 @pytest.mark.parametrize("how", ["5000 queued heartbeats", "1 s of flooding"])
 def test_canopen_notices_silence_after_a_flood(transport, how):
     from robots.canopen.driver import CanOpenBase
-    from robots.canopen.emulator import CanOpenEmulator
-    from robots.clock import RealClock
-    from robots.sim.simulation import Simulation
-    argos = load_profile("argos")
-    clock = RealClock()
-    simulation = Simulation(argos, None, 0, clock)
-    emulator = CanOpenEmulator.for_profile(argos, simulation.world, clock=clock)
-    emulator.attach(simulation)
-    emulator.start_clock(simulation)
+    argos, clock, emulator = argos_drives_in_real_time()
     link = None
     if transport == "socketcand":
         link = BabblingLink(emulator.serve_socketcand())

@@ -23,6 +23,7 @@ import pytest
 from robots.clock import SimClock
 from robots.profile import load_profile
 from robots.sim.simulation import Simulation
+from tests.faults.conftest import argos_drives_in_real_time
 
 SPEED = 0.3
 
@@ -108,15 +109,8 @@ def test_canopen_fault_quick_stop_goes_out_before_the_next_cycle():
     cycle (TPDO2 of both drives in, RPDOs out), so what it sends in between is in order."""
     from robots.canopen import protocol as p
     from robots.canopen.driver import CanOpenBase
-    from robots.canopen.emulator import CanOpenEmulator
-    from robots.clock import RealClock
     from tests.faults.conftest import wait
-    argos = load_profile("argos")
-    clock = RealClock()
-    simulation = Simulation(argos, None, 0, clock)
-    emulator = CanOpenEmulator.for_profile(argos, simulation.world, clock=clock)
-    emulator.attach(simulation)
-    emulator.start_clock(simulation)
+    argos, clock, emulator = argos_drives_in_real_time()
     base = CanOpenBase(argos.limits, f"virtual:{emulator.channel}", clock=clock, config=emulator.config)
     order: list[tuple[str, int, int]] = []
     lock = threading.Lock()

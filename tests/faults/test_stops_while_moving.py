@@ -15,6 +15,7 @@ from dataclasses import replace
 import pytest
 
 from robots.profile import load_profile
+from tests.faults.conftest import argos_drives_in_real_time
 
 WITHIN = 0.5                  # s from the fault to the stop at the robot end (issue 24)
 SPEED = 0.3                   # m/s the commander asks for
@@ -235,15 +236,7 @@ def test_rflex_stop_and_close_while_moving(rflex_moving):
 @pytest.fixture
 def canopen_moving():
     from robots.canopen.driver import CanOpenBase
-    from robots.canopen.emulator import CanOpenEmulator
-    from robots.clock import RealClock
-    from robots.sim.simulation import Simulation
-    argos = load_profile("argos")
-    clock = RealClock()
-    simulation = Simulation(argos, None, 0, clock)
-    emulator = CanOpenEmulator.for_profile(argos, simulation.world, clock=clock)
-    emulator.attach(simulation)
-    emulator.start_clock(simulation)
+    argos, clock, emulator = argos_drives_in_real_time()
     base = CanOpenBase(argos.limits, f"virtual:{emulator.channel}", clock=clock,
                        config=emulator.config)
     base.open()
