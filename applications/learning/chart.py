@@ -42,6 +42,16 @@ def rates_svg(title: str, series: list[tuple[str, str, list[float], bool]], capt
                      f'text-anchor="end">{v:.0%}</text>')
     parts.append(f'<text x="{left + plot_w / 2}" y="{height - 8}" text-anchor="middle">'
                  f'{escape(caption)}</text>')
+    parts += series_lines(series, x, y, left + plot_w, top)
+    parts.append("</svg>")
+    return "".join(parts)
+
+
+def series_lines(series: list[tuple[str, str, list[float], bool]], x, y, right: float,
+                 top: float) -> list[str]:
+    """SVG of each series' line (x, y: episode number and value to the picture's
+    coordinates) and its legend entry to the right of `right`."""
+    parts = []
     for i, (label, colour, values, dashed) in enumerate(series):
         if values:
             path = " ".join(f"{x(j + 1):.1f},{y(v):.1f}" for j, v in enumerate(values))
@@ -49,8 +59,7 @@ def rates_svg(title: str, series: list[tuple[str, str, list[float], bool]], capt
             parts.append(f'<polyline fill="none" stroke="{colour}" stroke-width="1.5"{dash} '
                          f'points="{path}"/>')
         ly = top + 14 * i + 6
-        parts.append(f'<line x1="{left + plot_w + 10}" x2="{left + plot_w + 30}" y1="{ly}" '
+        parts.append(f'<line x1="{right + 10}" x2="{right + 30}" y1="{ly}" '
                      f'y2="{ly}" stroke="{colour}" stroke-width="2"/><text '
-                     f'x="{left + plot_w + 34}" y="{ly + 4}">{escape(label)}</text>')
-    parts.append("</svg>")
-    return "".join(parts)
+                     f'x="{right + 34}" y="{ly + 4}">{escape(label)}</text>')
+    return parts

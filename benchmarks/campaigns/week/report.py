@@ -19,13 +19,13 @@ from __future__ import annotations
 import argparse
 import re
 import sqlite3
-from html import escape
 from pathlib import Path
+
+from applications.learning.chart import COLOURS, series_lines
 
 NEW_BEST_ALONE = "call"          # after the shift (shifted.toml) people alone come when called
 ALONE = "people.count=1"
 BLOCK = 200
-COLOURS = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#17becf")
 
 
 def strategy(group: str) -> str:
@@ -153,15 +153,8 @@ def regret_svg(series: list[tuple[str, list[float]]], width=760, height=400,
         tick += step
     parts.append(f'<text x="{left + plot_w / 2}" y="{height - 8}" text-anchor="middle">episode '
                  '(successes the other strategy would have had, minus the learner\'s)</text>')
-    for i, (label, values) in enumerate(series):
-        colour = COLOURS[i % len(COLOURS)]
-        points = " ".join(f"{x(j + 1):.1f},{y(v):.1f}" for j, v in enumerate(values))
-        parts.append(f'<polyline fill="none" stroke="{colour}" stroke-width="1.5" '
-                     f'points="{points}"/>')
-        ly = top + 14 * i + 6
-        parts.append(f'<line x1="{left + plot_w + 10}" x2="{left + plot_w + 30}" y1="{ly}" '
-                     f'y2="{ly}" stroke="{colour}" stroke-width="2"/><text '
-                     f'x="{left + plot_w + 34}" y="{ly + 4}">{escape(label)}</text>')
+    parts += series_lines([(label, COLOURS[i % len(COLOURS)], values, False)
+                           for i, (label, values) in enumerate(series)], x, y, left + plot_w, top)
     parts.append("</svg>")
     return "".join(parts)
 
