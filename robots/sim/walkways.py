@@ -37,6 +37,9 @@ class WalkGrid:
         gx, gy = np.meshgrid(xs, ys)
         self.free = _wall_distance(gx.ravel(), gy.ravel(), floor.segments) >= clearance
         self.free = self.free.reshape(self.rows, self.cols)
+        self.free.flags.writeable = False       # the caches below rest on it
+        self._free_cells = np.nonzero(self.free)
+        self._nearest: dict[tuple[int, int], int | None] = {}
         self._graph = self._build_graph()
         self._searches: dict[int, np.ndarray] = {}
 
@@ -79,12 +82,19 @@ class WalkGrid:
         return (self.origin[0] + (col + 0.5) * self.cell, self.origin[1] + (row + 0.5) * self.cell)
 
     def _nearest_free(self, point: tuple[float, float]) -> int | None:
-        """Index of the free cell nearest to the point (the point's own cell when free)."""
+        """Index of the free cell nearest to the point (the point's own cell when free).
+        Kept per cell: people standing at a shelf ask for the same walled-in cell every
+        substep, and the search runs over every free cell of the floor."""
         rows, cols = self._cells(point[0], point[1])
         row, col = int(rows), int(cols)
         if 0 <= row < self.rows and 0 <= col < self.cols and self.free[row, col]:
             return row * self.cols + col
-        free_rows, free_cols = np.nonzero(self.free)
+        if (row, col) not in self._nearest:
+            self._nearest[(row, col)] = self._search_nearest_free(row, col)
+        return self._nearest[(row, col)]
+
+    def _search_nearest_free(self, row: int, col: int) -> int | None:
+        free_rows, free_cols = self._free_cells
         if free_rows.size == 0:
             return None
         nearest = int(np.argmin((free_rows - row) ** 2 + (free_cols - col) ** 2))

@@ -22,6 +22,7 @@ from applications.graph.loader import find_application
 from applications.recording import (CHUNK_SIZE, SCHEMAS, Recording, open_recording, read_ticks)
 from applications.replay import ReplayFeed
 from applications.tracetools import summarize
+from tests.processes import faulthandler_env, finish
 
 SURVEY = find_application("survey")
 
@@ -271,7 +272,7 @@ def test_replay_with_the_inspector_pauses_and_steps_one_tick(recorded):
 
     path, _ = recorded
     process = subprocess.Popen([sys.executable, "-m", "applications.cli", "replay", str(path),
-                                "--inspect", "0", "--speed", "20"],
+                                "--inspect", "0", "--speed", "20"], env=faulthandler_env(),
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
     def call(query: str, method: str = "GET") -> dict:
@@ -307,6 +308,6 @@ def test_replay_with_the_inspector_pauses_and_steps_one_tick(recorded):
             out.append(line)
     finally:
         process.send_signal(signal.SIGINT)
-        rest, _ = process.communicate(timeout=60)
+        rest, _ = finish(process, timeout=60)
     assert process.returncode == 0
     assert "no divergence in 601 ticks" in rest
