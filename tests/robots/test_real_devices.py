@@ -19,6 +19,7 @@ from robots.sim.simulation import Simulation
 from robots.visca.driver import ViscaHead
 from robots.visca.emulator import ViscaEmulator
 from tests.robots.camera_scenes import blank, person_at, smooth
+from tests.waiting import wait_until
 
 HOROS = load_profile("horos")
 
@@ -99,7 +100,7 @@ def test_the_camera_named_in_the_profile_detects_people(tmp_path, base_url, head
     lens = Intrinsics.from_fov(90.0, 640, 480)
     video = str(tmp_path / "visitor.avi")
     writer = cv2.VideoWriter(video, cv2.VideoWriter_fourcc(*"MJPG"), 10.0, (640, 480))
-    for _ in range(30):
+    for _ in range(80):             # 8 s at 10 fps: frames still come after the head is there
         image = blank(lens)
         person_at(image, lens, 2.0, 0.0)
         writer.write(smooth(image))
@@ -111,13 +112,22 @@ def test_the_camera_named_in_the_profile_detects_people(tmp_path, base_url, head
     try:
         assert isinstance(hardware.people_detector, CameraPersonDetector)
         hardware.head.point(math.radians(30), 0.0)
-        time.sleep(0.8)                      # 80 deg/s: there by now
+        # 80 deg/s: there in 0.4 s on a quiet machine; waited for, not slept, so that a
+        # loaded machine's slower emulator thread does not make the head still on its way
+        assert wait_until(lambda: abs(math.degrees(hardware.head.read()[0]) - 30) < 0.5,
+                          timeout=10.0), hardware.head.read()
+        # Frames are searched one after another on the detector's thread. What it found until
+        # now, and the first batch it hands over next (whose frame it may have taken with the
+        # head still turning), are dropped; the batch after that read the head once there.
+        hardware.people_detector.detect()
         found = []
-        deadline = time.monotonic() + 2
-        while not found and time.monotonic() < deadline:
-            found = hardware.people_detector.detect()
-            time.sleep(0.05)
-        assert found
+        for _ in range(2):
+            found = []
+            deadline = time.monotonic() + 3
+            while not found and time.monotonic() < deadline:
+                found = hardware.people_detector.detect()
+                time.sleep(0.02)
+            assert found
         bearing = math.degrees(math.atan2(found[0].y, found[0].x - 0.1))
         assert bearing == pytest.approx(30, abs=2.5)      # the head's pan, added
     finally:
