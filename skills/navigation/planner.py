@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.sparse import csr_matrix
-from scipy.sparse.csgraph import dijkstra
+from scipy.sparse.csgraph import connected_components, dijkstra
 
 from skills.navigation.costmap import CostMap
 
@@ -143,13 +143,15 @@ class GlobalPlanner:
 
 @dataclass(frozen=True)
 class _Graph:
-    """The search graph in CSR form, with each edge's start node (for re-weighting)."""
+    """The search graph in CSR form, with each edge's start node (for re-weighting) and each
+    node's connected component (a goal in another one is unreachable without a search)."""
     matrix: csr_matrix
     starts: np.ndarray
+    components: np.ndarray
 
 
 def _astar(graph: _Graph, source: int, target: int, shape: tuple[int, int],
-           resolution: float) -> tuple[float, np.ndarray]:
+           resolution: float) -> tuple[float, np.ndarray | None]:
     """A* as Dijkstra on reduced costs w(u, v) - h(u) + h(v), with h the octile distance to the
     target (consistent: no edge is cheaper than its length). scipy's Dijkstra cannot stop at the
     target, but with a distance `limit` it only settles the nodes whose reduced distance is
@@ -159,6 +161,8 @@ def _astar(graph: _Graph, source: int, target: int, shape: tuple[int, int],
     Each bounded search runs on the window of the grid that holds every node it can reach
     (`_search_window`), not on the whole map: re-weighting a store's 1.7 million edges cost ten
     times the search itself, and the follower plans several times a second."""
+    if graph.components[source] != graph.components[target]:
+        return math.inf, None      # the searches below would end on the whole map, in vain
     rows, cols = shape
     sr, sc = divmod(source, cols)
     tr, tc = divmod(target, cols)
@@ -272,7 +276,8 @@ def _build_graph(costmap: CostMap, cost_weight: float) -> _Graph:
     matrix = csr_matrix((np.concatenate(weights), (np.concatenate(heads), np.concatenate(tails))),
                         shape=(rows * cols, rows * cols))
     matrix.sort_indices()
-    return _Graph(matrix, np.repeat(np.arange(rows * cols), np.diff(matrix.indptr)))
+    _, components = connected_components(matrix, directed=False)
+    return _Graph(matrix, np.repeat(np.arange(rows * cols), np.diff(matrix.indptr)), components)
 
 
 def _trace(pred: np.ndarray, source: int, target: int, cols: int) -> np.ndarray:

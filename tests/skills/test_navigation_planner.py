@@ -85,6 +85,23 @@ def test_closed_wall_means_no_path_with_the_reason():
     assert len(plan.waypoints) == 0 and plan.length == math.inf
 
 
+def test_a_goal_closed_off_is_refused_without_searching(monkeypatch):
+    """A goal in another connected part of the map gets the same answer as after the searches,
+    without them (they would end on the whole map, in vain)."""
+    import skills.navigation.planner as planner
+    occupied = room(12.0, 8.0)
+    occupied[:, col(6.0)] = True
+    searches = []
+    original = planner._reduced_dijkstra
+    monkeypatch.setattr(planner, "_reduced_dijkstra",
+                        lambda *args: searches.append(args[1]) or original(*args))
+    plans = GlobalPlanner(cost_map(grid_of(occupied), RADIUS))
+    closed_off = plans.plan((1.0, 4.0), (11.0, 4.0))
+    assert closed_off.reason.startswith(UNREACHABLE) and closed_off.length == math.inf
+    assert searches == []
+    assert plans.plan((1.0, 4.0), (5.0, 6.0)).found and len(searches) >= 1
+
+
 def test_a_door_narrower_than_the_robot_means_no_path():
     occupied = room()
     occupied[:, col(3.0)] = True
