@@ -257,10 +257,9 @@ class Crowd:
         carts = [(k, c) for k, person in enumerate(people) for c in person.cart_circles()]
         if not carts:
             return out
-        for i in range(len(people)):
-            for owner, (cx, cy, radius) in carts:
-                if owner == i:
-                    continue
+        for i, c in self._within_reach(positions, carts):
+            owner, (cx, cy, radius) = carts[c]
+            if owner != i:
                 rel = positions[i] - (cx, cy)
                 distance = float(np.hypot(*rel))
                 gap = distance - radius - BODY_RADIUS
@@ -269,6 +268,16 @@ class Crowd:
                     out[i] += weight * p.wall_strength * math.exp(-max(gap, 0.0) / p.sigma) \
                         * rel / distance
         return out
+
+    def _within_reach(self, positions: np.ndarray, carts: list) -> list[tuple[int, int]]:
+        """(person, cart) index pairs, in the order of a loop over people then carts, that
+        may be within the wall force's reach: a margin over the exact test, which the caller
+        makes on these pairs alone (most carts are far from most people)."""
+        circles = np.array([c for _, c in carts])
+        rel = positions[:, None, :] - circles[None, :, :2]
+        gap = np.hypot(rel[..., 0], rel[..., 1]) - circles[None, :, 2] - BODY_RADIUS
+        people, near = np.nonzero(gap < self.params.wall_reach + 1e-6)
+        return list(zip(people.tolist(), near.tolist()))
 
     def _robot_forces(self, people, positions, wish, world: "World") -> np.ndarray:
         """The robot as another walker, weighted by how much each person yields to it."""
