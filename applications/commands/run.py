@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 from applications import observing
@@ -113,7 +114,8 @@ class RunCommand:
                     f"'{app.name}' cannot run on {robot_name} as opened "
                     f"({'port ' + args.port if args.port else 'simulation'}): "
                     + "; ".join(missing.values()))
-            refuse_places_off_the_map(loaded, robot, robot_name)
+            refuse_places_off_the_map(loaded, robot, robot_name,
+                                      hint=args.map is None and scenario is None)
             if robot.scenario_people == 0:
                 print(nobody_message(folder, scenario))
             data_dir = args.data or default_data_dir()
@@ -239,9 +241,11 @@ def map_meta(text: str | None) -> str | None:
     return str(path.resolve()) if path.is_file() else text
 
 
-def refuse_places_off_the_map(loaded, robot, robot_name: str) -> None:
+def refuse_places_off_the_map(loaded, robot, robot_name: str, hint: bool = False) -> None:
     """ApplicationError, with the file and line of each, when the application names places
-    the robot's map lacks (a robot without a map has nothing to check against)."""
+    the robot's map lacks (a robot without a map has nothing to check against). With `hint`
+    (neither --map nor a scenario chose the map) it ends with the floors the application's
+    own scenarios run on: `interbot run shopping` alone opened the office, not the store."""
     from applications.graph.catalog import load_catalog
     from applications.places import missing_diagnostics, named_places
 
@@ -252,7 +256,30 @@ def refuse_places_off_the_map(loaded, robot, robot_name: str) -> None:
                          loaded.folder)
     problems = missing_diagnostics(named, robot.map_name, on_map)
     if problems:
+        floors = scenario_floors(loaded.folder) if hint else {}
+        floors.pop(robot.map_name, None)
+        if floors:             # said once, after the last place
+            problems[-1] = replace(problems[-1], message=(
+                f"{problems[-1].message}; no --scenario or --map was given, so the robot's map "
+                f"'{robot.map_name}' was used: this application's scenarios run on "
+                + "; ".join(f"floor '{floor}' (--scenario {' | '.join(names)})"
+                            for floor, names in sorted(floors.items()))))
         raise ApplicationError("\n".join(str(d) for d in problems), problems)
+
+
+def scenario_floors(folder: Path) -> dict[str, list[str]]:
+    """The floors the application's scenarios name, each with the scenarios on it."""
+    import tomllib
+
+    floors: dict[str, list[str]] = {}
+    for path in sorted((folder / "scenarios").glob("*.toml")):
+        try:
+            floor = tomllib.loads(path.read_text()).get("scenario", {}).get("floor")
+        except (OSError, tomllib.TOMLDecodeError):
+            continue            # a broken scenario is reported when it is run
+        if isinstance(floor, str):
+            floors.setdefault(floor, []).append(path.stem)
+    return floors
 
 
 def resolve_scenario(folder: Path, scenario: str | None) -> Path | None:

@@ -124,3 +124,16 @@ def test_a_scenario_naming_a_place_not_on_the_map_is_refused_with_file_and_line(
     assert code == 2 and len(err) == 1
     assert f"{scenario}:7: person 'vic'.at: floor 'floor3' has no place 'hall_west'; places: " \
            "hall_east, robot_home, room_a, room_b, store_room" in err[0]
+
+
+def test_an_application_run_without_scenario_or_map_names_the_floors_of_its_scenarios(capsys):
+    """`interbot run shopping` alone opens the robot's office map, where the shelves are not:
+    the refusal then says which floor the application's own scenarios run on."""
+    code = main(["run", "shopping", "--fast", "--quiet", "--duration", "5"])
+    err = capsys.readouterr().err.splitlines()
+    assert code == 1
+    missing = [line for line in err if "is not on the map 'office'" in line]
+    assert missing and all("database.sql:" in line for line in missing)
+    assert missing[-1].endswith("this application's scenarios run on floor 'store' (--scenario "
+                                "follow_me | hidden | nobody | product | walks_off)")
+    assert not any("--scenario follow_me" in line for line in missing[:-1])
