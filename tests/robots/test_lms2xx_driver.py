@@ -17,17 +17,9 @@ from robots.lms2xx.emulator import LMS2xxEmulator
 from robots.profile import load_profile
 from robots.sim.rangefinder import WorldRangefinder
 from robots.sim.simulation import Simulation
+from tests.waiting import wait_until
 
 HOROS = load_profile("horos")
-
-
-def wait_until(predicate, timeout=3.0, step=0.01):
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        if predicate():
-            return True
-        time.sleep(step)
-    return predicate()
 
 
 class FaultyLMS(LMS2xxEmulator):

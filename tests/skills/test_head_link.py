@@ -13,15 +13,9 @@ from robots.visca.emulator import ViscaEmulator
 from skills.blackboard import Blackboard
 from skills.events import EventLog
 from skills.head import HeadControl
+from tests.waiting import wait_until
 
 HOROS = load_profile("horos")
-
-
-def wait_until(condition, timeout: float) -> bool:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline and not condition():
-        time.sleep(0.02)
-    return condition()
 
 
 def test_a_silent_head_is_one_link_episode_and_a_failed_skill():
