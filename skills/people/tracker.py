@@ -8,14 +8,14 @@ tentative -> confirmed -> lost -> deleted. Detections must already be in the wor
 """
 from __future__ import annotations
 
-import functools
 import itertools
 import math
 from dataclasses import dataclass
 
 import numpy as np
+from filterpy.kalman import KalmanFilter
 
-from skills.people import motion_model
+from skills.people import imm, motion_model
 from skills.people.association import assign, gated_cost, mahalanobis_sq
 from skills.people.fusion import fuse_close_detections
 from skills.people.track import CONFIRMED, LOST, TENTATIVE, Track
@@ -46,18 +46,6 @@ class TrackerParams:
     min_variance: float = 1e-4        # m^2 (1 cm); added to detection covariances below it
 
 
-@functools.cache
-def _filters():
-    """filterpy's KalmanFilter and our IMM on filterpy, imported when the first tracker is made:
-    filterpy imports scipy.stats (0.8 s of CPU), which commands that never track (`check`,
-    `show`, `robots` …) should not wait for. A run makes its tracker when the robot is opened,
-    before its loop, so the import never stalls a tick."""
-    from filterpy.kalman import KalmanFilter
-
-    from skills.people import imm
-    return KalmanFilter, imm
-
-
 class _TrackState:
     """A track's filter and its life-cycle counters (internal)."""
 
@@ -70,7 +58,6 @@ class _TrackState:
         p0 = np.zeros((4, 4))
         p0[:2, :2] = cov
         p0[2, 2] = p0[3, 3] = params.initial_speed_sigma ** 2
-        KalmanFilter, imm = _filters()
         if params.model == "imm":
             kf = imm.make_imm(x0, p0, inverse_2x2_single)
         else:
@@ -106,7 +93,6 @@ class PeopleTracker:
         self._tracks: list[_TrackState] = []
         self._ids = itertools.count(1)
         self._t: float | None = None
-        _filters()
 
     @property
     def time(self) -> float | None:
@@ -153,7 +139,6 @@ class PeopleTracker:
             f = motion_model.transition(dt)
             q = motion_model.process_noise(dt, self.params.accel_noise)
             if self.params.model == "imm":
-                imm = _filters()[1]
                 stand = (imm.standing_transition(), imm.standing_noise(dt))
                 for state in self._tracks:
                     imm.predict(state.kf, (f, q), stand)
@@ -176,7 +161,7 @@ class PeopleTracker:
         if appearance is not None:
             state.appearance, state.appearance_t = appearance, t
         if self.params.model == "imm":
-            _filters()[1].update(state.kf, xy.reshape(2, 1), cov)
+            imm.update(state.kf, xy.reshape(2, 1), cov)
         else:
             state.kf.update(xy.reshape(2, 1), R=cov, H=motion_model.H)
         state.hits += 1
