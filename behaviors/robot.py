@@ -217,10 +217,15 @@ def open_robot(robot: str | Path, *, port: str | None = None, scenario: str | Pa
     profile's ({"laser": ..., "head": ..., "camera": ...}); `wire` puts the simulated robot's
     devices on their wires (see `robots.addresses`)."""
     try:
-        return Robot(open_skills(robot, port=port, scenario=scenario, fast=fast, seed=seed,
-                                 gui=gui, speech_wav=speech_wav, language=language, voice=voice,
-                                 listen=listen, replay=replay, map=map,
-                                 initial_pose=initial_pose, reset_faults=reset_faults,
-                                 devices=devices, wire=wire))
+        skills = open_skills(robot, port=port, scenario=scenario, fast=fast, seed=seed,
+                             gui=gui, speech_wav=speech_wav, language=language, voice=voice,
+                             listen=listen, replay=replay, map=map,
+                             initial_pose=initial_pose, reset_faults=reset_faults,
+                             devices=devices, wire=wire)
     except SkillError as exc:
         raise RobotOpenError(str(exc)) from exc
+    try:
+        return Robot(skills)
+    except BaseException:      # whatever ends the opening once the base is open closes it
+        skills.close()
+        raise

@@ -299,7 +299,7 @@ def open_skills(robot: str | Path, *, port: str | None = None, scenario: str | P
         raise SkillError(str(exc)) from exc
     try:
         return SkillSet(hardware, map=map, initial_pose=initial_pose, seed=seed)
-    except Exception:
+    except BaseException:      # Ctrl-C or SIGTERM while the skills are built: the base is open
         hardware.close()
         raise
 
