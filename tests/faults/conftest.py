@@ -17,6 +17,7 @@ from pathlib import Path
 import pytest
 
 from tests.faults.peer import ScriptedPioneer
+from tests.processes import faulthandler_env, finish
 
 WATCH_FAULTS_APP = """<application name="watch" initial="Wait" robot="horos">
   <state name="Wait" behavior="Idle">
@@ -59,7 +60,7 @@ class RunningInterbot:
     def __init__(self, app: Path, url: str, tmp_path: Path, duration: float,
                  robot: str = "horos", extra: tuple[str, ...] = ()) -> None:
         self.trace_path = tmp_path / "trace.jsonl"
-        env = dict(os.environ, PYTHONPATH=str(REPO))
+        env = faulthandler_env(dict(os.environ, PYTHONPATH=str(REPO)))    # a hang shows where
         self.process = subprocess.Popen(
             [sys.executable, "-m", "applications.cli", "run", str(app), "--robot", robot,
              "--port", url, "--duration", str(duration), "--trace", str(self.trace_path),
@@ -67,7 +68,7 @@ class RunningInterbot:
             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=REPO, env=env)
 
     def finish(self, timeout: float = 60.0) -> Finished:
-        out, err = self.process.communicate(timeout=timeout)
+        out, err = finish(self.process, timeout)
         trace = []
         if self.trace_path.exists():
             trace = [json.loads(line) for line in self.trace_path.read_text().splitlines()

@@ -18,6 +18,7 @@ from robots.canopen.driver import CanOpenBase
 from robots.clock import SimClock
 from robots.profile import load_profile
 from robots.sim.simulation import Simulation
+from tests.processes import faulthandler_env, finish
 
 ARGOS = load_profile("argos")
 S = p.State402
@@ -130,7 +131,7 @@ def frames(log: Path, can_id: str) -> list[str]:
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM, signal.SIGHUP])
 def test_a_signal_ends_the_run_with_the_stop_sequence_on_the_bus(tmp_path, signum):
     log = tmp_path / "session.log"
-    env = dict(os.environ, PYTHONPATH=str(REPO), INTERBOT_CAN_LOG=str(log))
+    env = faulthandler_env(dict(os.environ, PYTHONPATH=str(REPO), INTERBOT_CAN_LOG=str(log)))
     process = subprocess.Popen(
         [sys.executable, "-m", "applications.cli", "run", "survey", "--robot", "argos", "--quiet",
          "--duration", "600", "--data", str(tmp_path / "answers.sqlite")],
@@ -140,7 +141,7 @@ def test_a_signal_ends_the_run_with_the_stop_sequence_on_the_bus(tmp_path, signu
         time.sleep(0.1)                  # SYNC flows: the drives are enabled
     time.sleep(0.5)
     process.send_signal(signum)
-    out, err = process.communicate(timeout=60)
+    out, err = finish(process, timeout=60)
     assert process.returncode == 128 + signum, err
     for node in (1, 2):
         words = [int.from_bytes(bytes.fromhex(d[:4]), "little") for d in frames(log, f"20{node}")]
