@@ -235,13 +235,20 @@ class Crowd:
         """Walls keep walkers off; someone standing against a wall stays (the hard rule
         still keeps them out of it)."""
         p = self.params
-        away = positions - self._wall_index(world).nearest_points(positions)
+        out = np.zeros_like(positions)
+        walls = self._wall_index(world)
+        near = np.flatnonzero(walls.may_be_near(positions, BODY_RADIUS + p.wall_reach))
+        if len(near) == 0:      # a zero force, as the far ones get below (its sign aside,
+            return out          # which the comfort threshold makes + 0 when it is all)
+        at = positions[near]
+        away = at - walls.nearest_points(at)
         distance = np.maximum(np.hypot(away[:, 0], away[:, 1]), 1e-9)
         gap = distance - BODY_RADIUS
         size = np.where(gap < p.wall_reach,
                         p.wall_strength * np.exp(-np.maximum(gap, 0.0) / p.wall_range), 0.0)
-        size[np.hypot(wish[:, 0], wish[:, 1]) < 1e-6] = 0.0
-        return away * (size / distance)[:, None]
+        size[np.hypot(wish[near, 0], wish[near, 1]) < 1e-6] = 0.0
+        out[near] = away * (size / distance)[:, None]
+        return out
 
     def _wall_index(self, world: "World") -> WallIndex:
         """The floor's walls, bucketed for the reach of the wall force (built once)."""
@@ -389,10 +396,14 @@ class Crowd:
     def _wall_overlaps(self, people: list[SimPerson], world: "World") -> dict:
         """Pushes that take bodies out of walls, by person index."""
         positions = np.array([(p.x, p.y) for p in people])
-        away = positions - self._wall_index(world).nearest_points(positions)
+        walls = self._wall_index(world)
+        near = np.flatnonzero(walls.may_be_near(positions, BODY_RADIUS))
+        if len(near) == 0:
+            return {}
+        away = positions[near] - walls.nearest_points(positions[near])
         distance = np.hypot(away[:, 0], away[:, 1])
         inside = np.flatnonzero((distance < BODY_RADIUS - OVERLAP_SLACK) & (distance > 1e-9))
-        return {int(k): away[k] / distance[k] * (BODY_RADIUS - distance[k] + 1e-4)
+        return {int(near[k]): away[k] / distance[k] * (BODY_RADIUS - distance[k] + 1e-4)
                 for k in inside}
 
     def _overlapping(self, people: list[SimPerson], world: "World") -> list[SimPerson]:

@@ -26,6 +26,7 @@ class WallIndex:
         self.segments = segments
         self.reach = reach
         self.cell = cell
+        self._lower: _LowerBounds | None = None
         self._full = len(segments) <= FEW_WALLS
         if self._full:
             return
@@ -56,6 +57,17 @@ class WallIndex:
             table[row, :len(found)] = found
         return table
 
+    def may_be_near(self, positions: np.ndarray, distance: float) -> np.ndarray:
+        """For each position (n, 2), False where no wall can be within `distance` (a lower
+        bound of the wall distance, kept per cell of a coarse grid, is beyond it); True where
+        one may be. Lets a caller measure only the positions near walls: in a hallway most
+        people are far from both walls most of the time."""
+        if len(self.segments) == 0:
+            return np.zeros(len(positions), dtype=bool)
+        if self._lower is None:
+            self._lower = _LowerBounds(self.segments)
+        return self._lower.below(positions, distance)
+
     def nearest_points(self, positions: np.ndarray) -> np.ndarray:
         """For each position (n, 2) the nearest point of any wall (n, 2), exact where that
         wall is within `reach`; a point farther than `reach` otherwise (FAR beyond the
@@ -70,6 +82,38 @@ class WallIndex:
         np.clip(cells, 0, self._last_cell, out=cells)
         candidates = self._candidates[cells[:, 0] * self.shape[1] + cells[:, 1]]    # (n, k)
         return _nearest_of(positions, self._padded[candidates])
+
+
+class _LowerBounds:
+    """A lower bound of the distance to the nearest wall per square cell: the distance from
+    the cell's centre less half its diagonal. Off the grid nothing is known (0)."""
+
+    CELL = 0.25          # m
+    MARGIN = 1.0         # m of grid around the walls
+
+    def __init__(self, segments: np.ndarray) -> None:
+        low = np.minimum(segments[:, :2], segments[:, 2:]).min(axis=0) - self.MARGIN
+        high = np.maximum(segments[:, :2], segments[:, 2:]).max(axis=0) + self.MARGIN
+        self.origin = low
+        nx, ny = (int(k) for k in np.ceil((high - low) / self.CELL).astype(int))
+        self.shape = (nx, ny)
+        xs = low[0] + (np.arange(nx) + 0.5) * self.CELL
+        ys = low[1] + (np.arange(ny) + 0.5) * self.CELL
+        centres = np.stack(np.meshgrid(xs, ys, indexing="ij"), axis=-1).reshape(-1, 2)
+        nearest = np.full(len(centres), np.inf)
+        for start in range(0, len(segments), 256):            # bounded memory on big maps
+            chunk = _distances(centres, segments[start:start + 256])
+            nearest = np.minimum(nearest, chunk.min(axis=1))
+        slack = 1e-9      # m: the rounding of the distances is far below it
+        self.bound = (nearest - self.CELL * math.sqrt(2.0) / 2.0 - slack).reshape(nx, ny)
+
+    def below(self, positions: np.ndarray, distance: float) -> np.ndarray:
+        cells = np.floor((positions - self.origin) / self.CELL).astype(np.intp)
+        inside = ((cells[:, 0] >= 0) & (cells[:, 0] < self.shape[0])
+                  & (cells[:, 1] >= 0) & (cells[:, 1] < self.shape[1]))
+        bound = np.zeros(len(positions))
+        bound[inside] = self.bound[cells[inside, 0], cells[inside, 1]]
+        return bound < distance
 
 
 def _nearest_of(positions: np.ndarray, segments: np.ndarray) -> np.ndarray:

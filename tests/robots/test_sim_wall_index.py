@@ -57,3 +57,17 @@ def test_the_store_floor_is_answered_the_same_bucketed_or_not(monkeypatch):
     bucketed = WallIndex(floor.segments, reach=0.7).nearest_points(positions)
     near = np.hypot(*(positions - plain).T) <= 0.7
     assert near.any() and np.array_equal(plain[near], bucketed[near])
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_a_position_said_to_be_far_from_every_wall_is(seed):
+    """`may_be_near` may say "perhaps" of a far position, never "no" of a near one."""
+    rng = np.random.default_rng(seed)
+    segments = random_walls(rng, 150)
+    index = WallIndex(segments, reach=0.7)
+    positions = rng.uniform(-16, 16, (4000, 2))
+    true = np.hypot(*(positions - full_search(positions, segments)).T)
+    for distance in (0.2, 0.7):
+        near = index.may_be_near(positions, distance)
+        assert (near | (true >= distance)).all()
+        assert (~near).sum() > 100                   # and it does rule some out
