@@ -8,16 +8,17 @@ against every question, each in one voice of the set in turn; each must be rejec
 (rejection rate). The recognizer decides on each whole utterance as it does while listening
 (`AnswerRecognizer.hear_utterance`); the microphone's endpointing is not part of this.
 
-Two sets of voices and other words, which share none: `calibration` (the threshold is chosen
-on it: `--calibrate` prints the rates for a range of thresholds and the one where the lower of
-the two rates is highest) and `test` (the figures; other espeak-ng voices, speeds and pitches,
-and other words). `--snr DB` mixes white noise into every utterance at that signal-to-noise
-ratio (the speech's mean power over the noise's; seeded, so the same run gives the same
-figures).
+Two sets of voices and other words, which share none: `calibration` (the rule is chosen on
+it: `--calibrate` prints the rates for a range of margin caps and thresholds, and the pair
+where the lower of the two rates is highest, then the worst application's lower rate) and
+`test` (the figures; other espeak-ng voices, speeds and pitches, and other words). `--snr DB`
+mixes white noise into every utterance at that signal-to-noise ratio (the speech's mean power
+over the noise's; seeded, so the same run gives the same figures).
 
     python benchmarks/bench_voice.py [--set test|calibration] [--calibrate]
                                      [--apps survey,guide] [--languages en,de]
-                                     [--threshold -31] [--snr 20] [--misses]
+                                     [--threshold -14] [--margin-cap 15]
+                                     [--snr 20] [--misses]
 
 The engine is pocketsphinx (robots/audio/recognizer.py says why); figures in
 docs/tablet-and-voice.md.
@@ -41,7 +42,9 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from applications.appfolder import load_folder            # noqa: E402
-from robots.audio.recognizer import AnswerRecognizer, default_threshold   # noqa: E402
+from robots.audio.confidence import (Judgement, default_margin_cap,  # noqa: E402
+                                     default_threshold)
+from robots.audio.recognizer import AnswerRecognizer                      # noqa: E402
 from robots.audio.source import WavFileSource               # noqa: E402
 
 APPS = ("survey", "guide", "receptionist", "shopping")
@@ -140,81 +143,119 @@ def questions(app: str, language: str) -> list[tuple[str, tuple[str, ...]]]:
 def fits(app: str, language: str, recognizer: AnswerRecognizer, folder: Path, which: str,
          snr: float | None) -> tuple[list[dict], list[dict]]:
     """Every answer utterance and every other-word utterance of `app`, with the choice it fits
-    best and its fit (the threshold is applied afterwards, so one pass serves every one)."""
+    best, its fit and margin (the rule is applied afterwards, so one pass serves every one)."""
     answers, others = [], []
     voices = VOICES[which][language]
     for _, buttons in questions(app, language):
         for button in buttons:
             for voice in voices:
-                choice, fit = recognizer.fit(utterance(folder, spoken(button), voice, snr),
+                judgement = recognizer.judge(utterance(folder, spoken(button), voice, snr),
                                              buttons)
                 answers.append({"app": app, "text": spoken(button), "voice": voice[0],
-                                "words": words_in(button), "right": choice == button,
-                                "choice": choice, "fit": fit})
+                                "words": words_in(button), "right": judgement.choice == button,
+                                "judgement": judgement})
         for index, word in enumerate(OTHER_WORDS[which][language]):
             voice = voices[index % len(voices)]
-            choice, fit = recognizer.fit(utterance(folder, word, voice, snr), buttons)
-            others.append({"app": app, "text": word, "voice": voice[0], "choice": choice,
-                           "fit": fit})
+            judgement = recognizer.judge(utterance(folder, word, voice, snr), buttons)
+            others.append({"app": app, "text": word, "voice": voice[0],
+                           "judgement": judgement})
     return answers, others
 
 
-def taken(item: dict, threshold: float) -> bool:
-    return item["choice"] is not None and item["fit"] is not None and item["fit"] >= threshold
+# A rule: (threshold, margin cap); an answer is taken when fit + min(margin, cap) >= threshold.
+Rule = tuple[float, float]
+
+
+def taken(item: dict, rule: Rule) -> bool:
+    return item["judgement"].taken(*rule)
+
+
+def described(judgement: Judgement) -> str:
+    fit = "none" if judgement.fit is None else f"{judgement.fit:.1f}"
+    return f"{judgement.choice!r} (fit {fit}, margin {judgement.margin:.1f})"
 
 
 def rate(hits: int, total: int) -> str:
     return f"{hits:4d}/{total:<4d} {100 * hits / max(1, total):5.1f} %"
 
 
-def recognised(items: list[dict], threshold: float) -> tuple[int, int]:
-    return sum(i["right"] and taken(i, threshold) for i in items), len(items)
+def recognised(items: list[dict], rule: Rule) -> tuple[int, int]:
+    return sum(i["right"] and taken(i, rule) for i in items), len(items)
 
 
-def rejected(items: list[dict], threshold: float) -> tuple[int, int]:
-    return sum(not taken(i, threshold) for i in items), len(items)
+def rejected(items: list[dict], rule: Rule) -> tuple[int, int]:
+    return sum(not taken(i, rule) for i in items), len(items)
 
 
-def report(language: str, answers: list[dict], others: list[dict], threshold: float) -> None:
+def report(language: str, answers: list[dict], others: list[dict], rule: Rule) -> None:
     """The language's rates by answer length and by voice, and its worst cases."""
-    print(f"  {language}: all {rate(*recognised(answers, threshold))} recognised, "
-          f"{rate(*rejected(others, threshold))} rejected")
+    print(f"  {language}: all {rate(*recognised(answers, rule))} recognised, "
+          f"{rate(*rejected(others, rule))} rejected")
     groups: dict[str, list[dict]] = defaultdict(list)
     for item in answers:
         groups[f"{min(item['words'], 3)}{'+' if item['words'] >= 3 else ''} word(s)"].append(item)
     for name in sorted(groups):
-        print(f"    {name:18} {rate(*recognised(groups[name], threshold))} recognised")
+        print(f"    {name:18} {rate(*recognised(groups[name], rule))} recognised")
     by_voice: dict[str, tuple[list, list]] = defaultdict(lambda: ([], []))
     for item in answers:
         by_voice[item["voice"]][0].append(item)
     for item in others:
         by_voice[item["voice"]][1].append(item)
     for voice, (mine, theirs) in by_voice.items():
-        print(f"    {voice:18} {rate(*recognised(mine, threshold))} recognised "
-              f"{rate(*rejected(theirs, threshold))} rejected")
+        print(f"    {voice:18} {rate(*recognised(mine, rule))} recognised "
+              f"{rate(*rejected(theirs, rule))} rejected")
     cells = [(a, v) for a in {i["app"] for i in answers} for v in by_voice]
     worst = min(cells, key=lambda c: recognised([i for i in answers if i["app"] == c[0]
-                                                 and i["voice"] == c[1]], threshold)[0]
+                                                 and i["voice"] == c[1]], rule)[0]
                 / max(1, recognised([i for i in answers if i["app"] == c[0]
-                                     and i["voice"] == c[1]], threshold)[1]))
+                                     and i["voice"] == c[1]], rule)[1]))
     cell = [i for i in answers if i["app"] == worst[0] and i["voice"] == worst[1]]
     print(f"    worst application and voice: {worst[0]}/{worst[1]} "
-          f"{rate(*recognised(cell, threshold))} recognised")
+          f"{rate(*recognised(cell, rule))} recognised")
 
 
-def calibrate(answers: list[dict], others: list[dict]) -> float:
-    """Print both rates over a range of thresholds; return the one whose lower rate is
-    highest (ties: the higher threshold)."""
-    best, best_score = 0.0, -1.0
-    for threshold in np.arange(-60.0, 0.5, 1.0):
-        heard, total = recognised(answers, threshold)
-        kept, count = rejected(others, threshold)
-        score = min(heard / max(1, total), kept / max(1, count))
-        print(f"  threshold {threshold:6.1f}: {rate(heard, total)} recognised "
-              f"{rate(kept, count)} rejected")
-        if score >= best_score:
-            best, best_score = float(threshold), score
-    print(f"calibrated threshold: {best:g} (lower of the two rates {100 * best_score:.1f} %)")
+MARGIN_CAPS = (0.0, 5.0, 10.0, 15.0, 20.0, 30.0, 1000.0)
+
+
+def lower_rate(answers: list[dict], others: list[dict], rule: Rule) -> float:
+    """The lower of the recognised and rejected rates under `rule`."""
+    heard, total = recognised(answers, rule)
+    kept, count = rejected(others, rule)
+    return min(heard / max(1, total), kept / max(1, count))
+
+
+def calibrate(answers: list[dict], others: list[dict]) -> Rule:
+    """Print both rates over a range of margin caps and thresholds (every threshold for cap 0,
+    every fifth for the others); return the pair whose lower rate is highest, then whose worst
+    application's lower rate is highest (ties: the smaller cap, then the higher threshold)."""
+    best, best_key = (0.0, 0.0), (-1.0, -1.0)
+    apps = sorted({item["app"] for item in answers})
+    per_cap = []
+    for cap in reversed(MARGIN_CAPS):             # on a tie the later (smaller) cap wins
+        mine, mine_key = (0.0, cap), (-1.0, -1.0)
+        for threshold in np.arange(-60.0, 20.5, 1.0):
+            rule = (float(threshold), cap)
+            worst = min(lower_rate([a for a in answers if a["app"] == app],
+                                   [o for o in others if o["app"] == app], rule) for app in apps)
+            key = (lower_rate(answers, others, rule), worst)
+            if key >= best_key:
+                best, best_key = rule, key
+            if key >= mine_key:
+                mine, mine_key = rule, key
+            if cap == 0.0 or float(threshold) % 5 == 0:
+                print(f"  cap {cap:6g} threshold {threshold:6.1f}: "
+                      f"{rate(*recognised(answers, rule))} recognised "
+                      f"{rate(*rejected(others, rule))} rejected, worst application "
+                      f"{100 * worst:5.1f} %")
+        per_cap.append((mine, mine_key))
+    for (threshold, cap), (_, worst) in reversed(per_cap):
+        print(f"  best with cap {cap:6g}: threshold {threshold:6.1f}: "
+              f"{rate(*recognised(answers, (threshold, cap)))} recognised "
+              f"{rate(*rejected(others, (threshold, cap)))} rejected, worst application "
+              f"{100 * worst:5.1f} %")
+    print(f"calibrated: threshold {best[0]:g}, margin cap {best[1]:g}: "
+          f"{rate(*recognised(answers, best))} recognised {rate(*rejected(others, best))} "
+          f"rejected (worst application's lower rate {100 * best_key[1]:.1f} %)")
     return best
 
 
@@ -224,10 +265,13 @@ def main(argv=None) -> int:
     parser.add_argument("--languages", default="en,de")
     parser.add_argument("--set", dest="which", choices=("test", "calibration"), default="test")
     parser.add_argument("--calibrate", action="store_true",
-                        help="sweep the threshold on the calibration set (implies --set "
+                        help="sweep the rule on the calibration set (implies --set "
                              "calibration)")
     parser.add_argument("--threshold", type=float, default=None,
-                        help="the least fit taken (default: the language's calibrated one)")
+                        help="the least score taken (default: the language's calibrated one)")
+    parser.add_argument("--margin-cap", type=float, default=None,
+                        help="the most the margin adds to the score (default: the "
+                             "language's)")
     parser.add_argument("--snr", type=float, default=None, help="white noise at this dB SNR")
     parser.add_argument("--noise-floor", type=float, default=None,
                         help="the recognizer's noise floor (RMS; default: its own)")
@@ -236,14 +280,18 @@ def main(argv=None) -> int:
     which = "calibration" if args.calibrate else args.which
     print(f"set {which}, threshold "
           f"{'per language' if args.threshold is None else f'{args.threshold:g}'}, "
+          f"margin cap "
+          f"{'per language' if args.margin_cap is None else f'{args.margin_cap:g}'}, "
           f"noise {'none' if args.snr is None else f'{args.snr:g} dB SNR'}")
     print(f"{'application':14} {'lang':4} {'recognised':>16} {'rejected':>16} {'s/utt':>6}")
     everything: dict[str, tuple[list, list]] = {}
     with tempfile.TemporaryDirectory() as tmp:
         for language in args.languages.split(","):
-            threshold = (default_threshold(language) if args.threshold is None
-                         else args.threshold)
-            recognizer = AnswerRecognizer(_Silent(), language=language, threshold=threshold)
+            rule = (default_threshold(language) if args.threshold is None else args.threshold,
+                    default_margin_cap(language) if args.margin_cap is None
+                    else args.margin_cap)
+            recognizer = AnswerRecognizer(_Silent(), language=language, threshold=rule[0],
+                                          margin_cap=rule[1])
             if args.noise_floor is not None:
                 recognizer.noise_floor = args.noise_floor
             mine: tuple[list, list] = ([], [])
@@ -251,30 +299,31 @@ def main(argv=None) -> int:
                 start = time.perf_counter()
                 answers, others = fits(app, language, recognizer, Path(tmp), which, args.snr)
                 per = (time.perf_counter() - start) / max(1, len(answers) + len(others))
-                print(f"{app:14} {language:4} {rate(*recognised(answers, threshold))} "
-                      f"{rate(*rejected(others, threshold))} {per:6.2f}", flush=True)
+                print(f"{app:14} {language:4} {rate(*recognised(answers, rule))} "
+                      f"{rate(*rejected(others, rule))} {per:6.2f}", flush=True)
                 if args.misses:
                     for item in answers:
-                        if not (item["right"] and taken(item, threshold)):
-                            print(f"    {item['text']!r}/{item['voice']} -> {item['choice']!r}"
-                                  f" (fit {item['fit']})")
+                        if not (item["right"] and taken(item, rule)):
+                            print(f"    {item['text']!r}/{item['voice']} -> "
+                                  f"{described(item['judgement'])}")
                     for item in others:
-                        if taken(item, threshold):
+                        if taken(item, rule):
                             print(f"    {item['text']!r} (no answer)/{item['voice']} -> "
-                                  f"{item['choice']!r} (fit {item['fit']})")
+                                  f"{described(item['judgement'])}")
                 mine[0].extend(answers)
                 mine[1].extend(others)
-            everything[language] = (mine[0], mine[1], threshold)
+            everything[language] = (mine[0], mine[1], rule)
     print("by language, answer length and voice:")
-    for language, (answers, others, threshold) in everything.items():
-        report(language, answers, others, threshold)
+    for language, (answers, others, rule) in everything.items():
+        report(language, answers, others, rule)
     if args.calibrate:
         for language, (answers, others, _) in everything.items():
             print(f"calibration, {language}:")
             calibrate(answers, others)
-        print("calibration, all languages:")
-        calibrate([a for x in everything.values() for a in x[0]],
-                  [o for x in everything.values() for o in x[1]])
+        if len(everything) > 1:
+            print("calibration, all languages:")
+            calibrate([a for x in everything.values() for a in x[0]],
+                      [o for x in everything.values() for o in x[1]])
     return 0
 
 

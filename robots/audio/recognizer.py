@@ -5,17 +5,19 @@ language model, so nothing is fetched at run time (Vosk's and Whisper's models a
 Debian packages only the same US-English pocketsphinx model, and neither PyPI nor Debian has a
 German one).
 
-Each utterance is decoded twice (utterance verification): once with a grammar that holds only
+Each utterance is decoded three times (utterance verification): with a grammar that holds only
 the answers on the screen, each a path of its words (each word as espeak-ng and, for English,
-the dictionary say it: `pronounce.py`), which says *which* answer it most resembles; and once
-with a free loop of the model's phones, which fits any sound as well as the model can. How much
-worse, per frame of speech, the best answer fits than the free phones (`fit`, in the decoder's
-log units) says *whether* it was that answer at all: `threshold` is the least fit taken.
-**Raise it to accept fewer** — fewer other words slip through, more real answers are missed;
-lower it to accept more. Its default was calibrated on espeak-ng voices that the benchmark's
-test voices do not include (benchmarks/bench_voice.py --calibrate). Languages other than
-English are heard with the English acoustic model through espeak-ng's pronunciation of the
-answers (see docs/tablet-and-voice.md for the measured rates).
+the dictionary say it: `pronounce.py`), which says *which* answer it most resembles; with a
+free loop of the model's phones, which fits any sound as well as the model can; and with the
+other answers only, the best answer's rivals. How much worse per frame of speech the best
+answer fits than the free phones (its fit) and how much better than its best rival (its
+margin) say *whether* it was that answer at all (`confidence.py`): `threshold` is the least
+score (the fit plus the margin up to `margin_cap`) taken. **Raise it to accept fewer** — fewer
+other words slip through, more real answers are missed; lower it to accept more. The defaults
+were calibrated on espeak-ng voices and words that the benchmark's test set does not include
+(benchmarks/bench_voice.py --calibrate). Languages other than English are heard with the
+English acoustic model through espeak-ng's pronunciation of the answers (see
+docs/tablet-and-voice.md for the measured rates).
 """
 from __future__ import annotations
 
@@ -27,18 +29,15 @@ from collections import deque
 
 import numpy as np
 
+from robots.audio.confidence import (DEFAULT_THRESHOLDS, Judgement, check_threshold,
+                                     default_margin_cap, default_threshold)
 from robots.audio.pronounce import base_language, pronounce_words
 from robots.devices import AudioSource, SpeechRecognizer
 from robots.exceptions import RobotError
 
 log = logging.getLogger("interbot.listening")
 
-# The least fit per frame an answer is taken with, per language, calibrated on espeak-ng's
-# plain voices (benchmarks/bench_voice.py --calibrate: the threshold where the lower of the
-# recognised and rejected rates is highest). German, heard through the English model, fits
-# worse throughout; a language not calibrated takes the German value (heard the same way).
-DEFAULT_THRESHOLDS = {"en": -26.0, "de": -37.0}
-DEFAULT_THRESHOLD = DEFAULT_THRESHOLDS["en"]
+DEFAULT_THRESHOLD = DEFAULT_THRESHOLDS["en"]      # the rules per language: confidence.py
 CHUNK = 1024                  # samples per decoder call (64 ms at 16 kHz)
 # The acoustic model's phones: the free loop that any sound fits (its words are phone_aa, …).
 PHONES = ("AA AE AH AO AW AY B CH D DH EH ER EY F G HH IH IY JH K L M N NG OW OY P R S SH T "
@@ -92,11 +91,6 @@ def with_noise_floor(audio: bytes, rms: float) -> bytes:
     return np.clip(np.rint(samples), -32768, 32767).astype("<i2").tobytes()
 
 
-def default_threshold(language: str) -> float:
-    """The calibrated threshold for `language` (see DEFAULT_THRESHOLDS)."""
-    return DEFAULT_THRESHOLDS.get(base_language(language), DEFAULT_THRESHOLDS["de"])
-
-
 def check_language(language: str) -> None:
     """Refuse, with the reason, a language espeak-ng cannot pronounce answers in."""
     from robots.audio.espeak import espeak_voices
@@ -111,7 +105,8 @@ def check_language(language: str) -> None:
 
 class AnswerRecognizer(SpeechRecognizer):
     def __init__(self, source: AudioSource, language: str = "en",
-                 threshold: float | None = None, noise_floor: float = NOISE_FLOOR) -> None:
+                 threshold: float | None = None, noise_floor: float = NOISE_FLOOR,
+                 margin_cap: float | None = None) -> None:
         check_language(language)
         try:
             from pocketsphinx import Decoder
@@ -122,12 +117,16 @@ class AnswerRecognizer(SpeechRecognizer):
         self.language = language
         if threshold is None:
             threshold = default_threshold(language)
-        self.threshold = float(threshold)
+        try:
+            self.threshold = check_threshold(threshold)
+        except ValueError as exc:
+            raise RobotError(str(exc)) from exc
+        self.margin_cap = float(default_margin_cap(language) if margin_cap is None
+                                else margin_cap)
+        if not self.margin_cap >= 0:
+            raise RobotError(f"margin_cap must be 0 or more (the most that the lead over the "
+                             f"next best answer adds to the score), not {margin_cap}")
         self.noise_floor = float(noise_floor)
-        if not -150 <= self.threshold <= 150:
-            raise RobotError(f"threshold must lie between -150 and 150 (the least fit per "
-                             f"frame an answer is taken with; higher accepts fewer), "
-                             f"not {threshold}")
         self.decoder = Decoder(lm=None, loglevel="FATAL", samprate=source.rate,
                                **DECODER_OPTIONS)
         self._add_phone_loop()
@@ -170,14 +169,14 @@ class AnswerRecognizer(SpeechRecognizer):
         heard = self.take_heard()
         return heard[1] if heard is not None else None
 
-    def fit(self, audio: bytes, choices: tuple[str, ...]) -> tuple[str | None, float | None]:
-        """(the choice that fits one whole utterance best, its fit per frame), the threshold
-        aside: what calibration needs. The fit is None when a search found no path."""
+    def judge(self, audio: bytes, choices: tuple[str, ...]) -> Judgement:
+        """The choice that fits one whole utterance best, with its fit and margin, the
+        threshold aside: what calibration needs."""
         wanted = self._sayable(("utterance", tuple(choices)))
         if wanted is None:
-            return None, None
+            return Judgement(None, None)
         self.decoder.add_fsg("answers", self._grammar(wanted[1]))
-        return self._fit(audio, wanted[1])
+        return self._judgement(audio, wanted[1])
 
     def wait(self, timeout: float) -> None:
         """Wait until the source has ended and everything heard is decoded (tests, files)."""
@@ -273,7 +272,7 @@ class AnswerRecognizer(SpeechRecognizer):
         with the same sound (its lexicon tree shares them), so paths are compared by sound."""
         return "|".join(self.decoder.lookup_word(w) or w for w in path.split())
 
-    def _grammar(self, paths: dict[str, str]):
+    def _grammar(self, paths: dict[str, str], name: str = "answers"):
         """A finite-state grammar of the answers only: each way of saying one is a path of its
         words (a pause may fall between them); all ways are equally likely."""
         start, final, state = 0, 1, 1
@@ -288,7 +287,7 @@ class AnswerRecognizer(SpeechRecognizer):
                     after = state
                 transitions.append((here, after, weight if here == start else 1.0, word))
                 here = after
-        return self.decoder.create_fsg("answers", start, final, transitions)
+        return self.decoder.create_fsg(name, start, final, transitions)
 
     def _decode(self, search: str, audio: bytes) -> tuple[str, int, int] | None:
         """(hypothesis, its score in the decoder's log units, frames of speech in it) of one
@@ -306,28 +305,44 @@ class AnswerRecognizer(SpeechRecognizer):
         return (hypothesis.hypstr.strip(), decoder.get_logmath().log(hypothesis.score),
                 max(1, frames))
 
-    def _fit(self, audio: bytes, paths: dict[str, str]) -> tuple[str | None, float | None]:
-        """The answer an utterance resembles most, and how much worse per frame of speech it
-        fits than the free phones (0: as well; the more negative, the less it is that)."""
+    def _judgement(self, audio: bytes, paths: dict[str, str]) -> Judgement:
+        """The answer an utterance resembles most; how much worse per frame of speech it fits
+        than the free phones (0: as well; the more negative, the less it is that); and how much
+        better than the best of the other answers (0 when there is none)."""
         audio = with_noise_floor(audio, self.noise_floor)
         said = self._decode("answers", audio)
-        free = self._decode("phones", audio)
         if said is None:
-            return None, None
-        path = " ".join(word for word in said[0].split() if word not in FILLERS)
+            return Judgement(None, None)
+        choice = self._choice(said[0], paths)
+        free = self._decode("phones", audio)
+        if free is None:
+            return Judgement(choice, None)
+        fit = (said[1] - free[1]) / said[2]
+        rivals = {p: c for p, c in paths.items() if c != choice}
+        if not rivals:
+            return Judgement(choice, fit)
+        self.decoder.add_fsg("rivals", self._grammar(rivals, "rivals"))
+        rival = self._decode("rivals", audio)
+        margin = 0.0 if rival is None else max(0.0, (said[1] - rival[1]) / said[2])
+        return Judgement(choice, fit, margin)
+
+    def _choice(self, hypothesis: str, paths: dict[str, str]) -> str | None:
+        """The choice a grammar path names (or another path of the same sound)."""
+        path = " ".join(word for word in hypothesis.split() if word not in FILLERS)
         choice = paths.get(path)
         if choice is None:            # named by another word of the same sound
             sound = self._sounds(path)
             choice = next((c for p, c in paths.items() if self._sounds(p) == sound), None)
-        if free is None:
-            return choice, None
-        return choice, (said[1] - free[1]) / said[2]
+        return choice
 
     def _judge(self, audio: bytes, wanted: tuple[str, dict[str, str]]) -> None:
         prompt_id, paths = wanted
-        choice, fit = self._fit(audio, paths)
-        if choice is not None and fit is not None and fit >= self.threshold:
-            log.info("heard '%s' for %s (fit %.1f)", choice, prompt_id, fit)
-            self._heard.put((prompt_id, choice))
+        judgement = self._judgement(audio, paths)
+        score = judgement.score(self.margin_cap)
+        if judgement.taken(self.threshold, self.margin_cap):
+            log.info("heard '%s' for %s (score %.1f: fit %.1f, margin %.1f)", judgement.choice,
+                     prompt_id, score, judgement.fit, judgement.margin)
+            self._heard.put((prompt_id, judgement.choice))
         else:
-            self.rejected.append(f"{choice} (fit {fit if fit is None else round(fit, 1)})")
+            self.rejected.append(f"{judgement.choice} (score "
+                                 f"{score if score is None else round(score, 1)})")

@@ -1,0 +1,53 @@
+"""The spoken-answer benchmark's bookkeeping (benchmarks/bench_voice.py), without sound: how it
+counts recognised and rejected utterances under a rule, and which rule its calibration picks.
+The recognizer itself is tested in tests/robots/test_audio.py."""
+from __future__ import annotations
+
+import importlib.util
+import sys
+from pathlib import Path
+
+import pytest
+
+from robots.audio.confidence import Judgement
+
+BENCH = Path(__file__).resolve().parents[2] / "benchmarks" / "bench_voice.py"
+
+
+@pytest.fixture(scope="module")
+def bench():
+    spec = importlib.util.spec_from_file_location("bench_voice", BENCH)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def answer(app, right, fit, margin):
+    return {"app": app, "right": right, "judgement": Judgement("x", fit, margin)}
+
+
+def other(app, fit, margin):
+    return {"app": app, "judgement": Judgement("x", fit, margin)}
+
+
+def test_an_answer_counts_only_when_right_and_taken(bench):
+    answers = [answer("a", True, -10, 30), answer("a", False, 0, 30), answer("a", True, -50, 0)]
+    assert bench.recognised(answers, (-20.0, 20.0)) == (1, 3)
+    assert bench.recognised(answers, (-60.0, 0.0)) == (2, 3)
+    assert bench.rejected([other("a", -30, 5), other("a", -5, 0)], (-20.0, 20.0)) == (1, 2)
+
+
+def test_calibration_caps_the_margin_when_a_rhyming_word_leads(bench, capsys):
+    """A short answer fits lower than a word that is none but leads its rival; a word that
+    rhymes with one answer leads by even more: the fit alone (cap 0) takes the word that fits
+    well, the whole margin (no cap) the rhyme, and only a capped margin takes every answer
+    and rejects every other word."""
+    answers = [answer("a", True, -30, 40), answer("a", True, -5, 40), answer("b", True, -8, 60)]
+    others = [other("a", -40, 60), other("b", -25, 2), other("b", -60, 3)]
+    for uncalibrated in ((-30.0, 0.0), (10.0, 1000.0)):
+        assert bench.lower_rate(answers, others, uncalibrated) < 1.0
+    rule = bench.calibrate(answers, others)
+    threshold, cap = rule
+    assert bench.recognised(answers, rule) == (3, 3) and bench.rejected(others, rule) == (3, 3)
+    assert 0 < cap < 1000 and -30 + min(40, cap) >= threshold > -40 + min(60, cap)
+    assert "calibrated: threshold" in capsys.readouterr().out
