@@ -105,9 +105,14 @@ class Keeping:
             return
         top = nav.limits.max_speed
         speed = min(max(speed, 0.05), top)
+        # while its way is blocked (somebody standing in it, often waiting for the robot to
+        # move), navigation keeps its goal: a new one would restart the wait each time, and
+        # it plans round the blocker only after `replan_after` s
+        blocked = nav.state.phase == "blocked"
         renew = (self._goal is None or nav.state.phase not in ("driving", "blocked")
-                 or math.hypot(goal[0] - self._goal[0], goal[1] - self._goal[1]) > self.params.goal_step
-                 or now - self._goal_t >= self.params.goal_every)
+                 or (not blocked and (math.hypot(goal[0] - self._goal[0], goal[1] - self._goal[1])
+                                      > self.params.goal_step
+                                      or now - self._goal_t >= self.params.goal_every)))
         if renew:
             self._goal, self._goal_t = goal, now
             nav.go_to(goal, now, speed=speed)
