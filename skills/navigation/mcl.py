@@ -331,7 +331,8 @@ class MonteCarloLocalization:
         if len(ranges) == 0:
             self._estimate()
             return
-        mapped = ~self._short(self.pose, beam_poses, ranges)   # at the predicted estimate
+        short, long = self._versus_map(self.pose, beam_poses, ranges)   # at the prediction
+        mapped = ~self._unmapped(short, long)
         if not mapped.any():
             return                  # everything in view is unmapped: the scan tells nothing
         loglik = self._beam_log_likelihood(self.particles, beam_poses, ranges)
@@ -339,7 +340,7 @@ class MonteCarloLocalization:
         offmap = ~self._on_free(self.particles)
         per_beam[offmap] += self.outside                     # a robot cannot stand in a wall
         self._track_likelihood(per_beam)
-        weighed = loglik if self._weighs_short() else loglik[:, mapped]
+        weighed = loglik if self._weighs_short(long) else loglik[:, mapped]
         logw = np.log(np.maximum(self.weights, 1e-300)) + self.model.weight * weighed.sum(axis=1)
         logw[offmap] += self.model.weight * len(ranges) * self.outside
         w = np.exp(logw - logw.max())
@@ -349,16 +350,19 @@ class MonteCarloLocalization:
         self._update_lost(now)
         self._resample()
 
-    def _weighs_short(self) -> bool:
+    def _weighs_short(self, long: np.ndarray) -> bool:
         """Whether beams cut short by something unmapped weigh the particles. A laser's do not
         once the filter has converged: a person or a cart a little in front of a shelf scores
         best from a pose nearer the shelf, so such beams dragged the estimate 0.3 m off beside
-        a shopper and a cart and then 3 m into the next aisle (issue 23). Converging (or lost)
-        every beam counts: from a wrong estimate, beams that fit the map look short. A sonar's
-        always count (left out, its wide cones converged from a wrong start in 6.7 s instead
-        of 4.3, bench_localization --sonar)."""
+        a shopper and a cart and then 3 m into the next aisle (issue 23). Converging, lost, or
+        with beams `long` beyond the map's walls (more than MIN_LONG_SHARE: no obstacle makes
+        them, the estimate is wrong) every beam counts: from a wrong estimate, beams that fit
+        the map look short (far kidnapping). A poor fit alone is no such sign: in a crowd most
+        beams are short and the few left fit poorly. A sonar's always count (left out, its wide
+        cones converged from a wrong start in 6.7 s instead of 4.3, bench_localization
+        --sonar)."""
         return (self.model.weigh_short or self.w_slow is None or self.lost
-                or self._poor_since is not None)
+                or float(long.mean()) > MIN_LONG_SHARE)
 
     def _beam_log_likelihood(self, particles, beam_poses, ranges) -> np.ndarray:
         """(N, K) log likelihood of each beam from each particle (best ray of a cone)."""
@@ -423,11 +427,16 @@ class MonteCarloLocalization:
         return ranges < np.min(seen, axis=0) - short, ranges > np.max(seen, axis=0) + margin
 
     def _short(self, pose, beam_poses, ranges) -> np.ndarray:
-        """Beams that end well before the map's wall seen from `pose`: something unmapped (a
-        person, a cart) is in the way. They say nothing about the fit, unless most of the scan
-        is short and some of it long, which no obstacle makes: then the pose is wrong, and
-        every beam counts. (A cart pushed against the laser cuts most beams short, none long.)"""
-        short, long = self._versus_map(pose, beam_poses, ranges)
+        """Beams that end well before the map's wall seen from `pose` (see `_unmapped`)."""
+        return self._unmapped(*self._versus_map(pose, beam_poses, ranges))
+
+    @staticmethod
+    def _unmapped(short: np.ndarray, long: np.ndarray) -> np.ndarray:
+        """Of the beams `short` of the map's wall (something unmapped, a person, a cart, in the
+        way) and `long` beyond it, those that say nothing about the fit: the short ones, unless
+        most of the scan is short and some of it long, which no obstacle makes: then the pose
+        is wrong, and every beam counts. (A cart pushed against the laser cuts most beams
+        short, none long.)"""
         pose_wrong = short.mean() > MAX_SHORT_SHARE and long.mean() > MIN_LONG_SHARE
         return np.zeros_like(short) if pose_wrong else short
 
