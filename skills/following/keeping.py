@@ -90,6 +90,13 @@ class Keeping:
             self.motion.start(Goal("back_off", bearing=math.atan2(track.y - robot[1],
                                                                   track.x - robot[0]),
                                    speed=min(CREEP / 2, p.speed_gain * (near - d))), now)
+        elif d < p.min_distance:
+            # inside the minimum, walking on at it slowly: stand still, no turning on the spot
+            # (a turn of a few degrees to face her while she pressed against the robot counted
+            # as the robot moving into her, on HOROS in tests/skills/test_giving_way.py)
+            self._hold(now)
+            if self.motion.goal is not None and self.motion.goal.kind == "turn_to":
+                self.motion.cancel(now)
         else:
             self._face(track.x, track.y, robot, now)
 
