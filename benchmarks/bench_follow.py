@@ -38,7 +38,10 @@ sits on somebody else (nearer them and over 0.7 m from her) until the followed t
 again.
 
     python benchmarks/bench_follow.py [--seeds N] [--first K] [--robot perses|horos] [--rude]
-                                      [--family NAME ...]
+                                      [--family NAME ...] [--give-up S]
+
+`--give-up` is the application's time unseen before the follower gives up (30 s, as the
+shopping application sets it).
 
 Prints the load average beside the figures: the machine is shared.
 """
@@ -213,7 +216,7 @@ def _robot_closed_in(contact, world, before: dict, dt: float = 0.1) -> bool:
 
 
 def run(seed: int, robot: str, folder: Path, give_way: bool | None = True,
-        family: str = "base") -> Result:
+        family: str = "base", give_up: float = 30.0) -> Result:
     text, occlusion = scenario(seed, give_way, family)
     path = folder / f"bench_follow_{seed}.toml"
     path.write_text(text, encoding="utf-8")
@@ -233,7 +236,7 @@ def run(seed: int, robot: str, folder: Path, give_way: bool | None = True,
             customer = next((p for p in people if p.plan.id == "customer"), None)
             body = world.body
             if started is None and skills.perception.user is not None and now >= 1.0:
-                following.follow(now)
+                following.follow(now, give_up_after=give_up)
                 started = now
             skills.act()
             clock.advance(0.1)
@@ -316,18 +319,23 @@ def main() -> None:
                         help="the base family's other shoppers do not give way to the robot")
     parser.add_argument("--family", action="append", choices=[*FAMILIES, "all"],
                         help="scenario families to run (repeat; default: base)")
+    parser.add_argument("--give-up", type=float, default=30.0,
+                        help="s unseen before the follower gives up (the application's "
+                             "give_up_after; the shopping application's 30 s by default)")
     options = parser.parse_args()
     families = options.family or ["base"]
     if "all" in families:
         families = list(FAMILIES)
-    print(f"{options.robot}, {options.seeds} seed(s) from {options.first} per family")
+    print(f"{options.robot}, {options.seeds} seed(s) from {options.first} per family, giving "
+          f"up after {options.give_up:g} s unseen")
     for family in families:
         start = time.perf_counter()
         results = []
         with tempfile.TemporaryDirectory() as folder:
             for seed in range(options.first, options.first + options.seeds):
                 give_way = False if options.rude else None       # None: drawn per person
-                r = run(seed, options.robot, Path(folder), give_way=give_way, family=family)
+                r = run(seed, options.robot, Path(folder), give_way=give_way, family=family,
+                        give_up=options.give_up)
                 results.append(r)
                 print_seed(family, seed, r)
         print_family(family, results, time.perf_counter() - start)

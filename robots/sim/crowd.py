@@ -48,6 +48,7 @@ ROBOT_ATTENDED = (Approach, Answer, Follow, Lead, WaitForCall, MakeWay)
 PUSH_ROUNDS = 8            # rounds of pushing overlaps apart before the fallback
 OVERLAP_SLACK = 1e-6       # m of overlap that counts as touching
 BLOCKED_SHARE = 0.25       # moved less than this share of the wish: held up by the crowd
+HEADWAY_WINDOW = 1.0       # s over which headway and wish are averaged for that
 TRAIT_STREAM = 0x7E1D      # seeds each person's trait generator with the run's seed and index
 _NO_DEVIATION = np.zeros(2)
 
@@ -83,6 +84,7 @@ class Crowd:
         self.social = social
         self.params = params
         self._deviation: dict[int, np.ndarray] = {}
+        self._headway: dict[int, tuple[np.ndarray, float]] = {}   # averaged velocity, wish
         self._walls: WallIndex | None = None
 
     @classmethod
@@ -427,13 +429,21 @@ class Crowd:
         return True
 
     def _track_blocking(self, people: list[SimPerson], before: dict, h: float) -> None:
-        """`blocked_for`: seconds a person walking on has moved less than a quarter of what
-        their script wished (so a script can count a place taken by others as reached)."""
+        """`blocked_for`: seconds a person walking on has made less headway than a quarter of
+        what their script wished, both averaged over about HEADWAY_WINDOW s (so a script can
+        count a place taken by others as reached). Averaged, not per substep: someone pushed
+        to and fro at the edge of a spot the robot stands on moves every substep and gets
+        nowhere (a stand-in who wanted to stand where the robot stands kept trying for good,
+        and the robot, which never drives at a person inside its minimum, waited for her)."""
+        k = min(h / HEADWAY_WINDOW, 1.0)
         for person in people:
             x0, y0 = before[id(person)][:2]
-            moved = math.hypot(person.x - x0, person.y - y0)
-            wished = person.wished * h
-            if wished > 1e-6 and moved < BLOCKED_SHARE * wished:
+            step = np.array([person.x - x0, person.y - y0]) / h
+            headway, wished = self._headway.get(id(person), (np.zeros(2), 0.0))
+            headway = headway + k * (step - headway)
+            wished = wished + k * (person.wished - wished)
+            self._headway[id(person)] = (headway, wished)
+            if person.wished > 1e-6 and math.hypot(*headway) < BLOCKED_SHARE * wished:
                 person.blocked_for += h
             else:
                 person.blocked_for = 0.0

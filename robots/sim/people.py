@@ -211,6 +211,8 @@ class SimPerson:
         remaining = distance - stop_at
         if remaining <= ARRIVED or self._near_enough(remaining):
             return True
+        if world is not None and remaining <= NEAR_ENOUGH and _robot_on(tx, ty, world):
+            return True               # the robot stands on the spot: stand next to it
         if world is not None and self._gives_way(tx, ty, world):
             return False
         self.heading = math.atan2(dy, dx)
@@ -285,6 +287,13 @@ class SimPerson:
         """Give up on the script: walk to the exit and vanish."""
         self.steps = self.steps[:self.index + 1] + [Leave(None)]
         self._begin(self.index + 1, world)
+
+
+def _robot_on(x: float, y: float, world: "World") -> bool:
+    """The robot's footprint leaves no room for a person's body at (x, y): a spot a person
+    wanted to stand on is taken (they stand next to it, as they do where others stand)."""
+    body = world.body
+    return math.hypot(x - body.x, y - body.y) < body.radius + BODY_RADIUS
 
 
 def _walk(person: SimPerson, step: Walk, dt: float, world: "World") -> bool:

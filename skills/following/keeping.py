@@ -90,6 +90,13 @@ class Keeping:
             self.motion.start(Goal("back_off", bearing=math.atan2(track.y - robot[1],
                                                                   track.x - robot[0]),
                                    speed=min(CREEP / 2, p.speed_gain * (near - d))), now)
+        elif d < p.min_distance:
+            # inside the minimum, walking on at it slowly: stand still, no turning on the spot
+            # (a turn of a few degrees to face her while she pressed against the robot counted
+            # as the robot moving into her, on HOROS in tests/skills/test_giving_way.py)
+            self._hold(now)
+            if self.motion.goal is not None and self.motion.goal.kind == "turn_to":
+                self.motion.cancel(now)
         else:
             self._face(track.x, track.y, robot, now)
 
@@ -105,9 +112,14 @@ class Keeping:
             return
         top = nav.limits.max_speed
         speed = min(max(speed, 0.05), top)
+        # while its way is blocked (somebody standing in it, often waiting for the robot to
+        # move), navigation keeps its goal: a new one would restart the wait each time, and
+        # it plans round the blocker only after `replan_after` s
+        blocked = nav.state.phase == "blocked"
         renew = (self._goal is None or nav.state.phase not in ("driving", "blocked")
-                 or math.hypot(goal[0] - self._goal[0], goal[1] - self._goal[1]) > self.params.goal_step
-                 or now - self._goal_t >= self.params.goal_every)
+                 or (not blocked and (math.hypot(goal[0] - self._goal[0], goal[1] - self._goal[1])
+                                      > self.params.goal_step
+                                      or now - self._goal_t >= self.params.goal_every)))
         if renew:
             self._goal, self._goal_t = goal, now
             nav.go_to(goal, now, speed=speed)

@@ -36,6 +36,7 @@ SEARCH_AHEAD = 3.0        # m beyond the last seen place, along her trail
 SEARCH_REACH = 14.0       # m of walking from where she vanished: aisle ends further are left out
 MAX_LOOKOUTS = 7          # places in a plan at most (the predicted place included)
 BEHIND_WEIGHT = 1.0       # a place straight behind her counts (1 + this) times its distance
+COURSE_WEIGHT = 0.2       # ... and behind her course (her trail as a whole), 1.2 times
 MERGE = 1.5               # m: a place this near one already planned is seen from there
 LOOK_DWELL = 1.5          # s looking along each bearing
 ARRIVE = 0.5              # m from an aisle end counts as there
@@ -54,26 +55,50 @@ class Lookout:
     why: str
 
 
-def search_plan(predicted, seen, heading, ends, walk=None, ahead=None) -> list[Lookout]:
+def search_plan(predicted, seen, heading, ends, walk=None, ahead=None,
+                course=None) -> list[Lookout]:
     """The places to search, in order, for a customer last seen at `seen` walking along
     `heading` (a unit vector, or None when she stood), predicted at `predicted`.
 
     `ends` are the map's aisle ends and crossings as (name, x, y, heading rad: into the
     aisle); `walk(x, y)` is the walking distance from `seen` (None: cannot be walked to;
     default: the straight line); `ahead` is the point SEARCH_AHEAD on along her trail where
-    the robot fits (None: no such point). See the module's docstring for the order."""
+    the robot fits (None: no such point); `course` the direction of her trail as a whole (a
+    unit vector or None), which breaks ties between places as far off her heading. See the
+    module's docstring for the order."""
     walk = walk or (lambda x, y: math.hypot(x - seen[0], y - seen[1]))
     plan = [Lookout(predicted[0], predicted[1], _along(heading), "where she should be")]
     candidates = []
     if ahead is not None:
-        candidates.append((_cost(ahead, seen, heading, walk), Lookout(
+        candidates.append((_cost(ahead, seen, heading, walk, course), Lookout(
             ahead[0], ahead[1], _along(heading), f"{SEARCH_AHEAD:.0f} m on along her way")))
     for name, x, y, th in ends:
-        cost = _cost((x, y), seen, heading, walk)
+        cost = _cost((x, y), seen, heading, walk, course)
         if cost is not None:
             candidates.append((cost, Lookout(x, y, (th,), name)))
+    return _fill(plan, candidates, MAX_LOOKOUTS)
+
+
+def further_lookouts(plan, seen, ends, walk=None) -> list[Lookout]:
+    """The next places once the whole plan is seen: the aisle ends and crossings it left
+    out (too far, or beyond MAX_LOOKOUTS), expanding outwards from `seen` (walking distance,
+    any reach), at most MAX_LOOKOUTS - 1 of them; none when every one has been planned. A
+    customer faster than the robot is searched for across the store, not waited for where
+    she was last."""
+    walk = walk or (lambda x, y: math.hypot(x - seen[0], y - seen[1]))
+    candidates = []
+    for name, x, y, th in ends:
+        d = walk(x, y)
+        if d is not None:
+            candidates.append((d, Lookout(x, y, (th,), name)))
+    return _fill(list(plan), candidates, len(plan) + MAX_LOOKOUTS - 1)[len(plan):]
+
+
+def _fill(plan, candidates, size) -> list[Lookout]:
+    """`plan` with the cheapest candidates appended up to `size` places, leaving out any
+    within MERGE of one already planned (seen from there)."""
     for _, lookout in sorted((c for c in candidates if c[0] is not None), key=lambda c: c[0]):
-        if len(plan) >= MAX_LOOKOUTS:
+        if len(plan) >= size:
             break
         if all(math.hypot(lookout.x - q.x, lookout.y - q.y) >= MERGE for q in plan):
             plan.append(lookout)
@@ -88,17 +113,24 @@ def _along(heading):
     return (math.atan2(heading[1], heading[0]),)
 
 
-def _cost(point, seen, heading, walk) -> float | None:
-    """Walking distance to `point`, counted longer the further it lies off her heading."""
+def _cost(point, seen, heading, walk, course=None) -> float | None:
+    """Walking distance to `point`, counted longer the further it lies off her heading (and,
+    by a little, off her course)."""
     d = walk(point[0], point[1])
     if d is None or d > SEARCH_REACH:
         return None
-    if heading is None:
-        return d
+    return d * _off(point, seen, heading, BEHIND_WEIGHT) * _off(point, seen, course,
+                                                                 COURSE_WEIGHT)
+
+
+def _off(point, seen, direction, weight: float) -> float:
+    """1 for a point straight along `direction` from `seen`, 1 + weight straight behind."""
+    if direction is None:
+        return 1.0
     dx, dy = point[0] - seen[0], point[1] - seen[1]
     r = math.hypot(dx, dy)
-    cos = 1.0 if r < 1e-6 else (dx * heading[0] + dy * heading[1]) / r
-    return d * (1.0 + BEHIND_WEIGHT * (1.0 - cos) / 2.0)
+    cos = 1.0 if r < 1e-6 else (dx * direction[0] + dy * direction[1]) / r
+    return 1.0 + weight * (1.0 - cos) / 2.0
 
 
 class Searching:
@@ -155,6 +187,11 @@ class Searching:
             return
         if lookout.why not in self._searched:
             self._searched.append(lookout.why)
+        if self._plan_index + 1 >= len(self._plan):
+            self._plan.extend(further_lookouts(self._plan, (self._belief.x, self._belief.y),
+                                               self._lookouts(),
+                                               self._walking_from((self._belief.x,
+                                                                   self._belief.y))))
         self._next_lookout()
 
     def _arrived(self, goal, lookout, robot, now: float) -> bool:
@@ -234,7 +271,16 @@ class Searching:
             # short of it
             ahead = self._nearest_free(*point) or self._free_towards((x1, y1), point)
         return search_plan(predicted, seen, heading, self._lookouts(), self._walking_from(seen),
-                           ahead)
+                           ahead, self._course())
+
+    def _course(self):
+        """The direction of her trail as a whole (its first point kept to its last; a unit
+        vector), None when it is shorter than HEADING_BASE."""
+        if len(self._trail) < 2:
+            return None
+        (x0, y0), (x1, y1) = self._trail[0], self._trail[-1]
+        step = math.hypot(x1 - x0, y1 - y0)
+        return ((x1 - x0) / step, (y1 - y0) / step) if step >= HEADING_BASE else None
 
     def _heading(self):
         """The direction her trail last took (a unit vector), else her velocity's; None when

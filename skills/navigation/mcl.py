@@ -62,11 +62,15 @@ class BeamModel:
     found_fit: float = 0.7      # … and lost ends when it is back above this
     cone: float = 0.0           # rad: a sonar's echo is the nearest wall within its cone; the
                                 # beam scores its best of three rays at -cone/3, 0, +cone/3
+    short_margin: float | None = None   # m before the map's wall a beam ends to count as cut
+                                        # short by something unmapped (None: 2 fit_distance)
+    weigh_short: bool = True    # False: once converged, such beams weigh no particle either
 
 
 def laser_model(max_range: float, beams: int = 36) -> BeamModel:
     return BeamModel("laser", sigma=0.10, max_range=max_range, beams=beams, weight=0.3,
-                     fit_distance=0.2, lost_fit=0.6, found_fit=0.8)
+                     fit_distance=0.2, lost_fit=0.6, found_fit=0.8, short_margin=0.2,
+                     weigh_short=False)
 
 
 def sonar_model(max_range: float, cone: float = math.radians(30)) -> BeamModel:
@@ -327,7 +331,8 @@ class MonteCarloLocalization:
         if len(ranges) == 0:
             self._estimate()
             return
-        mapped = ~self._short(self.pose, beam_poses, ranges)   # at the predicted estimate
+        short, long = self._versus_map(self.pose, beam_poses, ranges)   # at the prediction
+        mapped = ~self._unmapped(short, long)
         if not mapped.any():
             return                  # everything in view is unmapped: the scan tells nothing
         loglik = self._beam_log_likelihood(self.particles, beam_poses, ranges)
@@ -335,7 +340,8 @@ class MonteCarloLocalization:
         offmap = ~self._on_free(self.particles)
         per_beam[offmap] += self.outside                     # a robot cannot stand in a wall
         self._track_likelihood(per_beam)
-        logw = np.log(np.maximum(self.weights, 1e-300)) + self.model.weight * loglik.sum(axis=1)
+        weighed = loglik if self._weighs_short(long) else loglik[:, mapped]
+        logw = np.log(np.maximum(self.weights, 1e-300)) + self.model.weight * weighed.sum(axis=1)
         logw[offmap] += self.model.weight * len(ranges) * self.outside
         w = np.exp(logw - logw.max())
         self.weights = w / w.sum()
@@ -343,6 +349,20 @@ class MonteCarloLocalization:
         self.fit = self._fit_at(self.pose, beam_poses[mapped], ranges[mapped])
         self._update_lost(now)
         self._resample()
+
+    def _weighs_short(self, long: np.ndarray) -> bool:
+        """Whether beams cut short by something unmapped weigh the particles. A laser's do not
+        once the filter has converged: a person or a cart a little in front of a shelf scores
+        best from a pose nearer the shelf, so such beams dragged the estimate 0.3 m off beside
+        a shopper and a cart and then 3 m into the next aisle (issue 23). Converging, lost, or
+        with beams `long` beyond the map's walls (more than MIN_LONG_SHARE: no obstacle makes
+        them, the estimate is wrong) every beam counts: from a wrong estimate, beams that fit
+        the map look short (far kidnapping). A poor fit alone is no such sign: in a crowd most
+        beams are short and the few left fit poorly. A sonar's always count (left out, its wide
+        cones converged from a wrong start in 6.7 s instead of 4.3, bench_localization
+        --sonar)."""
+        return (self.model.weigh_short or self.w_slow is None or self.lost
+                or float(long.mean()) > MIN_LONG_SHARE)
 
     def _beam_log_likelihood(self, particles, beam_poses, ranges) -> np.ndarray:
         """(N, K) log likelihood of each beam from each particle (best ray of a cone)."""
@@ -398,19 +418,25 @@ class MonteCarloLocalization:
         cone = self.model.cone
         fractions = (-1 / 3, 0.0, 1 / 3) if cone > 0.0 else (0.0,)
         margin = 2 * self.model.fit_distance
+        short = margin if self.model.short_margin is None else self.model.short_margin
         # a wall farther than the longest reading plus the margin decides neither question, so
         # the march stops there (the answers are the same as marching to max_range)
         reach = min(self.model.max_range, float(ranges.max()) + margin)
         seen = [expected_ranges(self.grid, pose, beam_poses + (0.0, 0.0, f * cone), reach)
                 for f in fractions]
-        return ranges < np.min(seen, axis=0) - margin, ranges > np.max(seen, axis=0) + margin
+        return ranges < np.min(seen, axis=0) - short, ranges > np.max(seen, axis=0) + margin
 
     def _short(self, pose, beam_poses, ranges) -> np.ndarray:
-        """Beams that end well before the map's wall seen from `pose`: something unmapped (a
-        person, a cart) is in the way. They say nothing about the fit, unless most of the scan
-        is short and some of it long, which no obstacle makes: then the pose is wrong, and
-        every beam counts. (A cart pushed against the laser cuts most beams short, none long.)"""
-        short, long = self._versus_map(pose, beam_poses, ranges)
+        """Beams that end well before the map's wall seen from `pose` (see `_unmapped`)."""
+        return self._unmapped(*self._versus_map(pose, beam_poses, ranges))
+
+    @staticmethod
+    def _unmapped(short: np.ndarray, long: np.ndarray) -> np.ndarray:
+        """Of the beams `short` of the map's wall (something unmapped, a person, a cart, in the
+        way) and `long` beyond it, those that say nothing about the fit: the short ones, unless
+        most of the scan is short and some of it long, which no obstacle makes: then the pose
+        is wrong, and every beam counts. (A cart pushed against the laser cuts most beams
+        short, none long.)"""
         pose_wrong = short.mean() > MAX_SHORT_SHARE and long.mean() > MIN_LONG_SHARE
         return np.zeros_like(short) if pose_wrong else short
 

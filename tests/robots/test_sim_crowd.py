@@ -92,6 +92,20 @@ def test_a_walker_swerves_around_the_standing_robot_instead_of_stopping_at_it():
     assert gap > 0.05 and world.measures.contact_count() == 0
 
 
+@pytest.mark.parametrize("yielding", [0.0, 0.8])
+def test_a_spot_the_robot_stands_on_counts_as_reached_next_to_it(yielding):
+    # the stand-in of bench_follow: her spot lies under the robot, 0.7 m ahead of her; she
+    # stands where she is and goes on with her script (before, a yielding one stood there
+    # giving way and then pushed to and fro at the robot's edge for good)
+    person = {"id": "p", "at": [14.0, 4.1], "yielding": yielding,
+              "steps": [{"walk": [[14.0, 4.8]]}, {"pause": 1.0}, {"walk": [[14.0, 2.5]]}]}
+    world = world_of([person], robot=(14.0, 5.0, 90.0), floor=STORE)
+    while world.t < 2.0:
+        world.step(0.1)
+        assert not overlaps(world)
+    assert world.people[0].index == 2 and world.people[0].y < 4.1     # walking back
+
+
 def test_people_queue_for_one_spot_without_pushing_into_each_other():
     queue = [{"id": f"q{k}", "at": [-8.0 + 0.8 * k, 0.0], "appear": 0.5 * k, "speed": 1.0,
               "steps": [{"walk": [[2.0, 0.0]]}, {"pause": 100.0}]} for k in range(3)]

@@ -1,6 +1,7 @@
 """Monte-Carlo localization: the pure pieces, and the filter in the simulated world through the
 Localization skill (drifting wheel odometry, the simulated laser or sonar ring)."""
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -9,8 +10,9 @@ from robots.hardware import open_hardware
 from robots.profile import PROFILE_DIR as ROBOTS
 from skills.localization import pose_error
 from skills.navigation.gridmap import GridMap, MapError, load_map
-from skills.navigation.mcl import (BeamModel, MCLParams, beam_endpoints, beam_log_likelihood,
-                                   expected_ranges, likelihood_field, low_variance_resample,
+from skills.navigation.mcl import (BeamModel, MCLParams, MonteCarloLocalization, beam_endpoints,
+                                   beam_log_likelihood, expected_ranges, laser_model,
+                                   likelihood_field, low_variance_resample,
                                    outside_log_likelihood, sample_motion, weighted_estimate)
 from skills.skillset import SkillSet, open_skills
 
@@ -413,3 +415,35 @@ def test_a_visitor_brushing_past_a_standing_robot_is_not_taken_for_being_lost(tm
         skills.close()
     assert min(nearest) < 0.9                       # the visitor did come close
     assert not any(lost) and max(errors) <= 0.10
+
+
+def room_map(obstacle: bool) -> GridMap:
+    """A 6 m × 4 m room of 0.05 m cells; with `obstacle`, something as long as the wall (carts,
+    shoppers) standing 0.3 m in front of its north wall, which the map does not have."""
+    occupied = np.zeros((81, 121), dtype=bool)
+    occupied[0, :] = occupied[-1, :] = occupied[:, 0] = occupied[:, -1] = True
+    if obstacle:
+        occupied[74, 1:120] = True          # y = 3.7 m, the whole wall along
+    return GridMap(occupied, 0.05, (0.0, 0.0))
+
+
+@pytest.mark.parametrize("before", [True, False])
+def test_something_unmapped_before_a_wall_does_not_drag_a_converged_laser_estimate(before):
+    truth = (3.0, 2.0, math.pi / 2)                  # facing the north wall, 2 m away
+    beams = np.column_stack((np.zeros(61), np.zeros(61), np.linspace(-1.5, 1.5, 61)))
+    clear = expected_ranges(room_map(obstacle=False), truth, beams, 8.0)
+    ranges = expected_ranges(room_map(obstacle=True), truth, beams, 8.0)
+    model = laser_model(8.0)
+    if before:                # as before issue 23: cut short 0.4 m before the wall, and weighed
+        model = replace(model, short_margin=None, weigh_short=True)
+    mcl = MonteCarloLocalization(room_map(obstacle=False), model, MCLParams(),
+                                 np.random.default_rng(3))
+    mcl.reset(truth, std=MCLParams().known_std)
+    for k in range(130):      # 3 s of scans at 10 Hz standing, then 10 s with it in front
+        mcl.predict(truth, truth)
+        mcl.correct(beams, clear if k < 30 else ranges, k * 0.1)
+    drift = math.hypot(mcl.pose[0] - truth[0], mcl.pose[1] - truth[1])
+    if before:            # the beams on it pulled the estimate towards the wall
+        assert drift > 0.1
+    else:
+        assert drift < 0.05 and not mcl.lost

@@ -42,3 +42,36 @@ def test_anybody_walking_at_the_robot_inside_the_minimum_makes_it_back_off_facin
     assert goal.kind == "back_off" and goal.bearing == pytest.approx(math.pi / 2)
     following.cancel(0.3)
     assert following.motion.min_person_distance < 0.8             # the default again
+
+
+class Navigation:
+    """Records goals and speeds; `phase` is what the test says navigation is doing."""
+    def __init__(self):
+        self.goals, self.speeds, self.phase = [], [], "idle"
+        self.limits = follower()[0].motion.limits
+
+    @property
+    def state(self):
+        return type("State", (), {"phase": self.phase})()
+
+    def go_to(self, goal, now, speed=None):
+        self.goals.append((now, goal))
+        self.phase = "driving"
+
+    def set_speed(self, speed):
+        self.speeds.append(speed)
+
+
+def test_while_its_way_is_blocked_navigation_keeps_its_goal_so_it_can_plan_round():
+    following, _ = follower()
+    nav = following.navigation = Navigation()
+    following._drive_to((3.0, 0.0), 0.5, 0.0)
+    following._drive_to((3.0, 0.0), 0.5, 1.5)                    # a second on: renewed
+    assert len(nav.goals) == 2
+    nav.phase = "blocked"                                        # somebody stands in the way
+    for k in range(2, 8):                                        # she walks on, 6 s
+        following._drive_to((3.0 + 0.5 * k, 0.0), 0.5, 1.5 + k)
+    assert len(nav.goals) == 2 and len(nav.speeds) == 6          # waits, re-plans round it
+    nav.phase = "driving"                                        # round the blocker
+    following._drive_to((7.0, 0.0), 0.5, 8.0)
+    assert nav.goals[-1] == (8.0, (7.0, 0.0))

@@ -8,7 +8,7 @@ import math
 from follow_fakes import Speech, follower, track
 from skills.following import GAVE_UP_REASON, SEARCHING
 from skills.following.room import walking_distances
-from skills.following.searching import MAX_LOOKOUTS, search_plan
+from skills.following.searching import MAX_LOOKOUTS, further_lookouts, search_plan
 from skills.navigation.gridmap import load_map
 
 NORTH, SOUTH = math.pi / 2, -math.pi / 2
@@ -55,6 +55,26 @@ def test_the_plan_counts_the_walk_round_shelves_and_leaves_out_what_is_too_far()
     assert names(plan) == ["where she should be", "aisle4_north", "aisle3_north", "aisle5_north"]
     none = search_plan((14.0, 14.0), (14.0, 14.0), None, ENDS[:1], walk=lambda x, y: None)
     assert names(none) == ["where she should be"]          # no way leads there
+
+
+def test_her_course_breaks_the_tie_between_places_as_far_off_her_heading():
+    # she walked north up aisle 4 to its north end: aisles 3 and 5 lie as far off her heading
+    # and as far to walk; her trail as a whole went north-east (from the front aisle's west)
+    east = search_plan((14.0, 16.5), (14.0, 16.5), (0.0, 1.0), ENDS, course=(0.6, 0.8))
+    west = search_plan((14.0, 16.5), (14.0, 16.5), (0.0, 1.0), ENDS, course=(-0.6, 0.8))
+    assert names(east)[1] == "aisle5_north" and names(west)[1] == "aisle3_north"
+
+
+def test_once_the_plan_is_seen_the_search_expands_to_the_places_it_left_out():
+    plan = search_plan((14.0, 15.5), (14.0, 14.0), (0.0, 1.0), ENDS, ahead=(14.0, 17.0))
+    more = further_lookouts(plan, (14.0, 14.0), ENDS)
+    planned = set(names(plan))
+    assert more and not planned & set(names(more))
+    assert set(names(more)) | planned >= {name for name, *_ in ENDS} - {"aisle4_north"}
+    # nearest first, outwards from where she vanished
+    distances = [math.hypot(q.x - 14.0, q.y - 14.0) for q in more]
+    assert distances == sorted(distances)
+    assert further_lookouts(plan + more, (14.0, 14.0), ENDS) == []   # nothing left: wait
 
 
 def test_walking_distances_go_round_the_store_shelves():
