@@ -60,7 +60,8 @@ BEHIND = math.radians(90)          # a track this far off the way is behind the 
 REAR_SONAR = math.radians(110)     # sonars pointing this far off the way look back
 BODY_RADIUS = 0.2                  # m, a person's body circle (sonar echoes come off its front)
 SONAR_REACH = 3.0                  # m; farther rear echoes are too wide to tell a person
-CONE_RAYS = (-0.5, -0.25, 0.0, 0.25, 0.5)   # rays across a sonar's cone, in cone widths
+CONE_RAYS = (-0.5, -0.25, 0.0, 0.25, 0.5)   # rays across a sonar's whole cone, in cone widths
+HEARD_RAYS = (-1 / 3, -1 / 6, 0.0, 1 / 6, 1 / 3)   # across the part where it hears walls
 MARCH_STEP = 0.05                  # m between the points checked along a ray
 WALL_SLACK = 0.10                  # m beyond the echo a wall may be and still explain it
 WALL_HIT = 0.08                    # m: a ray point this close to a wall has met it
@@ -222,21 +223,11 @@ class Guiding(Skill):
         if not use.any():
             return None
         r, p = ranges[use], poses[use]
-        c, s = math.cos(pose.th), math.sin(pose.th)
-        # the echo is the map's when a ray across the cone meets a wall before it (or at it)
-        steps = np.arange(0.0, float(r.max()) + WALL_SLACK + 1e-9, MARCH_STEP)
-        open_ = np.ones(len(r), dtype=bool)
-        for edge in CONE_RAYS:
-            a = p[:, 2] + edge * self._cone
-            t = np.minimum(steps[None, :], (r + WALL_SLACK)[:, None])       # n × samples
-            lx = p[:, 0, None] + t * np.cos(a)[:, None]
-            ly = p[:, 1, None] + t * np.sin(a)[:, None]
-            wx, wy = pose.x + c * lx - s * ly, pose.y + s * lx + c * ly
-            open_ &= (self.grid.clearance(wx, wy) > WALL_HIT).all(axis=1)
         lx, ly = p[:, 0] + r * np.cos(p[:, 2]), p[:, 1] + r * np.sin(p[:, 2])
-        d = np.hypot(lx, ly)
+        open_ = ~self._walls_explain(pose, r, p, self._cone_rays(lx, ly))
         if not open_.any():
             return None
+        d = np.hypot(lx, ly)
         d[~open_] = np.inf
         i = int(np.argmin(d))
         bearing = math.atan2(ly[i], lx[i])
@@ -244,6 +235,37 @@ class Guiding(Skill):
         x = pose.x + centre * math.cos(pose.th + bearing)
         y = pose.y + centre * math.sin(pose.th + bearing)
         return float(centre), bearing, (x, y), "sonar"
+
+    def _cone_rays(self, lx: np.ndarray, ly: np.ndarray) -> np.ndarray:
+        """Per echo (at lx, ly in the robot frame), the rays across its sonar's cone that the
+        map checks, in cone widths: the whole cone where the laser looks (it finds a person
+        there, so the sonar must be sure), the part where a sonar hears walls elsewhere."""
+        rays = np.tile(np.asarray(HEARD_RAYS), (len(lx), 1))
+        scan = getattr(self.perception, "scan", None)
+        if scan is not None and len(scan.angles):
+            ox, oy, oh = scan.origin
+            a = np.arctan2(ly - oy, lx - ox) - oh
+            a = np.arctan2(np.sin(a), np.cos(a))
+            seen = (a >= scan.angles[0]) & (a <= scan.angles[-1])
+            rays[seen] = CONE_RAYS
+        return rays
+
+    def _walls_explain(self, pose, r: np.ndarray, p: np.ndarray, rays: np.ndarray
+                       ) -> np.ndarray:
+        """Per echo (range r of the sonar at pose p, robot frame): a ray of `rays` (cone
+        widths) meets a wall of the map before the echo's range, or at most WALL_SLACK beyond
+        it (a sonar hears the nearest thing in its cone)."""
+        c, s = math.cos(pose.th), math.sin(pose.th)
+        steps = np.arange(0.0, float(r.max()) + WALL_SLACK + 1e-9, MARCH_STEP)
+        t = np.minimum(steps[None, :], (r + WALL_SLACK)[:, None])          # n × samples
+        explained = np.zeros(len(r), dtype=bool)
+        for k in range(rays.shape[1]):
+            a = p[:, 2] + rays[:, k] * self._cone
+            lx = p[:, 0, None] + t * np.cos(a)[:, None]
+            ly = p[:, 1, None] + t * np.sin(a)[:, None]
+            wx, wy = pose.x + c * lx - s * ly, pose.y + s * lx + c * ly
+            explained |= (self.grid.clearance(wx, wy) <= WALL_HIT).any(axis=1)
+        return explained
 
     def _in_sight(self, x: float, y: float, pose) -> bool:
         """No wall of the map between the robot and (x, y): a track through a wall is a ghost."""
