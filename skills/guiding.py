@@ -60,14 +60,15 @@ BEHIND = math.radians(90)          # a track this far off the way is behind the 
 REAR_SONAR = math.radians(110)     # sonars pointing this far off the way look back
 BODY_RADIUS = 0.2                  # m, a person's body circle (sonar echoes come off its front)
 SONAR_REACH = 3.0                  # m; farther rear echoes are too wide to tell a person
-CONE_RAYS = (-0.5, -0.25, 0.0, 0.25, 0.5)   # rays across a sonar's whole cone, in cone widths
-HEARD_RAYS = (-1 / 3, -1 / 6, 0.0, 1 / 6, 1 / 3)   # across the part where it hears walls
+HEARD = 1 / 3                      # of the cone either side of its axis, where a sonar hears walls
+SONAR_AGE = 0.1                    # s an echo may be old (one tick): turning, its heading is off
 MARCH_STEP = 0.05                  # m between the points checked along a ray
 WALL_SLACK = 0.10                  # m beyond the echo a wall may be and still explain it
 WALL_HIT = 0.08                    # m: a ray point this close to a wall has met it
 AHEAD = 0.5                        # m along the path ahead of the robot that gives its way
 NEAR_GOAL = 1.0                    # m left: around the goal a track counts in any direction
 FORGET_AFTER = 1.0                 # s unseen after which user_distance is absent
+BLIND_MEMORY = 6.0                 # s a follower last seen where no sensor looks is kept
 
 
 @dataclass(frozen=True)
@@ -90,7 +91,7 @@ class Guiding(Skill):
 
     def __init__(self, blackboard, events, localization: Localization,
                  perception: PeoplePerception, grid: GridMap | None,
-                 sonar: SonarSpec | None, reach: float = 5.0) -> None:
+                 sonar: SonarSpec | None, reach: float = 5.0, camera_fov: float = 0.0) -> None:
         super().__init__(blackboard, events)
         self.localization = localization
         self.perception = perception
@@ -99,6 +100,8 @@ class Guiding(Skill):
         poses = sonar.poses if sonar is not None else np.zeros((0, 3))
         self._sonar_poses = poses
         self._cone = sonar.cone if sonar is not None else 0.0
+        self._camera_fov = camera_fov
+        self._sighting: tuple[float, float] | None = None   # distance, bearing off the way
         self.state = GuideState()
         self.user_id: int | None = None
         self._started = 0.0
@@ -120,6 +123,7 @@ class Guiding(Skill):
         self._seen_at = now
         self._waiting_since = None
         self._forward = None
+        self._sighting = None
         self.state = GuideState(LEADING, place)
         self.set_status(RUNNING, now)
         self.sense(now)
@@ -176,9 +180,14 @@ class Guiding(Skill):
         seen = min(found, key=lambda f: f[0], default=None)
         if seen is not None:
             self._seen_at = now
+            self._sighting = (seen[0], seen[1] + pose.th - self._way_or_heading(pose))
+        else:
+            seen = self._remembered(pose, now)
+        if seen is not None:
             distance, bearing, xy, source = seen
+            unseen = 0.0 if source != "memory" else now - self._seen_at
             self.state = replace(self.state, user_distance=distance, user_bearing=bearing,
-                                 user_xy=xy, source=source, unseen_for=0.0)
+                                 user_xy=xy, source=source, unseen_for=unseen)
         else:
             unseen = now - (self._seen_at if self._seen_at is not None else now)
             keep = unseen < FORGET_AFTER
@@ -189,6 +198,38 @@ class Guiding(Skill):
         if self._waiting_since is not None:
             self.state = replace(self.state, waiting_for=now - self._waiting_since)
         self._publish(now)
+
+    def _remembered(self, pose, now: float):
+        """The follower's last sighting, for up to BLIND_MEMORY s, while the place it puts
+        them (as far behind, as far off the way) is where none of the robot's sensors looks:
+        ARGOS, with no sonar behind, turned round, saw its visitor and turned back to the way,
+        lost them at once and stopped again after a few decimetres. Never refreshed by itself,
+        and never where a sonar, the laser or the camera could see the follower."""
+        if self._sighting is None or self._seen_at is None or now - self._seen_at > BLIND_MEMORY:
+            return None
+        distance, off_way = self._sighting
+        bearing = off_way + self._way_or_heading(pose) - pose.th
+        bearing = math.atan2(math.sin(bearing), math.cos(bearing))
+        if self._watched(bearing):
+            return None
+        x = pose.x + distance * math.cos(pose.th + bearing)
+        y = pose.y + distance * math.sin(pose.th + bearing)
+        return distance, bearing, (x, y), "memory"
+
+    def _watched(self, bearing: float) -> bool:
+        """Whether a sensor of the robot looks at `bearing` (robot frame): a sonar's cone,
+        the laser's scan, the camera's field (as if looking ahead)."""
+        if len(self._sonar_poses):
+            off = self._sonar_poses[:, 2] - bearing
+            if (np.abs(np.arctan2(np.sin(off), np.cos(off))) <= self._cone / 2).any():
+                return True
+        scan = getattr(self.perception, "scan", None)
+        if scan is not None and len(scan.angles):
+            a = bearing - scan.origin[2]
+            a = math.atan2(math.sin(a), math.cos(a))
+            if scan.angles[0] <= a <= scan.angles[-1]:
+                return True
+        return abs(bearing) <= self._camera_fov / 2
 
     def _own_track(self, pose):
         """The guided user's own track, while the tracker still has it."""
@@ -224,7 +265,7 @@ class Guiding(Skill):
             return None
         r, p = ranges[use], poses[use]
         lx, ly = p[:, 0] + r * np.cos(p[:, 2]), p[:, 1] + r * np.sin(p[:, 2])
-        open_ = ~self._walls_explain(pose, r, p, self._cone_rays(lx, ly))
+        open_ = ~self._walls_explain(pose, r, p, self._cone_rays(lx, ly, pose.w))
         if not open_.any():
             return None
         d = np.hypot(lx, ly)
@@ -236,31 +277,35 @@ class Guiding(Skill):
         y = pose.y + centre * math.sin(pose.th + bearing)
         return float(centre), bearing, (x, y), "sonar"
 
-    def _cone_rays(self, lx: np.ndarray, ly: np.ndarray) -> np.ndarray:
-        """Per echo (at lx, ly in the robot frame), the rays across its sonar's cone that the
-        map checks, in cone widths: the whole cone where the laser looks (it finds a person
-        there, so the sonar must be sure), the part where a sonar hears walls elsewhere."""
-        rays = np.tile(np.asarray(HEARD_RAYS), (len(lx), 1))
+    def _cone_rays(self, lx: np.ndarray, ly: np.ndarray, turn_rate: float) -> np.ndarray:
+        """Per echo (at lx, ly in the robot frame), the directions off its sonar's axis (rad)
+        that the map checks: across the whole cone where the laser looks (it finds a person
+        there, so the sonar must be sure), across the part where a sonar hears walls (±cone/3)
+        elsewhere; widened by the turn the robot makes in SONAR_AGE, since an echo may be that
+        old (ARGOS, turning round at 90°/s to look, took a wall heard 9° further round for a
+        visitor)."""
+        half = np.full(len(lx), self._cone * HEARD)
         scan = getattr(self.perception, "scan", None)
         if scan is not None and len(scan.angles):
             ox, oy, oh = scan.origin
             a = np.arctan2(ly - oy, lx - ox) - oh
             a = np.arctan2(np.sin(a), np.cos(a))
-            seen = (a >= scan.angles[0]) & (a <= scan.angles[-1])
-            rays[seen] = CONE_RAYS
-        return rays
+            half[(a >= scan.angles[0]) & (a <= scan.angles[-1])] = self._cone / 2
+        turned = abs(turn_rate) * SONAR_AGE
+        spread = np.linspace(-1.0, 1.0, 5 if turned == 0.0 else 9)
+        return (half + turned)[:, None] * spread[None, :]
 
     def _walls_explain(self, pose, r: np.ndarray, p: np.ndarray, rays: np.ndarray
                        ) -> np.ndarray:
-        """Per echo (range r of the sonar at pose p, robot frame): a ray of `rays` (cone
-        widths) meets a wall of the map before the echo's range, or at most WALL_SLACK beyond
+        """Per echo (range r of the sonar at pose p, robot frame): a ray of `rays` (rad off
+        the sonar's axis) meets a wall of the map before the echo's range, or at most WALL_SLACK beyond
         it (a sonar hears the nearest thing in its cone)."""
         c, s = math.cos(pose.th), math.sin(pose.th)
         steps = np.arange(0.0, float(r.max()) + WALL_SLACK + 1e-9, MARCH_STEP)
         t = np.minimum(steps[None, :], (r + WALL_SLACK)[:, None])          # n × samples
         explained = np.zeros(len(r), dtype=bool)
         for k in range(rays.shape[1]):
-            a = p[:, 2] + rays[:, k] * self._cone
+            a = p[:, 2] + rays[:, k]
             lx = p[:, 0, None] + t * np.cos(a)[:, None]
             ly = p[:, 1, None] + t * np.sin(a)[:, None]
             wx, wy = pose.x + c * lx - s * ly, pose.y + s * lx + c * ly
@@ -302,6 +347,9 @@ class Guiding(Skill):
         if math.hypot(target[0] - pose.x, target[1] - pose.y) < 0.1:
             return self._forward           # on the goal: the way it came
         return math.atan2(target[1] - pose.y, target[0] - pose.x)
+
+    def _way_or_heading(self, pose) -> float:
+        return pose.th if self._forward is None else self._forward
 
     def _off_way(self, x: float, y: float, pose) -> float:
         """Bearing of (x, y) from the robot, relative to the way it leads (its heading while
