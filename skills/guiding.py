@@ -10,20 +10,29 @@ nearest of:
    outrank a nearer sighting behind);
 2. a confirmed track behind the robot (more than 90° off the way it leads, that is the
    direction of its path; in any direction within 1 m of the goal), within `reach` and with
-   no wall of the map in between, and
+   no wall of the map in between;
 3. the sonars looking back (more than 110° off the way): an echo that no wall of the map
    explains is something standing in the open behind the robot; the nearest one counts, at
-   its range plus a person's body radius.
+   its range plus a person's body radius;
+4. failing those, the last sighting, for up to 6 s, while the place it puts the follower (as
+   far behind, as far off the way) is where no sensor of the robot looks: ARGOS has no sonar
+   behind, so it turns round to look, sees its visitor and turns back to the way; without
+   this it lost them at once and stopped again a few decimetres on.
 
 A wall explains an echo when any of five rays across the sonar's cone meets it no farther
-than 0.10 m beyond the echo's range (a sonar hears the nearest thing anywhere in its cone): a
+than 0.10 m beyond the echo's range, per echo across the part of the cone that matters: a
 person standing in a doorway, with the jambs a body's depth behind their front, is not the
-wall's echo (with 0.25 m they were, and a visitor waiting in a doorway was "lost"). In a 1 m
-hallway the walls at the cone's edge still explain a visitor 1.5 m straight behind (their echo
-1.04 m, the walls 1.02 m along the ±15° rays); rays to ±cone/3 only (where the simulated sonar
-hears walls) saw them, but made ARGOS, turned round to look with its front sonars, take wall
-echoes for a visitor who had walked away (a known limit).
-Other people walking behind the robot look like the follower to these sources (a known limit).
+wall's echo (with 0.25 m they were, and a visitor waiting in a doorway was "lost"). Behind the
+laser the rays span ±cone/3, where a sonar hears walls (the cone's edge meets them at a
+glancing angle that returns nothing): in a 1 m hallway the rays to ±15° met the walls 1.0 m
+from a rear sonar and "explained" the echo of a visitor 1.5 m straight behind (1.04 m; the
+walls are heard 1.38 m away). Where the laser looks the rays span the whole cone: the laser
+and camera find a person there, so the sonar must be sure (ARGOS, turned round to look with
+its front sonars, took wall echoes at its cones' edges for a visitor who had left). The span
+is widened by the turn the robot makes in one tick, since an echo may be that old.
+Other people walking behind the robot look like the follower to these sources, and in a 1 m
+hallway a visitor more than about 1.6 m straight behind is hidden by the walls' echo (known
+limits).
 
 The behavior owns the decisions (lead, stop and wait, give up); this skill owns the state that
 conditions read (`guide/state`) and the log event of a finished guide run (`guide`, with
@@ -79,7 +88,7 @@ class GuideState:
     user_distance: float | None = None    # m, robot centre to the follower's centre
     user_bearing: float | None = None     # rad in the robot frame (pi: straight behind)
     user_xy: tuple[float, float] | None = None   # m, map frame
-    source: str = ""                      # "track", "sonar" or "" (not seen)
+    source: str = ""                      # "track", "sonar", "memory" or "" (not seen)
     unseen_for: float = 0.0               # s since the follower was last seen
     waiting_for: float = 0.0              # s since the robot stopped to wait (0 when leading)
     outcome: str = ""                     # when finished: one of the OUTCOME_ values
