@@ -193,7 +193,8 @@ steps = [ {{ follow = 1.2, until = 14.0 }}, {{ leave = [{away}, 0.5] }} ]
 """
 
 
-def test_a_robot_held_up_in_a_door_reports_the_stall_not_a_lost_user(tmp_path):
+@pytest.mark.parametrize("robot_name", ["horos", "perses"])
+def test_a_robot_held_up_in_a_door_reports_the_stall_not_a_lost_user(tmp_path, robot_name):
     """Issue 22, point 3: bob walks into the only door to the room and stands there; uma
     follows the robot for 14 s, then walks off while the robot stands before bob. The run ends
     as a navigation failure ("blocked"), not as "user lost" (before, the held-up guide stopped
@@ -202,7 +203,7 @@ def test_a_robot_held_up_in_a_door_reports_the_stall_not_a_lost_user(tmp_path):
     write_door_map(tmp_path, 0.8)
     path = tmp_path / "stall.toml"
     path.write_text(STALL.format(away=0.5))
-    guide = Guide("horos", str(path), place="room")
+    guide = Guide(robot_name, str(path), place="room")
     try:
         status = guide.run_until_done(80.0)
     finally:
