@@ -54,6 +54,7 @@ from skills.navigation.gridmap import load_map
 from skills.navigation.planner import GlobalPlanner
 
 ROOMS = [f"room_{side}{n}" for side in "ns" for n in range(1, 5)]
+LEAD_OFF = 0.3             # m: the first metres of a tour count as leading off
 WITH_USER = 2.5            # m: the visitor counts as arrived with the robot within this
 TOUR_LIMIT = 150.0         # s of robot time per tour
 
@@ -133,9 +134,17 @@ def run_tour(robot_name: str, folder: Path, seed: int, shortest, plan_ms: list,
         for _ in range(10):
             robot.sense(); robot.act(); robot.wait_until(robot.now() + 0.1)
         robot.activate("GuidePerson", {"place": room})
+        split: dict[str, list[float]] = {}
+        driven, last = 0.0, (world.body.x, world.body.y)
         for _ in range(int(TOUR_LIMIT / 0.1)):
             robot.sense(); robot.act(); robot.wait_until(robot.now() + 0.1)
             est, body = skills.localization.state, world.body
+            step = math.hypot(body.x - last[0], body.y - last[1])
+            last, driven = (body.x, body.y), driven + step
+            if skills.guide.active:
+                cause = split.setdefault(time_cause(skills, driven), [0.0, 0.0])
+                cause[0] += 0.1
+                cause[1] += step
             errors.append(math.hypot(est.x - body.x, est.y - body.y))
             headings.append(abs(math.atan2(math.sin(est.th - body.th), math.cos(est.th - body.th))))
             for event in robot.events():
@@ -160,7 +169,31 @@ def run_tour(robot_name: str, folder: Path, seed: int, shortest, plan_ms: list,
             "with_user": with_user,
             "success": outcome == "arrived" and with_user, "duration": duration,
             "ratio": None if duration is None else duration / (length / limits.max_speed),
-            "loc_errors": errors, "heading_errors": headings, **measures}
+            "loc_errors": errors, "heading_errors": headings,
+            "time_split": {k: (round(s, 1), round(m, 2)) for k, (s, m) in split.items()},
+            "max_speed": limits.max_speed, "shortest": length, **measures}
+
+
+def time_cause(skills, driven: float) -> str:
+    """What holds the guide's robot below full speed this tick (for the time split): the
+    guide waiting, navigation blocked or turning on the goal, the first metres, else the
+    controller's speed cap (people near, a narrow passage, the goal ahead, turning on the
+    spot) or nothing (accelerating, curves, full speed)."""
+    nav = skills.navigation.state
+    if skills.guide.state.phase == "waiting":
+        return "waiting for the visitor"
+    if nav.phase == "blocked":
+        return "blocked"
+    if nav.phase in ("turning", "arrived"):
+        return "turning on the goal"
+    if driven < LEAD_OFF:
+        return f"leading off (first {LEAD_OFF} m)"
+    cap = nav.reason.split(";")[0]
+    for known in ("people near", "narrow passage", "goal ahead", "turning", "obstruction",
+                  "requested speed"):
+        if cap.startswith(known):
+            return known
+    return "no cap (accelerating, curves, full speed)"
 
 
 def ten_people(folder: Path) -> Path:
@@ -249,8 +282,32 @@ def report(results: list[dict], plan_ms: list) -> None:
     print(f"localization error over {len(errors)} ticks: RMSE "
           f"{math.sqrt(float(np.mean(errors ** 2))):.3f} m, p95 {np.percentile(errors, 95):.3f} m, "
           f"max {errors.max():.3f} m; heading RMSE {math.sqrt(float(np.mean(headings ** 2))):.2f}°")
+    time_split(results)
     print(f"global plans: {len(plan_ms)}, median {np.median(plan_ms):.1f} ms, p99 "
           f"{np.percentile(plan_ms, 99):.1f} ms, max {max(plan_ms):.1f} ms (target <= 100 ms)")
+
+
+def time_split(results: list[dict]) -> None:
+    """Where the tours' time went: per cause, the seconds spent and those beyond what the
+    metres driven meanwhile take at full speed."""
+    spent: dict[str, list[float]] = {}
+    longer = 0.0
+    for r in results:
+        driven = sum(m for _, m in r.get("time_split", {}).values())
+        longer += max(0.0, driven - r.get("shortest", driven)) / r.get("max_speed", 1.0)
+        for cause, (seconds, metres) in r.get("time_split", {}).items():
+            row = spent.setdefault(cause, [0.0, 0.0])
+            row[0] += seconds
+            row[1] += seconds - metres / r["max_speed"]
+    if not spent:
+        return
+    total = sum(s for s, _ in spent.values())
+    beyond = sum(b for _, b in spent.values())
+    parts = ", ".join(f"{cause} {s:.0f} s (+{b:.0f} s)" for cause, (s, b) in
+                      sorted(spent.items(), key=lambda kv: -kv[1][1]))
+    print(f"time guiding {total:.0f} s, {beyond:.0f} s beyond full speed over the metres driven; "
+          f"per cause, spent (beyond full speed): {parts}; the way driven longer than the "
+          f"shortest path: +{longer:.0f} s at full speed")
 
 
 def bench_buildings(args) -> None:
@@ -293,6 +350,7 @@ def bench_buildings(args) -> None:
 
 
 KEPT = ("seed", "room", "outcome", "reason", "with_user", "success", "duration", "ratio",
+        "time_split", "max_speed", "shortest",
         "contacts_wall", "contacts_person", "contacts_driving", "min_wall_clearance",
         "min_clearance_to_people", "intrusions_by_robot", "intrusions_by_person",
         "intrusion_seconds_robot", "intrusion_seconds_person", "max_speed_near_people")

@@ -10,20 +10,29 @@ nearest of:
    outrank a nearer sighting behind);
 2. a confirmed track behind the robot (more than 90° off the way it leads, that is the
    direction of its path; in any direction within 1 m of the goal), within `reach` and with
-   no wall of the map in between, and
+   no wall of the map in between;
 3. the sonars looking back (more than 110° off the way): an echo that no wall of the map
    explains is something standing in the open behind the robot; the nearest one counts, at
-   its range plus a person's body radius.
+   its range plus a person's body radius;
+4. failing those, the last sighting, for up to 6 s, while the place it puts the follower (as
+   far behind, as far off the way) is where no sensor of the robot looks: ARGOS has no sonar
+   behind, so it turns round to look, sees its visitor and turns back to the way; without
+   this it lost them at once and stopped again a few decimetres on.
 
 A wall explains an echo when any of five rays across the sonar's cone meets it no farther
-than 0.10 m beyond the echo's range (a sonar hears the nearest thing anywhere in its cone): a
+than 0.10 m beyond the echo's range, per echo across the part of the cone that matters: a
 person standing in a doorway, with the jambs a body's depth behind their front, is not the
-wall's echo (with 0.25 m they were, and a visitor waiting in a doorway was "lost"). In a 1 m
-hallway the walls at the cone's edge still explain a visitor 1.5 m straight behind (their echo
-1.04 m, the walls 1.02 m along the ±15° rays); rays to ±cone/3 only (where the simulated sonar
-hears walls) saw them, but made ARGOS, turned round to look with its front sonars, take wall
-echoes for a visitor who had walked away (a known limit).
-Other people walking behind the robot look like the follower to these sources (a known limit).
+wall's echo (with 0.25 m they were, and a visitor waiting in a doorway was "lost"). Behind the
+laser the rays span ±cone/3, where a sonar hears walls (the cone's edge meets them at a
+glancing angle that returns nothing): in a 1 m hallway the rays to ±15° met the walls 1.0 m
+from a rear sonar and "explained" the echo of a visitor 1.5 m straight behind (1.04 m; the
+walls are heard 1.38 m away). Where the laser looks the rays span the whole cone: the laser
+and camera find a person there, so the sonar must be sure (ARGOS, turned round to look with
+its front sonars, took wall echoes at its cones' edges for a visitor who had left). The span
+is widened by the turn the robot makes in one tick, since an echo may be that old.
+Other people walking behind the robot look like the follower to these sources, and in a 1 m
+hallway a visitor more than about 1.6 m straight behind is hidden by the walls' echo (known
+limits).
 
 The behavior owns the decisions (lead, stop and wait, give up); this skill owns the state that
 conditions read (`guide/state`) and the log event of a finished guide run (`guide`, with
@@ -60,13 +69,15 @@ BEHIND = math.radians(90)          # a track this far off the way is behind the 
 REAR_SONAR = math.radians(110)     # sonars pointing this far off the way look back
 BODY_RADIUS = 0.2                  # m, a person's body circle (sonar echoes come off its front)
 SONAR_REACH = 3.0                  # m; farther rear echoes are too wide to tell a person
-CONE_RAYS = (-0.5, -0.25, 0.0, 0.25, 0.5)   # rays across a sonar's cone, in cone widths
+HEARD = 1 / 3                      # of the cone either side of its axis, where a sonar hears walls
+SONAR_AGE = 0.1                    # s an echo may be old (one tick): turning, its heading is off
 MARCH_STEP = 0.05                  # m between the points checked along a ray
 WALL_SLACK = 0.10                  # m beyond the echo a wall may be and still explain it
 WALL_HIT = 0.08                    # m: a ray point this close to a wall has met it
 AHEAD = 0.5                        # m along the path ahead of the robot that gives its way
 NEAR_GOAL = 1.0                    # m left: around the goal a track counts in any direction
 FORGET_AFTER = 1.0                 # s unseen after which user_distance is absent
+BLIND_MEMORY = 6.0                 # s a follower last seen where no sensor looks is kept
 
 
 @dataclass(frozen=True)
@@ -77,7 +88,7 @@ class GuideState:
     user_distance: float | None = None    # m, robot centre to the follower's centre
     user_bearing: float | None = None     # rad in the robot frame (pi: straight behind)
     user_xy: tuple[float, float] | None = None   # m, map frame
-    source: str = ""                      # "track", "sonar" or "" (not seen)
+    source: str = ""                      # "track", "sonar", "memory" or "" (not seen)
     unseen_for: float = 0.0               # s since the follower was last seen
     waiting_for: float = 0.0              # s since the robot stopped to wait (0 when leading)
     outcome: str = ""                     # when finished: one of the OUTCOME_ values
@@ -89,7 +100,7 @@ class Guiding(Skill):
 
     def __init__(self, blackboard, events, localization: Localization,
                  perception: PeoplePerception, grid: GridMap | None,
-                 sonar: SonarSpec | None, reach: float = 5.0) -> None:
+                 sonar: SonarSpec | None, reach: float = 5.0, camera_fov: float = 0.0) -> None:
         super().__init__(blackboard, events)
         self.localization = localization
         self.perception = perception
@@ -98,6 +109,8 @@ class Guiding(Skill):
         poses = sonar.poses if sonar is not None else np.zeros((0, 3))
         self._sonar_poses = poses
         self._cone = sonar.cone if sonar is not None else 0.0
+        self._camera_fov = camera_fov
+        self._sighting: tuple[float, float] | None = None   # distance, bearing off the way
         self.state = GuideState()
         self.user_id: int | None = None
         self._started = 0.0
@@ -119,6 +132,7 @@ class Guiding(Skill):
         self._seen_at = now
         self._waiting_since = None
         self._forward = None
+        self._sighting = None
         self.state = GuideState(LEADING, place)
         self.set_status(RUNNING, now)
         self.sense(now)
@@ -175,9 +189,14 @@ class Guiding(Skill):
         seen = min(found, key=lambda f: f[0], default=None)
         if seen is not None:
             self._seen_at = now
+            self._sighting = (seen[0], seen[1] + pose.th - self._way_or_heading(pose))
+        else:
+            seen = self._remembered(pose, now)
+        if seen is not None:
             distance, bearing, xy, source = seen
+            unseen = 0.0 if source != "memory" else now - self._seen_at
             self.state = replace(self.state, user_distance=distance, user_bearing=bearing,
-                                 user_xy=xy, source=source, unseen_for=0.0)
+                                 user_xy=xy, source=source, unseen_for=unseen)
         else:
             unseen = now - (self._seen_at if self._seen_at is not None else now)
             keep = unseen < FORGET_AFTER
@@ -188,6 +207,38 @@ class Guiding(Skill):
         if self._waiting_since is not None:
             self.state = replace(self.state, waiting_for=now - self._waiting_since)
         self._publish(now)
+
+    def _remembered(self, pose, now: float):
+        """The follower's last sighting, for up to BLIND_MEMORY s, while the place it puts
+        them (as far behind, as far off the way) is where none of the robot's sensors looks:
+        ARGOS, with no sonar behind, turned round, saw its visitor and turned back to the way,
+        lost them at once and stopped again after a few decimetres. Never refreshed by itself,
+        and never where a sonar, the laser or the camera could see the follower."""
+        if self._sighting is None or self._seen_at is None or now - self._seen_at > BLIND_MEMORY:
+            return None
+        distance, off_way = self._sighting
+        bearing = off_way + self._way_or_heading(pose) - pose.th
+        bearing = math.atan2(math.sin(bearing), math.cos(bearing))
+        if self._watched(bearing):
+            return None
+        x = pose.x + distance * math.cos(pose.th + bearing)
+        y = pose.y + distance * math.sin(pose.th + bearing)
+        return distance, bearing, (x, y), "memory"
+
+    def _watched(self, bearing: float) -> bool:
+        """Whether a sensor of the robot looks at `bearing` (robot frame): a sonar's cone,
+        the laser's scan, the camera's field (as if looking ahead)."""
+        if len(self._sonar_poses):
+            off = self._sonar_poses[:, 2] - bearing
+            if (np.abs(np.arctan2(np.sin(off), np.cos(off))) <= self._cone / 2).any():
+                return True
+        scan = getattr(self.perception, "scan", None)
+        if scan is not None and len(scan.angles):
+            a = bearing - scan.origin[2]
+            a = math.atan2(math.sin(a), math.cos(a))
+            if scan.angles[0] <= a <= scan.angles[-1]:
+                return True
+        return abs(bearing) <= self._camera_fov / 2
 
     def _own_track(self, pose):
         """The guided user's own track, while the tracker still has it."""
@@ -222,21 +273,11 @@ class Guiding(Skill):
         if not use.any():
             return None
         r, p = ranges[use], poses[use]
-        c, s = math.cos(pose.th), math.sin(pose.th)
-        # the echo is the map's when a ray across the cone meets a wall before it (or at it)
-        steps = np.arange(0.0, float(r.max()) + WALL_SLACK + 1e-9, MARCH_STEP)
-        open_ = np.ones(len(r), dtype=bool)
-        for edge in CONE_RAYS:
-            a = p[:, 2] + edge * self._cone
-            t = np.minimum(steps[None, :], (r + WALL_SLACK)[:, None])       # n × samples
-            lx = p[:, 0, None] + t * np.cos(a)[:, None]
-            ly = p[:, 1, None] + t * np.sin(a)[:, None]
-            wx, wy = pose.x + c * lx - s * ly, pose.y + s * lx + c * ly
-            open_ &= (self.grid.clearance(wx, wy) > WALL_HIT).all(axis=1)
         lx, ly = p[:, 0] + r * np.cos(p[:, 2]), p[:, 1] + r * np.sin(p[:, 2])
-        d = np.hypot(lx, ly)
+        open_ = ~self._walls_explain(pose, r, p, self._cone_rays(lx, ly, pose.w))
         if not open_.any():
             return None
+        d = np.hypot(lx, ly)
         d[~open_] = np.inf
         i = int(np.argmin(d))
         bearing = math.atan2(ly[i], lx[i])
@@ -244,6 +285,41 @@ class Guiding(Skill):
         x = pose.x + centre * math.cos(pose.th + bearing)
         y = pose.y + centre * math.sin(pose.th + bearing)
         return float(centre), bearing, (x, y), "sonar"
+
+    def _cone_rays(self, lx: np.ndarray, ly: np.ndarray, turn_rate: float) -> np.ndarray:
+        """Per echo (at lx, ly in the robot frame), the directions off its sonar's axis (rad)
+        that the map checks: across the whole cone where the laser looks (it finds a person
+        there, so the sonar must be sure), across the part where a sonar hears walls (±cone/3)
+        elsewhere; widened by the turn the robot makes in SONAR_AGE, since an echo may be that
+        old (ARGOS, turning round at 90°/s to look, took a wall heard 9° further round for a
+        visitor)."""
+        half = np.full(len(lx), self._cone * HEARD)
+        scan = getattr(self.perception, "scan", None)
+        if scan is not None and len(scan.angles):
+            ox, oy, oh = scan.origin
+            a = np.arctan2(ly - oy, lx - ox) - oh
+            a = np.arctan2(np.sin(a), np.cos(a))
+            half[(a >= scan.angles[0]) & (a <= scan.angles[-1])] = self._cone / 2
+        turned = abs(turn_rate) * SONAR_AGE
+        spread = np.linspace(-1.0, 1.0, 5 if turned == 0.0 else 9)
+        return (half + turned)[:, None] * spread[None, :]
+
+    def _walls_explain(self, pose, r: np.ndarray, p: np.ndarray, rays: np.ndarray
+                       ) -> np.ndarray:
+        """Per echo (range r of the sonar at pose p, robot frame): a ray of `rays` (rad off
+        the sonar's axis) meets a wall of the map before the echo's range, or at most WALL_SLACK beyond
+        it (a sonar hears the nearest thing in its cone)."""
+        c, s = math.cos(pose.th), math.sin(pose.th)
+        steps = np.arange(0.0, float(r.max()) + WALL_SLACK + 1e-9, MARCH_STEP)
+        t = np.minimum(steps[None, :], (r + WALL_SLACK)[:, None])          # n × samples
+        explained = np.zeros(len(r), dtype=bool)
+        for k in range(rays.shape[1]):
+            a = p[:, 2] + rays[:, k]
+            lx = p[:, 0, None] + t * np.cos(a)[:, None]
+            ly = p[:, 1, None] + t * np.sin(a)[:, None]
+            wx, wy = pose.x + c * lx - s * ly, pose.y + s * lx + c * ly
+            explained |= (self.grid.clearance(wx, wy) <= WALL_HIT).any(axis=1)
+        return explained
 
     def _in_sight(self, x: float, y: float, pose) -> bool:
         """No wall of the map between the robot and (x, y): a track through a wall is a ghost."""
@@ -280,6 +356,9 @@ class Guiding(Skill):
         if math.hypot(target[0] - pose.x, target[1] - pose.y) < 0.1:
             return self._forward           # on the goal: the way it came
         return math.atan2(target[1] - pose.y, target[0] - pose.x)
+
+    def _way_or_heading(self, pose) -> float:
+        return pose.th if self._forward is None else self._forward
 
     def _off_way(self, x: float, y: float, pose) -> float:
         """Bearing of (x, y) from the robot, relative to the way it leads (its heading while

@@ -46,6 +46,7 @@ class PeoplePerception(Skill):
         self.tracks: tuple = ()
         self.believed: tuple = ()      # confirmed and lost (coasting) tracks: what a follower reads
         self.user = None
+        self.scan = None           # the newest laser scan read (guiding asks what it covers)
 
     def sense(self, now: float) -> None:
         state = self.localization.state
@@ -91,7 +92,7 @@ class PeoplePerception(Skill):
             camera = self.detector.detect()
         laser = []
         if self.laser is not None:
-            scan = self.laser.read()
+            scan = self.scan = self.laser.read()
             if scan is not None:
                 laser = detect_legs(scan)
         return camera + laser

@@ -106,7 +106,8 @@ class SkillSet:
                            if self.map is not None else None)
         # guiding: watching the person who follows (needs the map to tell people from walls)
         self.guide = (Guiding(bb, ev, self.localization, self.perception, self.map,
-                              self.profile.sonar, reach=user_range)
+                              self.profile.sonar, reach=user_range,
+                              camera_fov=_camera_fov(self.profile))
                       if self.map is not None else None)
         # following a customer: over tracking, and navigation where there is a map
         self.following = Following(bb, ev, self.localization, self.perception, self.motion,
@@ -323,6 +324,11 @@ def _robot_map(hardware: Hardware, map: str | Path | GridMap | None) -> GridMap 
 
 
 _floor_maps: dict[tuple, GridMap] = {}
+
+
+def _camera_fov(profile) -> float:
+    """The person detector's field of view (rad), 0 without one."""
+    return profile.people_detector.fov if profile.people_detector is not None else 0.0
 
 
 def _map_for_people(hardware: Hardware, grid: GridMap | None) -> GridMap | None:

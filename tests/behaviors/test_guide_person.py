@@ -193,7 +193,8 @@ steps = [ {{ follow = 1.2, until = 14.0 }}, {{ leave = [{away}, 0.5] }} ]
 """
 
 
-def test_a_robot_held_up_in_a_door_reports_the_stall_not_a_lost_user(tmp_path):
+@pytest.mark.parametrize("robot_name", ["horos", "perses"])
+def test_a_robot_held_up_in_a_door_reports_the_stall_not_a_lost_user(tmp_path, robot_name):
     """Issue 22, point 3: bob walks into the only door to the room and stands there; uma
     follows the robot for 14 s, then walks off while the robot stands before bob. The run ends
     as a navigation failure ("blocked"), not as "user lost" (before, the held-up guide stopped
@@ -202,7 +203,7 @@ def test_a_robot_held_up_in_a_door_reports_the_stall_not_a_lost_user(tmp_path):
     write_door_map(tmp_path, 0.8)
     path = tmp_path / "stall.toml"
     path.write_text(STALL.format(away=0.5))
-    guide = Guide("horos", str(path), place="room")
+    guide = Guide(robot_name, str(path), place="room")
     try:
         status = guide.run_until_done(80.0)
     finally:
@@ -211,3 +212,60 @@ def test_a_robot_held_up_in_a_door_reports_the_stall_not_a_lost_user(tmp_path):
     assert status == "FAILURE"
     assert len(outcomes) == 1 and outcomes[0][0] == "navigation failed", outcomes
     assert "blocked" in outcomes[0][1]
+
+
+HALLWAY = """
+[scenario]
+name = "hallway"
+duration = 120.0
+map = "hall.yaml"
+robot = "robot_home"
+[[person]]
+id = "uma"
+at = [1.5, 0.5]
+steps = [ {{ follow = 1.5, goal = "hall_end"{extra} }}{then} ]
+"""
+
+
+def in_a_1_m_hallway(tmp_path, extra: str = "", then: str = "") -> str:
+    """uma stands 1.5 m straight behind the robot in a 16 m long, 1 m wide hallway and
+    follows it at 1.5 m (`extra`, `then`: she stops following and leaves)."""
+    from tests.skills.test_guiding import write_long_hallway
+    write_long_hallway(tmp_path)
+    path = tmp_path / "hallway.toml"
+    path.write_text(HALLWAY.format(extra=extra, then=then))
+    return str(path)
+
+
+@pytest.mark.parametrize("robot_name", ["horos", "perses", "argos"])
+def test_a_visitor_following_1_5_m_behind_in_a_1_m_hallway_is_led_to_the_end(tmp_path,
+                                                                             robot_name):
+    """Issue 22, points 3 and 7: in a 1 m hallway HOROS took the echo of a visitor 1.5 m
+    straight behind it for the walls', stopped to wait for them while they stood there and
+    gave up ("user lost"). ARGOS, with no sonar behind, turns round to look."""
+    guide = Guide(robot_name, in_a_1_m_hallway(tmp_path), place="hall_end")
+    try:
+        status = guide.run_until_done(100.0)
+        world = guide.robot.skills.hardware.simulation.world
+        uma = next(p for p in world.people if p.id == "uma")
+        gap = math.hypot(uma.x - world.body.x, uma.y - world.body.y)
+    finally:
+        guide.close()
+    assert status == "SUCCESS"
+    assert [e["outcome"] for e in guide.guide_events()] == [OUTCOME_ARRIVED]
+    assert world.body.x > 14.5 and gap < 2.5
+    assert world.measures.contact_count() == 0
+
+
+@pytest.mark.parametrize("robot_name", ["horos", "perses", "argos"])
+def test_a_visitor_who_leaves_in_a_1_m_hallway_is_given_up(tmp_path, robot_name):
+    """With nobody following, the walls of the 1 m hallway are no visitor: the guide gives up."""
+    path = in_a_1_m_hallway(tmp_path, ", until = 6.0", ', { leave = [0.3, 0.5] }')
+    guide = Guide(robot_name, path, place="hall_end")
+    try:
+        status = guide.run_until_done(100.0)
+    finally:
+        guide.close()
+    assert status == "FAILURE"
+    (event,) = guide.guide_events()
+    assert event["outcome"] == OUTCOME_USER_LOST
