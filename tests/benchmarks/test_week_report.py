@@ -77,9 +77,9 @@ def test_the_report_reads_the_campaigns_results_folders(report, tmp_path):
             "window=200,shift=shifted@1"
     for session, alternative in ((0, "look"), (1, "call")):
         key = f"{group},seed=0,session={session}"
-        db.execute("INSERT INTO runs VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)",
+        db.execute("INSERT INTO runs VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)",
                    (key, group, "app", None, None, "visitors", 0, "learn", "thompson", 0, 0,
-                    600.0, 30.0, 1, 1, 0, 0, "", "", 0.0, session))
+                    600.0, 30.0, 1, 1, 0, 0, "", "", 0.0, session, 15.0, 29.0))
         db.execute("INSERT INTO episodes VALUES (?,?,?,?,?,?,?,?)",
                    (key, 0, "attract", "people.count=1", alternative, 1, 3.0, 10.0))
     db.commit()

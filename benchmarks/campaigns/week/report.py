@@ -140,6 +140,26 @@ def mean(values: list[float]) -> float:
     return sum(values) / len(values) if values else float("nan")
 
 
+def on_contexts(episodes: list[tuple], truth: Truth, name: str) -> float:
+    """What `name` (oracle, first, random) would have been worth in the contexts of these
+    episodes: which contexts come depends on what happened before (a visitor still leaving
+    after a survey makes the next one's `people.count` 2), so a strategy is compared with the
+    others on its own contexts."""
+    policy = getattr(truth, name)
+    return mean([sum(c * truth.p(context, a) for a, c in policy(context).items())
+                 for _, context, _, _ in episodes])
+
+
+def compared(episodes: list[tuple], truth: Truth) -> str:
+    """The learner's outcomes and expected success against the others on its contexts."""
+    oracle = on_contexts(episodes, truth, "oracle")
+    expected = mean(scored(episodes, truth))
+    return (f"outcomes {rate(episodes):.1%}, expected {expected:.1%} ({expected / oracle:.0%} of "
+            f"the oracle's); on its contexts oracle {oracle:.1%}, first "
+            f"{on_contexts(episodes, truth, 'first'):.1%}, random "
+            f"{on_contexts(episodes, truth, 'random'):.1%}")
+
+
 def recovery(after: list[tuple], before: Truth, truth: Truth) -> list[str]:
     """How long after the shift until the learner chose the new best in each context whose
     best changed, and until its last 100 episodes were within 10 % of the oracle's."""
@@ -158,11 +178,10 @@ def recovery(after: list[tuple], before: Truth, truth: Truth) -> list[str]:
         out.append(f"its choice in {context} ({truth.share(context):.0%} of the episodes) was "
                    f"mostly the new best `{new}` after "
                    f"{at if at else 'more than ' + str(len(after))} episodes")
-    level = 0.9 * truth.value(truth.oracle)[0]
     expected, outcomes = scored(after, truth), [float(e[3]) for e in after]
     for name, values in (("expected", expected), ("outcomes", outcomes)):
-        at = next((i for i in range(100, len(values) + 1)
-                   if mean(values[i - 100:i]) >= level), None)
+        at = next((i for i in range(100, len(values) + 1) if mean(values[i - 100:i])
+                   >= 0.9 * on_contexts(after[i - 100:i], truth, "oracle")), None)
         out.append(f"its success over the last 100 episodes ({name}) within 10 % of the oracle "
                    f"after {at if at else 'more than ' + str(len(values))} episodes")
     return out
@@ -251,18 +270,16 @@ def main() -> None:
             continue
         before, after = phases(episodes, shift)
         truth = truths[0]
-        print(f"\nthe learner, seed {seed}, per block of {BLOCK} episodes before the shift "
-              f"(outcomes / expected), against the oracle's {levels['oracle', 0]:.1%} (within "
-              f"10 %: {0.9 * levels['oracle', 0]:.1%}), first's {levels['first', 0]:.1%}, "
-              f"random's {levels['random', 0]:.1%}:")
+        print(f"\nthe learner, seed {seed}, per block of {BLOCK} episodes before the shift:")
         for i in range(0, len(before), BLOCK):
             block = before[i:i + BLOCK]
-            print(f"  {i}-{i + len(block)}: {rate(block):.1%} / {mean(scored(block, truth)):.1%}")
+            print(f"  {i}-{i + len(block)}: {compared(block, truth)}")
         late = before[AFTER:]
         if late:
-            print(f"  after {AFTER} episodes ({len(late)} until the shift): outcomes "
-                  f"{rate(late):.1%}, expected {mean(scored(late, truth)):.1%}")
+            print(f"  after {AFTER} episodes ({len(late)} until the shift): "
+                  f"{compared(late, truth)}")
         if after:
+            print(f"  after the shift, all {len(after)}: {compared(after, truths[1])}")
             print(f"  after the shift ({len(after)} episodes; oracle {levels['oracle', 1]:.1%}, "
                   f"first {levels['first', 1]:.1%}, random {levels['random', 1]:.1%}):")
             for line in recovery(after, truths[0], truths[1]):
