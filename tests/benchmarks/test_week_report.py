@@ -62,6 +62,8 @@ def test_regret_and_recovery_are_counted_per_episode_in_its_context(report):
     regret = report.regret(learner, 2, truths, "oracle")
     assert regret[0] == pytest.approx(0.0)
     assert regret[1] == pytest.approx(24 / 34 - 9 / 34)
+    assert report.on_contexts(learner, truths[0], "oracle") == pytest.approx((79 / 100 + 24 / 34) / 2)
+    assert report.on_contexts(learner, truths[0], "first") == pytest.approx((79 / 100 + 9 / 34) / 2)
     after = [(2, "people.count=1", "look", False)] * 30 + [(2, "people.count=1", "call", True)] * 120
     lines = report.recovery(after, *truths)
     assert lines[0].startswith("its choice in people.count=1") and lines[0].endswith(
