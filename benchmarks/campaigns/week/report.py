@@ -288,8 +288,9 @@ def main() -> None:
         series, shift_at = [], None
         for (who, seed, shift), episodes in sorted(found.items()):
             if who == "learn":
-                if shift is not None:
-                    shift_at = len(phases(episodes, shift)[0])
+                before, after = phases(episodes, shift)
+                if after:                       # the shift line at the chain that got there
+                    shift_at = len(before)
                 for name in ("oracle", "first", "random"):
                     series.append((f"seed {seed} vs {name}", regret(episodes, shift, truths, name)))
         args.svg.write_text(regret_svg(series, shift_at), encoding="utf-8")
