@@ -12,7 +12,8 @@ making runs cheap, measured in the same invocation, one run at a time:
 
 Each run is benchmarks/campaigns/attract/app (the learner choosing) for `--duration` s of robot
 time (at most 600, so that all three meet the same people). Prints per set-up episodes and runs
-per minute, the median wall time of a run, its ratio to the baseline, and whether its episodes
+per minute, the median wall time of a run, its ratio to the baseline, the CPU seconds per
+episode (which do not depend on what else the machine is doing) and whether its episodes
 (alternative, outcome, time) are exactly the baseline's.
 
     python benchmarks/bench_campaign.py [--runs 3] [--duration 120]
@@ -61,6 +62,7 @@ def measure(how, grid: list[RunSpec], folder: Path) -> dict:
     wall = time.perf_counter() - start
     episodes = sum(len(r["episodes"]) for r in results)
     return {"episodes/min": episodes / wall * 60, "runs/min": len(grid) / wall * 60,
+            "cpu s/episode": sum(r["cpu_seconds"] for r in results) / max(episodes, 1),
             "median run s": statistics.median(r["wall_seconds"] for r in results),
             "episodes": episodes, "failed": sum(r["exit_code"] != 0 for r in results),
             "outcomes": [[(e["alternative"], e["success"], e["t"]) for e in r["episodes"]]
@@ -87,7 +89,8 @@ def main() -> None:
     base = figures[setups[0][0]]
     for name, f in figures.items():
         print(f"  {name:<30} {f['episodes/min']:6.1f} episodes/min, {f['runs/min']:5.2f} runs/min, "
-              f"median run {f['median run s']:5.1f} s, {f['episodes']} episodes, "
+              f"median run {f['median run s']:5.1f} s, {f['cpu s/episode']:.2f} CPU s/episode, "
+              f"{f['episodes']} episodes, "
               f"{f['failed']} failed; x{f['episodes/min'] / base['episodes/min']:.2f} episodes/min, "
               f"x{base['median run s'] / f['median run s']:.2f} on the median run; "
               f"episodes {'the same as' if f['outcomes'] == base['outcomes'] else 'DIFFER from'} "

@@ -127,11 +127,15 @@ class Progress:
 
 
 def summary_lines(results) -> list[str]:
-    lines = [f"{'group':<72} runs fail episodes success surveys robot-h  wall-s"]
-    for group, runs, failed, episodes, successes, surveys, robot_s, wall_s in results.groups():
+    """A line per group; cpu-s/ep is the CPU time per episode (what a campaign costs whatever
+    else the machine does), over the runs whose CPU time is known."""
+    lines = [f"{'group':<72} runs fail episodes success surveys robot-h  wall-s cpu-s/ep"]
+    for (group, runs, failed, episodes, successes, surveys, robot_s, wall_s, cpu_s,
+         cpu_episodes) in results.groups():
         rate = f"{successes / episodes:6.1%}" if episodes else "     -"
+        cost = f"{cpu_s / cpu_episodes:8.2f}" if cpu_s is not None and cpu_episodes else "       -"
         lines.append(f"{group:<72} {runs:4d} {failed:4d} {episodes:8d} {rate:>7} {surveys:7d} "
-                     f"{robot_s / 3600:7.2f} {wall_s:7.1f}")
+                     f"{robot_s / 3600:7.2f} {wall_s:7.1f} {cost}")
     return lines
 
 

@@ -65,11 +65,18 @@ def run_one(run: dict[str, Any], folder: str, pythonpath: str | None = None) -> 
         with _LIVE_LOCK:
             _LIVE.add(process)
         try:
-            code = process.wait()
+            code, cpu = _wait(process)
         finally:
             with _LIVE_LOCK:
                 _LIVE.discard(process)
-    return summarize(where, code, time.perf_counter() - start)
+    return summarize(where, code, time.perf_counter() - start, cpu)
+
+
+def _wait(process: subprocess.Popen) -> tuple[int, float]:
+    """The exit code of a run's process and its CPU time (user and system)."""
+    _, status, usage = os.wait4(process.pid, 0)
+    process.returncode = os.waitstatus_to_exitcode(status)
+    return process.returncode, usage.ru_utime + usage.ru_stime
 
 
 def run_chain(runs: list[tuple[dict[str, Any], str]], pythonpath: str | None = None
@@ -91,6 +98,7 @@ class Worker:
         start = time.perf_counter()
         process = self._started(where.parent)
         job = {"argv": spec.argv(where), "output": str(where / "output.txt")}
+        cpu = None
         try:
             process.stdin.write(json.dumps(job) + "\n")
             process.stdin.flush()
@@ -98,14 +106,15 @@ class Worker:
         except (BrokenPipeError, ValueError):
             reply = ""
         if reply:
-            code = int(json.loads(reply)["code"])
+            answer = json.loads(reply)
+            code, cpu = int(answer["code"]), answer.get("cpu")
         else:                                   # the worker died (or was stopped) mid-run
             code = process.wait()
             code = code if code else -9
             self.close()
             if not (where / "output.txt").exists():
                 (where / "output.txt").write_text("", encoding="utf-8")
-        return summarize(where, code, time.perf_counter() - start)
+        return summarize(where, code, time.perf_counter() - start, cpu)
 
     def _started(self, runs: Path) -> subprocess.Popen:
         """The worker process; its command line names the folder of the runs it serves, so
@@ -150,8 +159,9 @@ def stop_live_runs() -> None:
             process.kill()
 
 
-def summarize(folder: Path, code: int, wall: float) -> dict[str, Any]:
-    """What a finished run gave, read from its trace and its printed summary."""
+def summarize(folder: Path, code: int, wall: float, cpu: float | None = None) -> dict[str, Any]:
+    """What a finished run gave, read from its trace and its printed summary; `cpu`: the CPU
+    seconds it took (None: not known)."""
     output = (folder / "output.txt").read_text(encoding="utf-8", errors="replace")
     ran = re.search(r"ran ([0-9.]+) s of robot time", output)
     completed = re.search(r"question sets completed: (\d+)", output)
@@ -170,7 +180,9 @@ def summarize(folder: Path, code: int, wall: float) -> dict[str, Any]:
                                  "alternative": event["alternative"],
                                  "success": bool(event["success"]),
                                  "after": float(event["after"]), "t": float(event["t"])})
-    return {"exit_code": code, "wall_seconds": wall,
+    ticks = re.search(r"in \d+ ticks \(([0-9.]+) s wall clock\)", output)
+    return {"exit_code": code, "wall_seconds": wall, "cpu_seconds": cpu,
+            "tick_seconds": float(ticks.group(1)) if ticks else None,
             "robot_seconds": float(ran.group(1)) if ran else 0.0,
             "surveys": int(completed.group(1)) if completed else 0, "answers": answers,
             "episodes": episodes, "last_line": output.strip().splitlines()[-1:] or [""]}

@@ -17,7 +17,8 @@ CREATE TABLE IF NOT EXISTS runs (
     freeze INTEGER NOT NULL, exit_code INTEGER NOT NULL, robot_seconds REAL NOT NULL,
     wall_seconds REAL NOT NULL, episodes INTEGER NOT NULL, successes INTEGER NOT NULL,
     surveys INTEGER NOT NULL, answers INTEGER NOT NULL, folder TEXT NOT NULL,
-    last_line TEXT NOT NULL, finished REAL NOT NULL, session INTEGER NOT NULL DEFAULT 0);
+    last_line TEXT NOT NULL, finished REAL NOT NULL, session INTEGER NOT NULL DEFAULT 0,
+    cpu_seconds REAL, tick_seconds REAL);
 CREATE TABLE IF NOT EXISTS episodes (
     key TEXT NOT NULL, n INTEGER NOT NULL, point TEXT NOT NULL, context TEXT NOT NULL,
     alternative TEXT NOT NULL, success INTEGER NOT NULL, after REAL NOT NULL, t REAL NOT NULL,
@@ -35,6 +36,9 @@ class Results:
         columns = {row[1] for row in self.db.execute("PRAGMA table_info(runs)")}
         if "session" not in columns:            # a results file from before sessions
             self.db.execute("ALTER TABLE runs ADD COLUMN session INTEGER NOT NULL DEFAULT 0")
+        for name in ("cpu_seconds", "tick_seconds"):      # ... from before these were kept
+            if name not in columns:
+                self.db.execute(f"ALTER TABLE runs ADD COLUMN {name} REAL")
 
     def close(self) -> None:
         self.db.close()
@@ -49,13 +53,15 @@ class Results:
         with self.db:
             self.db.execute("DELETE FROM episodes WHERE key=?", (run.key,))
             self.db.execute(
-                "INSERT OR REPLACE INTO runs VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)",
+                "INSERT OR REPLACE INTO runs VALUES "
+                "(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)",
                 (run.key, run.group, run.app, run.robot, run.map, run.scenario, run.seed,
                  run.choose, run.learner, int(run.freeze), result["exit_code"],
                  result["robot_seconds"], result["wall_seconds"], len(episodes),
                  sum(e["success"] for e in episodes), result["surveys"], result["answers"],
                  str(folder), result["last_line"][0] if result["last_line"] else "",
-                 time.time(), run.session))
+                 time.time(), run.session, result.get("cpu_seconds"),
+                 result.get("tick_seconds")))
             self.db.executemany(
                 "INSERT INTO episodes VALUES (?,?,?,?,?,?,?,?)",
                 [(run.key, n, e["point"], e["context"], e["alternative"], int(e["success"]),
@@ -63,11 +69,13 @@ class Results:
 
     def groups(self) -> list[tuple]:
         """Per group (everything but the seed): runs, failed runs, episodes, successes,
-        surveys, robot s, wall s."""
+        surveys, robot s, wall s, CPU s (of the runs whose CPU time is known) and the
+        episodes of those runs."""
         return self.db.execute(
             "SELECT grp, COUNT(*), SUM(exit_code != 0), SUM(episodes), SUM(successes), "
-            "SUM(surveys), SUM(robot_seconds), SUM(wall_seconds) FROM runs GROUP BY grp "
-            "ORDER BY grp").fetchall()
+            "SUM(surveys), SUM(robot_seconds), SUM(wall_seconds), SUM(cpu_seconds), "
+            "SUM(CASE WHEN cpu_seconds IS NULL THEN 0 ELSE episodes END) FROM runs "
+            "GROUP BY grp ORDER BY grp").fetchall()
 
     def outcomes(self, group: str) -> list[list[bool]]:
         """Each seed's episode outcomes in order (the sessions of a chain one after another),

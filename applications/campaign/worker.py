@@ -5,7 +5,8 @@ Starting a process for each run costs its imports (the robot stack, filterpy, nu
 imports once and then reads jobs, one JSON line each (`{"argv": [...], "output": PATH}`), from
 stdin: it runs `interbot ARGV` exactly as the command line would, with its stdout and stderr
 (file descriptors 1 and 2, so that nothing escapes) going to PATH, and answers one JSON line
-(`{"code": EXIT_CODE}`) on the stdout it was started with. Each run builds its own robot,
+(`{"code": EXIT_CODE, "cpu": SECONDS}`: the CPU time, user and system, of all the worker's
+threads during the run) on the stdout it was started with. Each run builds its own robot,
 world, database and learner from its arguments, so a run gives the same result in a worker
 as in a process of its own (tests/applications/test_campaign.py compares the two).
 
@@ -18,6 +19,7 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+import resource
 import sys
 
 
@@ -50,6 +52,12 @@ def run_job(argv: list[str], output: str) -> int:
     return code
 
 
+def cpu_seconds() -> float:
+    """User and system CPU time of this process so far (all its threads)."""
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime
+
+
 def main() -> int:
     replies = os.fdopen(os.dup(1), "w", encoding="utf-8")   # fd 1 itself goes to each run
     import applications.commands.run  # noqa: F401  (the robot stack, loaded once, here)
@@ -59,8 +67,9 @@ def main() -> int:
         if not line.strip():
             continue
         job = json.loads(line)
+        before = cpu_seconds()
         code = run_job(job["argv"], job["output"])
-        replies.write(json.dumps({"code": code}) + "\n")
+        replies.write(json.dumps({"code": code, "cpu": cpu_seconds() - before}) + "\n")
         replies.flush()
     return 0
 

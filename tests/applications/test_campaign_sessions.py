@@ -103,6 +103,27 @@ def test_a_results_file_from_before_sessions_gets_the_session_column(tmp_path):
     results.close()
 
 
+def test_each_run_keeps_its_cpu_time_and_the_summary_gives_it_per_episode(tmp_path):
+    from applications.campaign.command import summary_lines
+    runs = load_campaign(chained(tmp_path, seeds="1")).runs
+    results = Results(tmp_path / "results.sqlite")
+    results.add(runs[0], {**_result([True, False]), "cpu_seconds": 3.0, "tick_seconds": 2.5},
+                tmp_path)
+    results.add(runs[1], {**_result([True, True, False]), "cpu_seconds": 1.5}, tmp_path)
+    results.add(runs[2], _result([True]), tmp_path)          # a run whose CPU time is unknown
+    assert results.groups()[0][8:] == (4.5, 5)
+    assert summary_lines(results)[1].endswith("    0.90")
+    results.close()
+
+
+def test_a_run_in_a_process_of_its_own_reports_its_cpu_time(tmp_path):
+    import subprocess
+    import sys
+    busy = subprocess.Popen([sys.executable, "-c", "sum(range(3 * 10**7)); raise SystemExit(3)"])
+    code, cpu = engine._wait(busy)
+    assert code == 3 and busy.returncode == 3 and cpu > 0.1
+
+
 def test_the_worker_runs_interbot_with_its_output_in_the_file(tmp_path):
     code = run_job(["run", "no-such-application", "--fast"], str(tmp_path / "out.txt"))
     assert code == 2
@@ -129,6 +150,7 @@ def test_a_worker_that_dies_mid_run_counts_it_failed_and_starts_again(tmp_path):
         assert died["exit_code"] == -9
         again = worker.run(run, tmp_path / "again")
         assert again["exit_code"] == 0 and again["robot_seconds"] == 3.0
+        assert again["cpu_seconds"] > 0 and 0 < again["tick_seconds"] <= again["wall_seconds"]
     finally:
         worker.close()
 

@@ -1,40 +1,50 @@
 """The simulated week's figures (issue 27, point 5), from the results folders of its campaigns:
 
-    interbot campaign benchmarks/campaigns/week/learn.toml  --out week-results/learn
-    interbot campaign benchmarks/campaigns/week/long.toml   --out week-results/long
-    interbot campaign benchmarks/campaigns/week/oracle.toml --out week-results/oracle
-    interbot campaign benchmarks/campaigns/week/fixed.toml  --out week-results/fixed
+    interbot campaign benchmarks/campaigns/week/learn.toml --out week-results/learn
+    interbot campaign benchmarks/campaigns/week/fixed.toml --out week-results/fixed
     python benchmarks/campaigns/week/report.py week-results [--svg regret.svg]
 
-Prints per strategy, seed and phase (before / after the shift) the episodes and the success
-rate; the learner's rate per block of episodes against the oracle's (within 10 %: at least 0.9
-times it); after the shift, how many episodes the learner took until its choice for people
-alone was the new best (`call` in most of the last 20 such episodes) and until its success rate
-over the last 100 episodes came within 10 % of the oracle's after the shift; and draws the
-regret curves: the learner's cumulative regret against the oracle, `first` and `random` (each
-one's success rate in that phase, minus the learner's outcome, summed over episodes).
+**The oracle is per context the learner sees.** The learner chooses per `people.count` as the
+tracker reports it, not per who the passers-by truly are; so the oracle is, per reported context
+and phase (before / after the shift), the alternative whose true success rate there is highest.
+A rate per (context, alternative) is estimated from every strategy's episodes in that phase:
+no strategy's choice depends on the visitor's hidden propensities once the context is given
+(`first` and `random` never look, the learner only at past outcomes), so each (context,
+alternative) cell is an unbiased sample of what the propensities give there. The oracle's
+success rate is then the sum over contexts of how often the context comes times the best rate
+in it; `first` (always `look`) and `random` (each alternative half the time) are valued the same
+way, beside their own measured runs.
+
+Prints per strategy, seed and phase the episodes and the success rate; the table of true rates
+per context; the learner per block of episodes, its outcomes and its *expected* success (each
+of its choices scored at the true rate of that alternative in that context, which is what its
+policy is worth without the luck of the draws) against the oracle's (within 10 %: at least 0.9
+times it) and ahead of first and random; after the shift, how many episodes it took until its
+choice in each context whose best alternative changed was mostly the new best (most of the
+last 20 there), and until its success over the last 100 episodes (expected, and outcomes) came
+within 10 % of the shifted oracle's. `--svg` draws the regret curves: per episode, the true
+rate of the oracle's (of first's, of random's) choice in that episode's context minus that of
+the learner's choice, summed.
 """
 from __future__ import annotations
 
 import argparse
+import math
 import re
 import sqlite3
 from pathlib import Path
 
 from applications.learning.chart import COLOURS, series_lines
 
-NEW_BEST_ALONE = "call"          # after the shift (shifted.toml) people alone come when called
-ALONE = "people.count=1"
+ALTERNATIVES = ("look", "call")     # benchmarks/campaigns/attract/app, `first` takes look
 BLOCK = 200
+AFTER = 1000                        # "within 10 % of the oracle after 1000 episodes"
 
 
 def strategy(group: str) -> str:
-    if "choose=learn" in group:
-        return "learn"
-    if "choose=first" in group:
-        return "first"
-    if "choose=random" in group:
-        return "random"
+    for name in ("learn", "first", "random"):
+        if f"choose={name}" in group:
+            return name
     return "oracle" if "app=oracle" in group else group
 
 
@@ -65,66 +75,134 @@ def rate(episodes: list[tuple]) -> float:
     return sum(e[3] for e in episodes) / len(episodes) if episodes else float("nan")
 
 
-def pooled(found: dict, name: str) -> tuple[float, float]:
-    """A strategy's success rate before and after the shift, over all its seeds."""
-    before, after = [], []
-    for (who, _, shift), episodes in found.items():
-        if who == name:
-            b, a = phases(episodes, shift)
-            before += b
-            after += a
-    return rate(before), rate(after)
+class Truth:
+    """The true success rate per (context, alternative) in one phase, from every strategy's
+    episodes in it, and what the oracle, first and random are worth there."""
+
+    def __init__(self, found: dict, after: bool) -> None:
+        self.cells: dict[str, dict[str, list[int]]] = {}
+        for (_, _, shift), episodes in found.items():
+            for _, context, alternative, success in phases(episodes, shift)[after]:
+                cell = self.cells.setdefault(context, {}).setdefault(alternative, [0, 0])
+                cell[0] += 1
+                cell[1] += success
+        self.total = sum(n for options in self.cells.values() for n, _ in options.values())
+
+    def p(self, context: str, alternative: str) -> float:
+        """The rate (Beta(1, 1) posterior mean, so that a cell never tried is 1/2)."""
+        n, k = self.cells.get(context, {}).get(alternative, (0, 0))
+        return (k + 1) / (n + 2)
+
+    def best(self, context: str) -> str:
+        return max(ALTERNATIVES, key=lambda a: self.p(context, a))
+
+    def share(self, context: str) -> float:
+        return sum(n for n, _ in self.cells[context].values()) / self.total
+
+    def value(self, policy) -> tuple[float, float]:
+        """A policy's success rate (policy: context -> {alternative: probability}) and its
+        standard error, over the contexts as often as they came."""
+        level, variance = 0.0, 0.0
+        for context in self.cells:
+            for alternative, chance in policy(context).items():
+                p, (n, _) = self.p(context, alternative), self.cells[context].get(alternative, (0, 0))
+                level += self.share(context) * chance * p
+                variance += (self.share(context) * chance) ** 2 * p * (1 - p) / (n + 2)
+        return level, math.sqrt(variance)
+
+    def oracle(self, context: str) -> dict[str, float]:
+        return {self.best(context): 1.0}
+
+    @staticmethod
+    def first(context: str) -> dict[str, float]:
+        return {ALTERNATIVES[0]: 1.0}
+
+    @staticmethod
+    def random(context: str) -> dict[str, float]:
+        return {a: 1.0 / len(ALTERNATIVES) for a in ALTERNATIVES}
+
+    def lines(self) -> list[str]:
+        out = []
+        for context in sorted(self.cells):
+            options = self.cells[context]
+            out.append(f"  {context:<16} {self.share(context):6.1%} of episodes: " + ", ".join(
+                f"{a} {options.get(a, (0, 0))[1]}/{options.get(a, (0, 0))[0]} = "
+                f"{self.p(context, a):.1%}" for a in ALTERNATIVES) + f"; best {self.best(context)}")
+        return out
 
 
-def best_per_context(found: dict, after: bool) -> tuple[float, list[str]]:
-    """What the truly best choice per observed context gives in a phase, estimated from every
-    strategy's episodes in it: per context the alternative with the highest success rate,
-    weighted by how often the context came; and a line per context and alternative."""
-    counts: dict[tuple[str, str], list[int]] = {}
-    for (_, _, shift), episodes in found.items():
-        for _, context, alternative, success in phases(episodes, shift)[1 if after else 0]:
-            tally = counts.setdefault((context, alternative), [0, 0])
-            tally[0] += 1
-            tally[1] += success
-    contexts = sorted({c for c, _ in counts})
-    total = sum(n for n, _ in counts.values())
-    expected, lines = 0.0, []
-    for context in contexts:
-        options = {a: (n, k) for (c, a), (n, k) in counts.items() if c == context}
-        best = max(options, key=lambda a: options[a][1] / options[a][0])
-        seen = sum(n for n, _ in options.values())
-        expected += seen / total * options[best][1] / options[best][0]
-        lines.append(f"  {context:<16} {seen / total:6.1%} of episodes: " + ", ".join(
-            f"{a} {k}/{n} = {k / n:.1%}" for a, (n, k) in sorted(options.items()))
-            + f"; best {best}")
-    return expected, lines
+def scored(episodes: list[tuple], truth: Truth) -> list[float]:
+    """Each episode's choice at the true rate of that alternative in that context."""
+    return [truth.p(context, alternative) for _, context, alternative, _ in episodes]
 
 
-def recovery(after: list[tuple], oracle_after: float) -> tuple[int | None, int | None]:
-    """Episodes after the shift until the choice for people alone is mostly the new best, and
-    until the success rate over the last 100 episodes is within 10 % of the oracle's."""
-    alone, choice_at, rate_at = [], None, None
-    for i, (_, context, alternative, _) in enumerate(after, start=1):
-        if context == ALONE:
-            alone.append(alternative == NEW_BEST_ALONE)
-            if choice_at is None and len(alone) >= 20 and sum(alone[-20:]) > 10:
-                choice_at = i
-        if rate_at is None and i >= 100 and rate(after[i - 100:i]) >= 0.9 * oracle_after:
-            rate_at = i
-    return choice_at, rate_at
+def mean(values: list[float]) -> float:
+    return sum(values) / len(values) if values else float("nan")
 
 
-def regret(episodes: list[tuple], shift: int | None, levels: tuple[float, float]) -> list[float]:
+def on_contexts(episodes: list[tuple], truth: Truth, name: str) -> float:
+    """What `name` (oracle, first, random) would have been worth in the contexts of these
+    episodes: which contexts come depends on what happened before (a visitor still leaving
+    after a survey makes the next one's `people.count` 2), so a strategy is compared with the
+    others on its own contexts."""
+    policy = getattr(truth, name)
+    return mean([sum(c * truth.p(context, a) for a, c in policy(context).items())
+                 for _, context, _, _ in episodes])
+
+
+def compared(episodes: list[tuple], truth: Truth) -> str:
+    """The learner's outcomes and expected success against the others on its contexts."""
+    oracle = on_contexts(episodes, truth, "oracle")
+    expected = mean(scored(episodes, truth))
+    return (f"outcomes {rate(episodes):.1%}, expected {expected:.1%} ({expected / oracle:.0%} of "
+            f"the oracle's); on its contexts oracle {oracle:.1%}, first "
+            f"{on_contexts(episodes, truth, 'first'):.1%}, random "
+            f"{on_contexts(episodes, truth, 'random'):.1%}")
+
+
+def recovery(after: list[tuple], before: Truth, truth: Truth) -> list[str]:
+    """How long after the shift until the learner chose the new best in each context whose
+    best changed, and until its last 100 episodes were within 10 % of the oracle's."""
+    out = []
+    for context in sorted(truth.cells):
+        new = truth.best(context)
+        if before.cells.get(context) is None or before.best(context) == new:
+            continue
+        seen, at = [], None
+        for i, (_, c, alternative, _) in enumerate(after, start=1):
+            if c == context:
+                seen.append(alternative == new)
+                if len(seen) >= 20 and sum(seen[-20:]) > 10:
+                    at = i
+                    break
+        out.append(f"its choice in {context} ({truth.share(context):.0%} of the episodes) was "
+                   f"mostly the new best `{new}` after "
+                   f"{at if at else 'more than ' + str(len(after))} episodes")
+    expected, outcomes = scored(after, truth), [float(e[3]) for e in after]
+    for name, values in (("expected", expected), ("outcomes", outcomes)):
+        at = next((i for i in range(100, len(values) + 1) if mean(values[i - 100:i])
+                   >= 0.9 * on_contexts(after[i - 100:i], truth, "oracle")), None)
+        out.append(f"its success over the last 100 episodes ({name}) within 10 % of the oracle "
+                   f"after {at if at else 'more than ' + str(len(values))} episodes")
+    return out
+
+
+def regret(episodes: list[tuple], shift: int | None, truths: tuple[Truth, Truth],
+           against: str) -> list[float]:
+    """Cumulative: per episode the true rate of `against`'s choice in the episode's context
+    minus that of the learner's choice."""
     out, total = [], 0.0
-    for session, _, _, success in episodes:
-        level = levels[1] if shift is not None and session >= shift else levels[0]
-        total += level - success
+    for session, context, alternative, _ in episodes:
+        truth = truths[shift is not None and session >= shift]
+        policy = getattr(truth, against)(context)
+        total += sum(c * truth.p(context, a) for a, c in policy.items()) \
+            - truth.p(context, alternative)
         out.append(total)
     return out
 
 
-def regret_svg(series: list[tuple[str, list[float]]], width=760, height=400,
-               legend=250) -> str:
+def regret_svg(series: list[tuple[str, list[float]]], shift_at: int | None, width=760,
+               height=400, legend=250) -> str:
     left, top, bottom = 60, 30, 40
     plot_w, plot_h = width - left - legend, height - top - bottom
     count = max((len(v) for _, v in series), default=1)
@@ -151,8 +229,12 @@ def regret_svg(series: list[tuple[str, list[float]]], width=760, height=400,
                          f'<text x="{left - 6}" y="{y(tick) + 4:.1f}" text-anchor="end">'
                          f'{tick:g}</text>')
         tick += step
+    if shift_at:
+        parts.append(f'<line x1="{x(shift_at):.1f}" x2="{x(shift_at):.1f}" y1="{top}" '
+                     f'y2="{top + plot_h}" stroke="#999" stroke-dasharray="3,3"/>'
+                     f'<text x="{x(shift_at) + 4:.1f}" y="{top + 12}">the shift</text>')
     parts.append(f'<text x="{left + plot_w / 2}" y="{height - 8}" text-anchor="middle">episode '
-                 '(successes the other strategy would have had, minus the learner\'s)</text>')
+                 '(expected successes of the other\'s choice, minus the learner\'s)</text>')
     parts += series_lines([(label, COLOURS[i % len(COLOURS)], values, False)
                            for i, (label, values) in enumerate(series)], x, y, left + plot_w, top)
     parts.append("</svg>")
@@ -165,49 +247,53 @@ def main() -> None:
     parser.add_argument("--svg", type=Path, help="write the regret curves here")
     args = parser.parse_args()
     found = chains(args.results)
-    levels = {name: pooled(found, name) for name in ("oracle", "first", "random")}
+    truths = (Truth(found, False), Truth(found, True))
     print("strategy  seed shift  episodes  before: n  success   after: n  success")
     for (who, seed, shift), episodes in sorted(found.items(), key=lambda kv: (kv[0][0], kv[0][1])):
         before, after = phases(episodes, shift)
         print(f"{who:<8} {seed:5d} {shift if shift is not None else '-':>5} {len(episodes):9d}"
               f" {len(before):10d} {rate(before):8.1%} {len(after):10d} {rate(after):8.1%}")
-    for name, (before, after) in levels.items():
-        print(f"{name} over its seeds: {before:.1%} before the shift, {after:.1%} after")
-    for after in (False, True):
-        expected, lines = best_per_context(found, after)
-        if lines:
-            print(f"\n{'after' if after else 'before'} the shift, per context the tracker "
-                  f"reported (all strategies' episodes): the best per context gives "
-                  f"{expected:.1%}")
-            print("\n".join(lines))
-    oracle_before, oracle_after = levels["oracle"]
-    print(f"\nthe learner per block of {BLOCK} episodes before the shift, against the oracle's "
-          f"{oracle_before:.1%} (within 10 %: at least {0.9 * oracle_before:.1%})")
+    levels = {}
+    for after, truth in enumerate(truths):
+        if not truth.cells:
+            continue
+        phase = "after" if after else "before"
+        print(f"\n{phase} the shift, true rates per context the tracker reported "
+              f"({truth.total} episodes of all strategies):")
+        print("\n".join(truth.lines()))
+        for name in ("oracle", "first", "random"):
+            level, error = truth.value(getattr(truth, name))
+            levels[name, after] = level
+            print(f"  {name:<7} {level:.1%} (± {2 * error:.1%})")
     for (who, seed, shift), episodes in sorted(found.items()):
         if who != "learn":
             continue
         before, after = phases(episodes, shift)
-        blocks = [before[i:i + BLOCK] for i in range(0, len(before), BLOCK)]
-        print(f"  seed {seed}: " + ", ".join(
-            f"{i * BLOCK}-{i * BLOCK + len(b)}: {rate(b):.1%}" + (
-                "" if rate(b) >= 0.9 * oracle_before else " (not within 10 %)")
-            for i, b in enumerate(blocks)))
+        truth = truths[0]
+        print(f"\nthe learner, seed {seed}, per block of {BLOCK} episodes before the shift:")
+        for i in range(0, len(before), BLOCK):
+            block = before[i:i + BLOCK]
+            print(f"  {i}-{i + len(block)}: {compared(block, truth)}")
+        late = before[AFTER:]
+        if late:
+            print(f"  after {AFTER} episodes ({len(late)} until the shift): "
+                  f"{compared(late, truth)}")
         if after:
-            choice_at, rate_at = recovery(after, oracle_after)
-            print(f"    after the shift ({len(after)} episodes): its choice for people alone "
-                  f"was mostly `{NEW_BEST_ALONE}` after "
-                  f"{choice_at if choice_at else 'more than ' + str(len(after))} episodes; "
-                  f"its success over the last 100 within 10 % of the oracle's "
-                  f"{oracle_after:.1%} after "
-                  f"{rate_at if rate_at else 'more than ' + str(len(after))} episodes")
+            print(f"  after the shift, all {len(after)}: {compared(after, truths[1])}")
+            print(f"  after the shift ({len(after)} episodes; oracle {levels['oracle', 1]:.1%}, "
+                  f"first {levels['first', 1]:.1%}, random {levels['random', 1]:.1%}):")
+            for line in recovery(after, truths[0], truths[1]):
+                print(f"    {line}")
     if args.svg:
-        series = []
+        series, shift_at = [], None
         for (who, seed, shift), episodes in sorted(found.items()):
             if who == "learn":
+                before, after = phases(episodes, shift)
+                if after:                       # the shift line at the chain that got there
+                    shift_at = len(before)
                 for name in ("oracle", "first", "random"):
-                    series.append((f"seed {seed}{'' if shift else ' (no shift)'} vs {name}",
-                                   regret(episodes, shift, levels[name])))
-        args.svg.write_text(regret_svg(series), encoding="utf-8")
+                    series.append((f"seed {seed} vs {name}", regret(episodes, shift, truths, name)))
+        args.svg.write_text(regret_svg(series, shift_at), encoding="utf-8")
         print(f"\nregret curves: {args.svg}")
 
 
