@@ -427,7 +427,10 @@ def room_map(obstacle: bool) -> GridMap:
     return GridMap(occupied, 0.05, (0.0, 0.0))
 
 
-@pytest.mark.parametrize("before", [True, False])
+@pytest.mark.parametrize("before", [True, pytest.param(False, marks=pytest.mark.xfail(
+    strict=True, reason="the laser's short beams weigh the particles again (laser_model "
+                        "weigh_short=True): leaving them out once converged made HOROS stop "
+                        "'blocked' at a 0.65 m door, tests/skills/test_navigation_doors.py"))])
 def test_something_unmapped_before_a_wall_does_not_drag_a_converged_laser_estimate(before):
     truth = (3.0, 2.0, math.pi / 2)                  # facing the north wall, 2 m away
     beams = np.column_stack((np.zeros(61), np.zeros(61), np.linspace(-1.5, 1.5, 61)))
