@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 import pytest
 
 from skills.skillset import open_skills
+from tests.drawn_maps import FREE, OCCUPIED, DrawnMap
 
 SCENARIO = """
 [scenario]
@@ -209,24 +209,10 @@ def test_legs_the_laser_finds_in_the_walls_do_not_reach_the_tracker(tmp_path):
 def write_long_hallway(folder) -> str:
     """A 1.0 m hallway (x 0 .. 16, y 0 .. 1) with 0.2 m walls and unknown space around, the
     places `robot_home` (x 3.0, facing east) and `hall_end` (x 15.0)."""
-    res = 0.05
-
-    def cells(metres):
-        return int(round(metres / res))
-    grid = np.full((cells(2.0), cells(17.0)), 205, dtype=np.uint8)     # x -0.5 .. 16.5, y -0.5 ..
-
-    def fill(x0, y0, x1, y1, value):
-        grid[cells(y0 + 0.5):cells(y1 + 0.5), cells(x0 + 0.5):cells(x1 + 0.5)] = value
-    fill(-0.2, -0.2, 16.2, 1.2, 0)
-    fill(0.0, 0.0, 16.0, 1.0, 254)
-    pixels = np.flipud(grid)
-    height, width = pixels.shape
-    (folder / "hall.pgm").write_bytes(b"P5\n%d %d\n255\n" % (width, height) + pixels.tobytes())
-    (folder / "hall.yaml").write_text(
-        "image: hall.pgm\nresolution: 0.05\norigin: [-0.5, -0.5, 0.0]\nnegate: 0\n"
-        "occupied_thresh: 0.65\nfree_thresh: 0.196\nplaces:\n  robot_home: [3.0, 0.5, 0]\n"
-        "  hall_end: [15.0, 0.5, 0]\n")
-    return "hall.yaml"
+    drawn = DrawnMap(17.0, 2.0, origin=(-0.5, -0.5))
+    drawn.fill(-0.2, -0.2, 16.2, 1.2, OCCUPIED).fill(0.0, 0.0, 16.0, 1.0, FREE)
+    return drawn.write(folder, "hall",
+                       "  robot_home: [3.0, 0.5, 0]\n  hall_end: [15.0, 0.5, 0]\n").name
 
 
 def in_the_long_hallway(tmp_path, behind: float | None) -> str:

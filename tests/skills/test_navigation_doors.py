@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from skills.skillset import open_skills
+from tests.drawn_maps import FREE, OCCUPIED, DrawnMap
 
 RES = 0.05
 
@@ -19,47 +20,19 @@ def write_door_map(folder, door: float):
     """A 1.0 m hallway (x 0 .. 8, y 0 .. 1) with 0.2 m walls; a 3 m × 3 m room north of it
     entered by a door of `door` m centred at x = 6.0; unknown space around. The robot turns
     into the door."""
-    def cells(metres):
-        return int(round(metres / RES))
-    grid = np.full((cells(5.0), cells(9.0)), 205, dtype=np.uint8)     # x -0.5 .. 8.5, y -0.5 ..
-
-    def fill(x0, y0, x1, y1, value):
-        grid[cells(y0 + 0.5):cells(y1 + 0.5), cells(x0 + 0.5):cells(x1 + 0.5)] = value
-    fill(-0.2, -0.2, 8.2, 4.4, 0)
-    fill(0.0, 0.0, 8.0, 1.0, 254)
-    fill(4.5, 1.2, 7.5, 4.2, 254)
-    fill(6.0 - door / 2, 1.0, 6.0 + door / 2, 1.2, 254)
-    pixels = np.flipud(grid)
-    height, width = pixels.shape
-    (folder / "door.pgm").write_bytes(b"P5\n%d %d\n255\n" % (width, height) + pixels.tobytes())
-    (folder / "door.yaml").write_text(
-        "image: door.pgm\nresolution: 0.05\norigin: [-0.5, -0.5, 0.0]\nnegate: 0\n"
-        "occupied_thresh: 0.65\nfree_thresh: 0.196\nplaces:\n  robot_home: [1.0, 0.5, 0]\n"
-        "  room: [6.0, 3.0, 90]\n")
-    return folder / "door.yaml"
+    drawn = DrawnMap(9.0, 5.0, origin=(-0.5, -0.5), resolution=RES)
+    drawn.fill(-0.2, -0.2, 8.2, 4.4, OCCUPIED).fill(0.0, 0.0, 8.0, 1.0, FREE)
+    drawn.fill(4.5, 1.2, 7.5, 4.2, FREE).fill(6.0 - door / 2, 1.0, 6.0 + door / 2, 1.2, FREE)
+    return drawn.write(folder, "door", "  robot_home: [1.0, 0.5, 0]\n  room: [6.0, 3.0, 90]\n")
 
 
 def write_cross_wall_map(folder, door: float):
     """A 2 m hallway (x 0 .. 8, y 0 .. 2) cut at x = 4.0 by a 0.2 m wall with a door of `door`
     m centred at y = 1.0: the robot drives straight through it."""
-    def cells(metres):
-        return int(round(metres / RES))
-    grid = np.full((cells(5.0), cells(9.0)), 205, dtype=np.uint8)
-
-    def fill(x0, y0, x1, y1, value):
-        grid[cells(y0 + 0.5):cells(y1 + 0.5), cells(x0 + 0.5):cells(x1 + 0.5)] = value
-    fill(-0.2, -0.2, 8.2, 2.2, 0)
-    fill(0.0, 0.0, 8.0, 2.0, 254)
-    fill(4.0, 0.0, 4.2, 2.0, 0)
-    fill(4.0, 1.0 - door / 2, 4.2, 1.0 + door / 2, 254)
-    pixels = np.flipud(grid)
-    height, width = pixels.shape
-    (folder / "wall.pgm").write_bytes(b"P5\n%d %d\n255\n" % (width, height) + pixels.tobytes())
-    (folder / "wall.yaml").write_text(
-        "image: wall.pgm\nresolution: 0.05\norigin: [-0.5, -0.5, 0.0]\nnegate: 0\n"
-        "occupied_thresh: 0.65\nfree_thresh: 0.196\nplaces:\n  robot_home: [1.0, 1.3, 0]\n"
-        "  room: [7.0, 0.8, 0]\n")
-    return folder / "wall.yaml"
+    drawn = DrawnMap(9.0, 5.0, origin=(-0.5, -0.5), resolution=RES)
+    drawn.fill(-0.2, -0.2, 8.2, 2.2, OCCUPIED).fill(0.0, 0.0, 8.0, 2.0, FREE)
+    drawn.fill(4.0, 0.0, 4.2, 2.0, OCCUPIED).fill(4.0, 1.0 - door / 2, 4.2, 1.0 + door / 2, FREE)
+    return drawn.write(folder, "wall", "  robot_home: [1.0, 1.3, 0]\n  room: [7.0, 0.8, 0]\n")
 
 
 def drive_to_room(robot, map_path):

@@ -10,6 +10,7 @@ import pytest
 from skills.navigation.gridmap import load_map
 from skills.navigation.mcl import laser_model, likelihood_field
 from skills.skillset import open_skills
+from tests.drawn_maps import FREE, OCCUPIED, DrawnMap
 
 RES = 0.05
 
@@ -17,21 +18,10 @@ RES = 0.05
 def write_thick_walled_map(folder, wall: float = 0.6):
     """A 10 m × 2 m corridor (x 1 .. 11, y 1 .. 3) inside `wall` m filled walls, unknown
     beyond; the robot's home 3 m before the east wall, facing it."""
-    def cells(metres):
-        return int(round(metres / RES))
-    grid = np.full((cells(6.0), cells(12.0)), 205, dtype=np.uint8)
-
-    def fill(x0, y0, x1, y1, value):
-        grid[cells(y0):cells(y1), cells(x0):cells(x1)] = value
-    fill(1.0 - wall, 1.0 - wall, 11.0 + wall, 3.0 + wall, 0)
-    fill(1.0, 1.0, 11.0, 3.0, 254)
-    pixels = np.flipud(grid)
-    height, width = pixels.shape
-    (folder / "thick.pgm").write_bytes(b"P5\n%d %d\n255\n" % (width, height) + pixels.tobytes())
-    (folder / "thick.yaml").write_text(
-        "image: thick.pgm\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n"
-        "occupied_thresh: 0.65\nfree_thresh: 0.196\nplaces:\n  robot_home: [8.0, 2.0, 0]\n")
-    return folder / "thick.yaml"
+    drawn = DrawnMap(12.0, 6.0, resolution=RES)
+    drawn.fill(1.0 - wall, 1.0 - wall, 11.0 + wall, 3.0 + wall, OCCUPIED)
+    drawn.fill(1.0, 1.0, 11.0, 3.0, FREE)
+    return drawn.write(folder, "thick", "  robot_home: [8.0, 2.0, 0]\n")
 
 
 def test_the_likelihood_falls_with_the_depth_into_a_thick_wall_and_is_even_about_its_surface(
