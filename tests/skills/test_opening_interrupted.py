@@ -28,20 +28,19 @@ def interrupted(*args, **kwargs):
     raise KeyboardInterrupt
 
 
-def test_an_interrupt_while_the_skills_are_built_closes_the_base(monkeypatch, opened):
-    monkeypatch.setattr(skillset, "SkillSet", interrupted)
+def open_robot(robot: str, fast: bool):
+    from behaviors.robot import open_robot as opening
+    return opening(robot, fast=fast)
+
+
+@pytest.mark.parametrize("module, step, opening", [
+    ("skills.skillset", "SkillSet", skillset.open_skills),     # while the skills are built
+    ("behaviors.robot", "Robot", open_robot),                  # after them, the behavior layer
+], ids=["skills", "behaviors"])
+def test_an_interrupt_while_opening_closes_the_base(monkeypatch, opened, module, step, opening):
+    monkeypatch.setattr(f"{module}.{step}", interrupted)
     with pytest.raises(KeyboardInterrupt):
-        skillset.open_skills("horos", fast=True)
+        opening("horos", fast=True)
     (hardware, controller), = opened
     assert hardware.closed
     assert not controller.firmware.open        # the controller was told CLOSE
-
-
-def test_an_interrupt_after_the_skills_closes_them_and_the_base(monkeypatch, opened):
-    import behaviors.robot as robot
-    monkeypatch.setattr(robot, "Robot", interrupted)
-    with pytest.raises(KeyboardInterrupt):
-        robot.open_robot("horos", fast=True)
-    (hardware, controller), = opened
-    assert hardware.closed
-    assert not controller.firmware.open
