@@ -119,6 +119,7 @@ class DriverBus:
         self.drain_timeout = drain_timeout
         self.channel_info = getattr(bus, "channel_info", "can")
         self.sent = 0
+        self.lost: Exception | None = None     # set when receiving found the link gone
 
     def send(self, msg: can.Message, timeout: float | None = None) -> None:
         if self.counter is not None:
@@ -143,7 +144,17 @@ class DriverBus:
                                         f"{self.drain_timeout} s")
 
     def recv(self, timeout: float | None = None) -> can.Message | None:
-        return self.bus.recv(timeout)
+        """A lost link (a socketcand peer reset, an adapter gone) raises CanOperationError once,
+        for the Notifier to hand to the listeners' `on_error`; after that the bus reads as
+        silent, so the receive thread neither spins nor dies with a traceback."""
+        if self.lost is not None:
+            time.sleep(timeout or 0.0)
+            return None
+        try:
+            return self.bus.recv(timeout)
+        except (OSError, can.CanError) as exc:
+            self.lost = exc
+            raise can.CanOperationError(f"CAN link lost ({type(exc).__name__}: {exc})") from exc
 
     def fileno(self) -> int:
         raise NotImplementedError    # python-can's Notifier then reads in a thread

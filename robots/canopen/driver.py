@@ -611,9 +611,14 @@ class CanOpenBase(DriveStartUp, DriveStopping, Base):
                               {"device": f"CAN bus {self.port.split('?')[0]}", "code": None,
                                "meaning": f"the CAN controller is {state}"})
 
+    def on_link_lost(self, exc: Exception) -> None:
+        if self._closing.is_set():
+            return
+        self._raise_fault(f"CAN link lost while receiving: {exc}", self._link_info(exc, "receiving"))
+
     # -- faults --------------------------------------------------------------------------------------
-    def _link_info(self, exc: Exception) -> dict:
-        return {"device": f"CAN link {self.port.split('?')[0]}", "code": None, "meaning": f"sending failed: {exc}"}
+    def _link_info(self, exc: Exception, doing: str = "sending") -> dict:
+        return {"device": f"CAN link {self.port.split('?')[0]}", "code": None, "meaning": f"{doing} failed: {exc}"}
 
     def _raise_fault(self, reason: str, info: dict | None = None) -> None:
         """Record a fault (`info`: device, code, meaning, where known); act at once in real
@@ -745,6 +750,10 @@ class _Raw(can.Listener):
 
     def __init__(self, base: CanOpenBase) -> None:
         self.base = base
+
+    def on_error(self, exc: Exception) -> None:
+        """The receive thread lost the link: a link fault, like a failed send."""
+        self.base.on_link_lost(exc)
 
     def on_message_received(self, msg: can.Message) -> None:
         if msg.is_error_frame:

@@ -116,3 +116,70 @@ def test_losing_the_socketcand_link_is_a_link_fault_not_an_exception(server):
         threading.excepthook = previous
     assert time.monotonic() - t0 < 3.0
     assert not raised, raised
+
+
+class ResettingProxy:
+    """A TCP relay between the driver and the bus server that can end the driver's side with a
+    reset (RST, SO_LINGER 0): the driver then reads ConnectionResetError, not end of file."""
+
+    def __init__(self, upstream_port: int) -> None:
+        import socket
+        import threading
+
+        self.upstream_port = upstream_port
+        self.listener = socket.create_server(("127.0.0.1", 0))
+        self.port = self.listener.getsockname()[1]
+        self.client = None
+        threading.Thread(target=self._accept, daemon=True).start()
+
+    def _accept(self) -> None:
+        import socket
+        import threading
+
+        self.client, _ = self.listener.accept()
+        upstream = socket.create_connection(("127.0.0.1", self.upstream_port))
+        for a, b in ((self.client, upstream), (upstream, self.client)):
+            threading.Thread(target=self._pump, args=(a, b), daemon=True).start()
+
+    @staticmethod
+    def _pump(src, dst) -> None:
+        try:
+            while chunk := src.recv(4096):
+                dst.sendall(chunk)
+        except OSError:
+            pass
+
+    def reset(self) -> None:
+        import socket
+        import struct
+
+        self.client.setsockopt(socket.SOL_SOCKET, socket.SO_LINGER, struct.pack("ii", 1, 0))
+        self.client.close()
+        self.listener.close()
+
+
+def test_a_reset_link_is_a_link_fault_and_no_thread_raises(server):
+    """The receive thread reads 'connection reset' (seen once in the suite when the server was
+    killed): the driver takes it as a link fault; canopen's receive thread must not re-raise it."""
+    import threading
+
+    _, port = server
+    proxy = ResettingProxy(int(port.rsplit(":", 1)[1]))
+    raised = []
+    previous = threading.excepthook
+    threading.excepthook = lambda args: raised.append(args.exc_value)
+    base = CanOpenBase.for_profile(ARGOS, f"socketcand:127.0.0.1:{proxy.port}", clock=RealClock())
+    try:
+        base.open()
+        base.command(0.2, 0.0)
+        proxy.reset()
+        deadline = time.monotonic() + 2.0
+        while base.fault is None and time.monotonic() < deadline:
+            time.sleep(0.01)                 # no command: the receive side alone must see it
+        assert base.fault is not None and not base.read_state().link_up, base.fault
+        assert "CAN link lost" in base.fault         # seen by the receive thread or a send
+        assert base.read_state().extra["fault_device"].startswith("CAN link socketcand:127.0.0.1")
+    finally:
+        base.close()
+        threading.excepthook = previous
+    assert not raised, raised
