@@ -6,7 +6,9 @@ seconds, radians; velocities in m/s and rad/s.
 """
 from __future__ import annotations
 
+import functools
 import math
+import sys
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
 from importlib.metadata import entry_points
@@ -89,9 +91,17 @@ def clamp_velocity(v: float, w: float, limits: Limits) -> tuple[float, float]:
 def base_classes() -> dict[str, type[Base]]:
     """Base implementations registered under the entry-point group `interbot.bases`."""
     found = {}
-    for ep in entry_points(group="interbot.bases"):
+    for ep in _registered_bases(tuple(sys.path)):
         try:
             found[ep.name] = ep.load()
         except Exception as exc:  # a broken plugin must not hide the others
             raise RobotError(f"base plugin '{ep.name}' ({ep.value}) failed to load: {exc}") from exc
     return found
+
+
+@functools.lru_cache(maxsize=4)
+def _registered_bases(search_path: tuple[str, ...]):
+    """The `interbot.bases` entry points, read once per import path: reading them scans every
+    installed package's metadata (20-35 ms here), and each profile load asks for them; a
+    changed `sys.path` (a plugin folder added at run time) reads them again."""
+    return entry_points(group="interbot.bases")
