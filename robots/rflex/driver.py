@@ -29,7 +29,9 @@ the same work deterministically, waiting (real-time timeout) for the emulator's 
 """
 from __future__ import annotations
 
+import io
 import math
+import select
 import threading
 import time
 
@@ -422,7 +424,16 @@ class RFlexBase(Base):
             elif counter.backlog() <= 0 or time.monotonic() > deadline:
                 return
             else:
-                time.sleep(0.0002)
+                self._wait_readable(min(0.02, max(0.0, deadline - time.monotonic())))
+
+    def _wait_readable(self, timeout: float) -> None:
+        """Lock-step: sleep until the emulator's bytes are readable (a pty hands them over a
+        little later than they were written), not in fixed slices that each overshoot."""
+        port = self._port
+        try:
+            select.select([port.fileno()], [], [], timeout)
+        except (AttributeError, OSError, ValueError, io.UnsupportedOperation):
+            time.sleep(0.0002)               # a port without a descriptor (a URL handler)
 
     def _io_loop(self) -> None:
         while self._running:
