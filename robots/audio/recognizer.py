@@ -52,11 +52,13 @@ FILLERS = {"<s>", "</s>", "<sil>", "(NULL)", "[NOISE]"}
 # footing and can be compared.
 DECODER_OPTIONS = dict(bestpath=False, compallsen=True, beam=1e-150, wbeam=1e-120,
                        pbeam=1e-150)
-# The noise floor (RMS, in 16-bit sample units: about 40 dB under speech at a normal level) laid
-# under every utterance before decoding, seeded so the same sound always decodes the same; 0
-# for none. Digital silence (the exact zeros of a synthesised or padded file) made the feature
-# normalisation take speech for silence; with this floor the calibration set's lower rate rose
-# from 90.0 to 91.9 % in English and from 77.2 to 87.0 % in German (docs/tablet-and-voice.md).
+# The noise floor (RMS, in 16-bit sample units: about 43 dB under espeak-ng's speech, whose RMS
+# is near 2 800) laid under every utterance before decoding, seeded so the same sound always
+# decodes the same; 0 for none. Digital silence (the exact zeros of a synthesised or padded
+# file) made the feature normalisation take speech for silence; with this floor the
+# calibration set's lower rate rose from 90.0 to 91.9 % in English and from 77.2 to 87.0 % in
+# German. Louder floors (100, 300) did better on the calibration set but, at 300, worse on the
+# held-out voices (docs/tablet-and-voice.md), so the floor stays.
 NOISE_FLOOR = 20.0
 NUMBERS = ("zero", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten")
 
@@ -320,10 +322,12 @@ class AnswerRecognizer(SpeechRecognizer):
             warnings.simplefilter("ignore", DeprecationWarning)
             self.decoder.start_stream()
 
-    def _judgement(self, audio: bytes, paths: dict[str, str]) -> Judgement:
+    def _judgement(self, audio: bytes, paths: dict[str, str],
+                   margin: bool = True) -> Judgement:
         """The answer an utterance resembles most; how much worse per frame of speech it fits
         than the free phones (0: as well; the more negative, the less it is that); and how much
-        better than the best of the other answers (0 when there is none)."""
+        better than the best of the other answers (0 when there is none, or when `margin` is
+        false: a cap of 0 makes it count nothing, so the rivals' decode is spared)."""
         audio = with_noise_floor(audio, self.noise_floor)
         said = self._decode("answers", audio)
         if said is None:
@@ -334,7 +338,7 @@ class AnswerRecognizer(SpeechRecognizer):
             return Judgement(choice, None)
         fit = (said[1] - free[1]) / said[2]
         rivals = {p: c for p, c in paths.items() if c != choice}
-        if not rivals:
+        if not rivals or not margin:
             return Judgement(choice, fit)
         self.decoder.add_fsg("rivals", self._grammar(rivals, "rivals"))
         rival = self._decode("rivals", audio)
@@ -352,7 +356,7 @@ class AnswerRecognizer(SpeechRecognizer):
 
     def _judge(self, audio: bytes, wanted: tuple[str, dict[str, str]]) -> None:
         prompt_id, paths = wanted
-        judgement = self._judgement(audio, paths)
+        judgement = self._judgement(audio, paths, margin=self.margin_cap > 0)
         score = judgement.score(self.margin_cap)
         if judgement.taken(self.threshold, self.margin_cap):
             log.info("heard '%s' for %s (score %.1f: fit %.1f, margin %.1f)", judgement.choice,

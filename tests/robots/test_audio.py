@@ -144,9 +144,33 @@ def test_an_utterance_is_judged_the_same_whatever_was_heard_before(tmp_path):
     assert first == after_another == again == elsewhere
 
 
+def test_a_cap_of_0_spares_the_rivals_decode_and_decides_alike(tmp_path, monkeypatch):
+    """With a margin cap of 0 the margin counts nothing, so listening decodes each utterance
+    twice (answers, free phones), not three times; what it takes is the same."""
+    searches = []
+    decode = AnswerRecognizer._decode
+
+    def spy(self, search, audio):
+        searches.append(search)
+        return decode(self, search, audio)
+
+    monkeypatch.setattr(AnswerRecognizer, "_decode", spy)
+    yes = WavFileSource(spoken(tmp_path, "yes"))._data
+    heard = {}
+    for cap in (0.0, 20.0):
+        recognizer = AnswerRecognizer(WavFileSource(spoken(tmp_path, "yes")),
+                                      threshold=-19.0, margin_cap=cap)
+        searches.clear()
+        heard[cap] = recognizer.hear_utterance(yes, ("yes", "no"))
+        recognizer.close()
+        assert searches == (["answers", "phones"] if cap == 0.0
+                            else ["answers", "phones", "rivals"])
+    assert heard == {0.0: "yes", 20.0: "yes"}
+
+
 def test_the_noise_floor_is_small_seeded_and_can_be_left_out():
     """Digital silence gets the noise floor a microphone has, the same each time (the same
-    sound must decode the same), about 40 dB under speech; 0 leaves the sound as it is."""
+    sound must decode the same), at the RMS asked; 0 leaves the sound as it is."""
     silence = bytes(2 * 16000)
     floored = with_noise_floor(silence, 20.0)
     assert floored == with_noise_floor(silence, 20.0)
