@@ -9,7 +9,9 @@ Each utterance is decoded three times (utterance verification): with a grammar t
 the answers on the screen, each a path of its words (each word as espeak-ng and, for English,
 the dictionary say it: `pronounce.py`), which says *which* answer it most resembles; with a
 free loop of the model's phones, which fits any sound as well as the model can; and with the
-other answers only, the best answer's rivals. How much worse per frame of speech the best
+other answers only, the best answer's rivals (spared when the margin's cap is 0). Each
+decode starts pocketsphinx's noise estimate afresh, so an utterance is judged the same
+whatever was heard before it. How much worse per frame of speech the best
 answer fits than the free phones (its fit) and how much better than its best rival (its
 margin) say *whether* it was that answer at all (`confidence.py`): `threshold` is the least
 score (the fit plus the margin up to `margin_cap`) taken. **Raise it to accept fewer** — fewer
