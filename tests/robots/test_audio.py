@@ -122,9 +122,55 @@ def test_the_margin_is_the_lead_over_the_next_answer(tmp_path):
         AnswerRecognizer(WavFileSource(spoken(tmp_path, "yes")), margin_cap=-1.0)
 
 
+def test_an_utterance_is_judged_the_same_whatever_was_heard_before(tmp_path):
+    """Each decode starts its noise estimate afresh: the same "yes" is judged exactly alike as
+    the first utterance of a recognizer, after another word and after itself, and as the
+    first of another recognizer. (pocketsphinx carried the estimate over: "yes" fitted 5.8
+    per frame first and 0.1 after; without the reset this test fails.)"""
+    yes = WavFileSource(spoken(tmp_path, "yes"))._data
+    banana = WavFileSource(spoken(tmp_path, "banana"))._data
+    choices = ("yes", "no")
+    recognizer = AnswerRecognizer(WavFileSource(spoken(tmp_path, "yes")))
+    first = recognizer.judge(yes, choices)
+    recognizer.judge(banana, choices)
+    after_another = recognizer.judge(yes, choices)
+    again = recognizer.judge(yes, choices)
+    recognizer.close()
+    other = AnswerRecognizer(WavFileSource(spoken(tmp_path, "yes")))
+    other.judge(banana, ("1", "2", "3"))
+    elsewhere = other.judge(yes, choices)
+    other.close()
+    assert first.choice == "yes" and first.fit is not None
+    assert first == after_another == again == elsewhere
+
+
+def test_a_cap_of_0_spares_the_rivals_decode_and_decides_alike(tmp_path, monkeypatch):
+    """With a margin cap of 0 the margin counts nothing, so listening decodes each utterance
+    twice (answers, free phones), not three times; what it takes is the same."""
+    searches = []
+    decode = AnswerRecognizer._decode
+
+    def spy(self, search, audio):
+        searches.append(search)
+        return decode(self, search, audio)
+
+    monkeypatch.setattr(AnswerRecognizer, "_decode", spy)
+    yes = WavFileSource(spoken(tmp_path, "yes"))._data
+    heard = {}
+    for cap in (0.0, 20.0):
+        recognizer = AnswerRecognizer(WavFileSource(spoken(tmp_path, "yes")),
+                                      threshold=-19.0, margin_cap=cap)
+        searches.clear()
+        heard[cap] = recognizer.hear_utterance(yes, ("yes", "no"))
+        recognizer.close()
+        assert searches == (["answers", "phones"] if cap == 0.0
+                            else ["answers", "phones", "rivals"])
+    assert heard == {0.0: "yes", 20.0: "yes"}
+
+
 def test_the_noise_floor_is_small_seeded_and_can_be_left_out():
     """Digital silence gets the noise floor a microphone has, the same each time (the same
-    sound must decode the same), about 40 dB under speech; 0 leaves the sound as it is."""
+    sound must decode the same), at the RMS asked; 0 leaves the sound as it is."""
     silence = bytes(2 * 16000)
     floored = with_noise_floor(silence, 20.0)
     assert floored == with_noise_floor(silence, 20.0)
