@@ -357,8 +357,10 @@ class Guiding(Skill):
         else:
             f = (AHEAD - along[j - 1]) / max(steps[j - 1], 1e-12)
             target = ahead[j - 1] + f * (ahead[j] - ahead[j - 1])
-        if math.hypot(target[0] - pose.x, target[1] - pose.y) < 0.1:
-            return self._forward           # on the goal: the way it came
+        if math.hypot(target[0] - pose.x, target[1] - pose.y) < 0.1 or along[-1] < 0.1:
+            # on the goal, or past it (come in fast): the way it came; towards the goal from
+            # beyond it is backwards, and the rear sonars took the visitor for ahead
+            return self._forward
         return math.atan2(target[1] - pose.y, target[0] - pose.x)
 
     def _way_or_heading(self, pose) -> float:
