@@ -90,7 +90,17 @@ def test_a_robot_beside_its_goal_with_no_path_left_may_still_drive_to_it():
     assert cap > 0.2, (cap, why)                   # it was 0: the robot stood there for good
 
 
-def test_the_safety_arbiter_caps_for_people_ahead_only_while_driving_forward():
+def test_the_safety_arbiter_caps_for_people_ahead_not_for_those_the_robot_leaves_behind():
+    from types import SimpleNamespace
+
+    from skills.motion import Motion
+    motion = Motion.__new__(Motion)
+    motion.followed = None
+    motion.localization = SimpleNamespace(state=SimpleNamespace(x=0.0, y=0.0, th=0.0))
+    person = lambda x, y: SimpleNamespace(id=1, x=x, y=y, vx=0.0, vy=0.0)
     free = dict(link_fresh=True, free_ahead=5.0, free_behind=5.0, limits=LIMITS)
-    assert arbitrate(0.6, 0.0, nearest_person=1.0, **free)[0] == 0.3
-    assert arbitrate(0.6, 0.0, nearest_person=math.inf, **free)[0] == 0.6
+    motion.perception = SimpleNamespace(tracks=[person(-1.1, 0.0)])      # 1.1 m behind
+    assert arbitrate(0.6, 0.0, nearest_person=motion._nearest_person(0.6), **free)[0] == 0.6
+    assert motion._nearest_person(-0.2) == 1.1 == motion._nearest_person(0.0)   # backing, still
+    motion.perception = SimpleNamespace(tracks=[person(0.2, 1.0)])       # beside, a bit ahead
+    assert arbitrate(0.6, 0.0, nearest_person=motion._nearest_person(0.6), **free)[0] == 0.3
