@@ -14,7 +14,7 @@ from behaviors.registry import BehaviorContext
 from skills.guiding import (GAVE_UP, LEADING, OUTCOME_ARRIVED, OUTCOME_NAVIGATION,
                             OUTCOME_USER_LOST, WAITING)
 from skills.motion import Goal
-from skills.navigation.navigation import BLOCKED, PAUSED, TURNING
+from skills.navigation.navigation import ARRIVED as NAV_ARRIVED, BLOCKED, PAUSED, TURNING
 
 BEHIND_GRACE = 1.0       # s the user must stay behind before the guide stops for them
 RESUME_SLACK = 0.5       # m beyond the following distance at which the guide drives on
@@ -131,8 +131,7 @@ class Lead(SkillLeaf):
         skills, now = self.skills, self.now
         nav, guide = skills.navigation, skills.guide
         if nav.status.succeeded:
-            guide.finish(OUTCOME_ARRIVED, now, nav.status.reason)
-            return Status.SUCCESS
+            return self._on_the_goal(now)
         if nav.status.failed:
             guide.finish(OUTCOME_NAVIGATION, now, nav.status.reason)
             self.feedback_message = nav.status.reason
@@ -157,25 +156,53 @@ class Lead(SkillLeaf):
                 guide.lead(now)
                 nav.resume(now)
             elif state.waiting_for >= self.give_up_after:
-                seen = ("not seen" if distance is None
-                        else f"{distance:.1f} m away")
-                reason = (f"the user did not follow: {seen} after waiting "
-                          f"{state.waiting_for:.0f} s")
-                nav.cancel(now)
-                guide.finish(OUTCOME_USER_LOST, now, reason)
-                self.feedback_message = reason
-                return Status.FAILURE
+                return self._give_up(now)
             elif self.turn_back and not self._turned:
                 self._look_round(now)
         elif state.phase == GAVE_UP:
             return Status.FAILURE
         return Status.RUNNING
 
+    def _on_the_goal(self, now: float) -> Status:
+        """Arrived: done with the user there. With the user not seen, or more than
+        `follow_distance` + WAIT_SLACK away, for BEHIND_GRACE (a user who walked off while the
+        robot drove its last metres), it waits there as on the way (turning round to look,
+        without a head), and gives up after `give_up_after`. Arrival was done at once before:
+        led a little faster, HOROS said "Here we are" to nobody, its user gone 2.5 s before."""
+        guide = self.skills.guide
+        state = guide.state
+        distance = state.user_distance
+        slack = RESUME_SLACK if state.phase == WAITING else WAIT_SLACK
+        if distance is not None and distance <= self.follow_distance + slack:
+            guide.finish(OUTCOME_ARRIVED, now, self.skills.navigation.status.reason)
+            return Status.SUCCESS
+        if state.phase == LEADING:
+            if self._behind_since is None:
+                self._behind_since = now
+            if now - self._behind_since >= BEHIND_GRACE:
+                guide.wait(now)
+                self._turned = False
+        elif state.waiting_for >= self.give_up_after:
+            return self._give_up(now)
+        elif self.turn_back and not self._turned:
+            self._look_round(now)
+        return Status.RUNNING
+
+    def _give_up(self, now: float) -> Status:
+        distance = self.skills.guide.state.user_distance
+        seen = "not seen" if distance is None else f"{distance:.1f} m away"
+        reason = (f"the user did not follow: {seen} after waiting "
+                  f"{self.skills.guide.state.waiting_for:.0f} s")
+        self.skills.navigation.cancel(now)
+        self.skills.guide.finish(OUTCOME_USER_LOST, now, reason)
+        self.feedback_message = reason
+        return Status.FAILURE
+
     def _look_round(self, now: float) -> None:
         """Turn the body to face back along the way it came (the camera and laser then see the
         user); navigation drives on from there when the user is back (it turns first)."""
         pose = self.skills.localization.state
-        if pose is None or self.skills.navigation.state.phase != PAUSED:
+        if pose is None or self.skills.navigation.state.phase not in (PAUSED, NAV_ARRIVED):
             return
         self._turned = True
         target = self.skills.guide.state.user_xy

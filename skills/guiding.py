@@ -15,7 +15,8 @@ nearest of:
    explains is something standing in the open behind the robot; the nearest one counts, at
    its range plus a person's body radius;
 4. failing those, the last sighting, for up to 6 s, while the place it puts the follower (as
-   far behind, as far off the way) is where no sensor of the robot looks: ARGOS has no sonar
+   far behind, as far off the way) is where no sensor of the robot looks or behind a wall of
+   the map (round a corner, where nothing sees them): ARGOS has no sonar
    behind, so it turns round to look, sees its visitor and turns back to the way; without
    this it lost them at once and stopped again a few decimetres on.
 
@@ -210,19 +211,22 @@ class Guiding(Skill):
 
     def _remembered(self, pose, now: float):
         """The follower's last sighting, for up to BLIND_MEMORY s, while the place it puts
-        them (as far behind, as far off the way) is where none of the robot's sensors looks:
-        ARGOS, with no sonar behind, turned round, saw its visitor and turned back to the way,
-        lost them at once and stopped again after a few decimetres. Never refreshed by itself,
-        and never where a sonar, the laser or the camera could see the follower."""
+        them (as far behind, as far off the way) is where none of the robot's sensors looks,
+        or behind a wall of the map: ARGOS, with no sonar behind, turned round, saw its
+        visitor and turned back to the way, lost them at once and stopped again after a few
+        decimetres; at a corner the simulated visitor stops 1.5 m away on the far side of the
+        corner's wall, where nothing sees them, and HOROS waited 30 s for them (generated
+        building 2, tour 12). Never refreshed by itself, and never where a sonar, the laser or
+        the camera could see the follower."""
         if self._sighting is None or self._seen_at is None or now - self._seen_at > BLIND_MEMORY:
             return None
         distance, off_way = self._sighting
         bearing = off_way + self._way_or_heading(pose) - pose.th
         bearing = math.atan2(math.sin(bearing), math.cos(bearing))
-        if self._watched(bearing):
-            return None
         x = pose.x + distance * math.cos(pose.th + bearing)
         y = pose.y + distance * math.sin(pose.th + bearing)
+        if self._watched(bearing) and self._in_sight(x, y, pose):
+            return None
         return distance, bearing, (x, y), "memory"
 
     def _watched(self, bearing: float) -> bool:
@@ -353,8 +357,10 @@ class Guiding(Skill):
         else:
             f = (AHEAD - along[j - 1]) / max(steps[j - 1], 1e-12)
             target = ahead[j - 1] + f * (ahead[j] - ahead[j - 1])
-        if math.hypot(target[0] - pose.x, target[1] - pose.y) < 0.1:
-            return self._forward           # on the goal: the way it came
+        if math.hypot(target[0] - pose.x, target[1] - pose.y) < 0.1 or along[-1] < 0.1:
+            # on the goal, or past it (come in fast): the way it came; towards the goal from
+            # beyond it is backwards, and the rear sonars took the visitor for ahead
+            return self._forward
         return math.atan2(target[1] - pose.y, target[0] - pose.x)
 
     def _way_or_heading(self, pose) -> float:

@@ -31,6 +31,7 @@ TURN_GAIN = 1.5            # rad/s per rad of heading error
 DISTANCE_GAIN = 0.8        # m/s per m of distance error
 ALIGNED = math.radians(6)  # heading error counted as "facing"
 AT_DISTANCE = 0.1          # m
+LEFT_BEHIND = math.radians(100)  # a person farther off the way the robot drives is left behind
 PERSON_CONE = math.radians(60)   # a person this far off the heading (or its reverse) is
                                  # ahead (behind) for the arbiter's minimum distance
 
@@ -84,7 +85,7 @@ class Motion(Skill):
         behind = self.blackboard.value("obstacles/rear", 0.0)      # unknown: not free
         ahead, rear = self._people_ahead_and_behind()
         v, w, reason = arbitrate(v, w, link_fresh=link, free_ahead=free, free_behind=behind,
-                                 nearest_person=self._nearest_person(), limits=self.limits,
+                                 nearest_person=self._nearest_person(v), limits=self.limits,
                                  person_ahead=ahead, person_behind=rear,
                                  min_person_distance=self.min_person_distance)
         self.base.command(v, w)
@@ -143,12 +144,18 @@ class Motion(Skill):
             self.set_status(SUCCEEDED if abs(error) < ALIGNED else RUNNING, now)
         return TURN_GAIN * error if abs(error) >= ALIGNED / 2 else 0.0
 
-    def _nearest_person(self) -> float:
+    def _nearest_person(self, v: float = 0.0) -> float:
+        """m to the nearest person the near-people cap is for: not one the robot leaves
+        behind (more than LEFT_BEHIND off the way it drives: driving on can only widen that
+        gap, and slowing down would let them close in), nor a receding followed customer."""
         state = self.localization.state
         if state is None or not self.perception.tracks:
             return math.inf
+        way = state.th if v >= 0 else state.th + math.pi
         return min((math.hypot(t.x - state.x, t.y - state.y) for t in self.perception.tracks
-                    if not self._receding_followed(t, state)), default=math.inf)
+                    if not self._receding_followed(t, state)
+                    and (v == 0 or abs(wrap(math.atan2(t.y - state.y, t.x - state.x) - way))
+                         <= LEFT_BEHIND)), default=math.inf)
 
     def _people_ahead_and_behind(self) -> tuple[float, float]:
         """m to the nearest tracked person within ±60° of the heading, and of the reverse

@@ -403,9 +403,19 @@ class Navigation(Skill):
         self.state = _replace(self.state, phase=TURNING, distance_left=0.0, blocked_for=0.0)
         self.set_status(SkillStatus(Status.RUNNING), now)
         self._publish(now)
-        step = self.limits.max_turn_accel * p.controller.tick
-        w = max(-self.limits.max_turn_rate, min(self.limits.max_turn_rate, TURN_GAIN * error))
-        return 0.0, max(w0 - step, min(w0 + step, w))
+        return 0.0, self._goal_turn_rate(error, w0)
+
+    def _goal_turn_rate(self, error: float, w0: float) -> float:
+        """The turn rate towards the goal's heading: as fast as still stops (at a share
+        `controller.brake` of the turn acceleration) within the heading tolerance, and at
+        least the proportional TURN_GAIN rate. The proportional rate alone crept through the
+        last 30 degrees: turning on the goal took 1.7 s of a guide tour for 100 degrees."""
+        p, limits = self.params, self.limits
+        step = limits.max_turn_accel * p.controller.tick
+        left = max(abs(error) - p.heading_tolerance / 2, 0.0)
+        stopping = math.sqrt(2 * p.controller.brake * limits.max_turn_accel * left)
+        w = math.copysign(min(limits.max_turn_rate, max(stopping, TURN_GAIN * abs(error))), error)
+        return max(w0 - step, min(w0 + step, w))
 
     def _arrive(self, now: float) -> None:
         self._release(now)

@@ -193,7 +193,7 @@ steps = [ {{ follow = 1.2, until = 14.0 }}, {{ leave = [{away}, 0.5] }} ]
 """
 
 
-@pytest.mark.parametrize("robot_name", ["horos", "perses"])
+@pytest.mark.parametrize("robot_name", ["horos", "perses", "argos"])
 def test_a_robot_held_up_in_a_door_reports_the_stall_not_a_lost_user(tmp_path, robot_name):
     """Issue 22, point 3: bob walks into the only door to the room and stands there; uma
     follows the robot for 14 s, then walks off while the robot stands before bob. The run ends
