@@ -121,7 +121,7 @@ class Lead(SkillLeaf):
         skills, now = self.skills, self.now
         user = skills.perception.user
         skills.require("guide").start(self.place, now, user.id if user is not None else None)
-        skills.require("navigation").go_to(self.place, now, speed=self.pace)
+        skills.require("navigation").go_to(self.place, now, speed=self.pace, lead=True)
         self._behind_since, self._turned = None, False
 
     def update(self) -> Status:

@@ -126,14 +126,16 @@ class LocalController:
     # -- the tick --------------------------------------------------------------------------
 
     def step(self, pose, velocity, path, *, points=None, people: Sequence = (),
-             max_speed: float | None = None, block_points=None, held: bool = False) -> Command:
+             max_speed: float | None = None, block_points=None, held: bool = False,
+             lead_off: bool = False) -> Command:
         """The command for this tick. `pose` (x, y, th) and `velocity` (v, w) of the robot;
         `path` (n, 2) the rest of the global path from the robot's projection to the goal;
         `points` (k, 2) range readings in the map frame; `people` with x, y, vx, vy;
         `block_points` the readings precise enough to say the path is blocked (default:
         `points`; wide sonar cones place an echo too loosely for that); `held` while the
         caller counts the robot as held up by an obstruction (it then stands `resume_margin`
-        further back before it moves towards the obstruction again)."""
+        further back before it moves towards the obstruction again); `lead_off` scores the
+        heading halfway through the horizon as well (a guide leading a visitor off)."""
         p = self.params
         x, y, th = (float(v) for v in pose)
         v0, w0 = (float(v) for v in velocity)
@@ -171,7 +173,7 @@ class LocalController:
                            blocker=blocker or _nearest(x, y, near, crowd), speed_cap=cap,
                            reason="no collision-free command within the horizon")
         score = self._score(commands, poses, long_poses, gap, gap0, crowd, path, target, cap,
-                            turning)
+                            turning, lead_off)
         score[~ok] = np.inf
         best = int(np.argmin(score))
         v, w = (float(c) for c in commands[best])
@@ -421,7 +423,7 @@ class LocalController:
         return np.hypot(poses[..., 0, None] - fx, poses[..., 1, None] - fy)
 
     def _score(self, commands, poses, long_poses, gap, gap0, crowd, path, target,
-               cap, turning: bool = False) -> np.ndarray:
+               cap, turning: bool = False, lead_off: bool = False) -> np.ndarray:
         """Lower is better: progress along the path, heading along it, distance from it,
         clearance, people's personal space, speed."""
         p = self.params
@@ -452,12 +454,15 @@ class LocalController:
         heading = np.abs(_wrap(np.arctan2(aim[:, 1] - end[:, 1], aim[:, 0] - end[:, 0])
                                - end[:, 2])) / math.pi
         heading = np.where(to_aim < 0.1, 0.0, heading)
-        # and halfway: scored at the horizon's end alone, a turn that lines up just then
-        # (0.5 rad/s for 1 rad) scored as well as a quick one, and the robot led off slowly
-        mid = poses[:, len(self._times) // 2 - 1, :]
-        to_mid = np.abs(_wrap(np.arctan2(aim[:, 1] - mid[:, 1], aim[:, 0] - mid[:, 0])
-                              - mid[:, 2])) / math.pi
-        heading = 0.5 * (heading + np.where(to_aim < 0.1, 0.0, to_mid))
+        if lead_off:
+            # and halfway: scored at the horizon's end alone, a turn that lines up just then
+            # (0.5 rad/s for 1 rad) scored as well as a quick one, and a guide led off slowly.
+            # Only for a guide: a follower scored so followed a look-alike crossing close past
+            # its customer out of the store (tests/skills/test_following.py, HOROS)
+            mid = poses[:, len(self._times) // 2 - 1, :]
+            to_mid = np.abs(_wrap(np.arctan2(aim[:, 1] - mid[:, 1], aim[:, 0] - mid[:, 0])
+                                  - mid[:, 2])) / math.pi
+            heading = 0.5 * (heading + np.where(to_aim < 0.1, 0.0, to_mid))
         # only getting closer to walls and readings costs: standing near one is no reason to
         # stay; with clearance_beyond_path, only closer than the path itself goes (a door a
         # little wider than the robot needs less than CLEAR: counting that made standing

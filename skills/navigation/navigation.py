@@ -117,6 +117,7 @@ class Navigation(Skill):
         self.last_command = None
         self._target: tuple[float, float, float | None] | None = None
         self._speed: float | None = None
+        self._lead = False          # go_to(lead=True): a guide's goal
         self._segment = 0
         self._blocked_since: float | None = None
         self._clear_since: float | None = None
@@ -155,10 +156,13 @@ class Navigation(Skill):
     def places(self) -> list[str]:
         return sorted(self.grid.places)
 
-    def go_to(self, target, now: float, *, speed: float | None = None) -> SkillStatus:
+    def go_to(self, target, now: float, *, speed: float | None = None,
+              lead: bool = False) -> SkillStatus:
         """Drive to a place name of the map or a pose (x, y[, heading rad]) at up to `speed`
-        m/s (None: the profile's max_speed); replaces any current goal. Returns the status:
-        running, or failed at once for an unknown place, a bad pose or no path."""
+        m/s (None: the profile's max_speed); replaces any current goal. `lead`: a guide
+        leading someone, who turns onto the way sooner (the controller's `lead_off`). Returns
+        the status: running, or failed at once for an unknown place, a bad pose or no path."""
+        self._lead = lead
         if speed is not None:
             self.set_speed(speed)
         else:
@@ -261,7 +265,8 @@ class Navigation(Skill):
         command = self.controller.step((x, y, th), (state.v, state.w), rest,
                                        points=self._unmapped(self.points), people=people,
                                        max_speed=self._speed, block_points=self.block_points,
-                                       held=self._blocked_since is not None)
+                                       held=self._blocked_since is not None,
+                                       lead_off=self._lead)
         if (not command.admissible and self._blocked_since is None
                 and (self.last_command is None or self.last_command.admissible)):
             # one tick without a safe move stops the robot for that tick; a blocked way is one
