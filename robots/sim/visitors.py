@@ -54,7 +54,8 @@ GAZE = math.radians(15.0)    # the robot looks at the person when its gaze is th
 GAZE_HELD = 1.0         # s the gaze must rest on the person to count as turning to them
 DRIVE_TOWARDS = 0.1     # m/s of the robot's speed towards the person that counts
 STOP_AT = 0.5           # m from the robot's centre where a person who comes stops
-GROUP_SPACING = 0.6     # m between members of a group, along the way
+GROUP_SPACING = 0.5     # m between members of a group walking side by side
+GROUP_ROW = 0.6         # m a group's third member walks behind the two in front
 DEFAULT_TRAITS = {"voice": (1.0, 1.0), "head": (1.0, 1.0), "drive": (1.0, 1.0),
                   "patience": (20.0, 60.0)}
 
@@ -97,20 +98,50 @@ def visitor_plans(table: dict, reader) -> tuple[PersonPlan, ...]:
     kinds = _kinds(reader, table, label)
     periods = _periods(reader, table, label, kinds)
     plans, t = [], first
+    abreast = not (isinstance(start, str) or isinstance(goal, str))
     for arrival in range(count):
         size = int(rng.integers(2, 4)) if rng.random() < groups else 1
         traits = _traits_at(t, kinds, periods)["groups" if size > 1 else "people"]
         pace = float(rng.uniform(*speed))
         for member in range(size):
             patience = float(rng.uniform(*traits.patience))
-            steps = (Visit(goal, traits, size), Approach(STOP_AT + 0.3 * member),
+            side, behind = _place_in_group(member, size)
+            at, to = _beside(start, goal, side), _beside(goal, start, -side)
+            steps = (Visit(to, traits, size), Approach(STOP_AT + 0.3 * member),
                      Answer(tuple(answers), delay=2.0, reach=1.2, timeout=patience),
-                     Leave(goal))
+                     Leave(to))
             plans.append(PersonPlan(id=f"visitor{arrival}" + (f"_{member}" if size > 1 else ""),
-                                    appear=t + member * GROUP_SPACING / pace, at=start,
-                                    speed=pace, exit=goal, steps=steps))
+                                    appear=t + (behind if abreast else member * GROUP_SPACING)
+                                    / pace,
+                                    at=at, speed=pace, exit=to, steps=steps,
+                                    group=f"visitor{arrival}" if size > 1 else None))
         t += float(rng.uniform(*every))
     return tuple(plans)
+
+
+def _place_in_group(member: int, size: int) -> tuple[float, float]:
+    """Where a group's member walks: metres to the left of the way, and behind the front row.
+    Two walk abreast (as groups do where the way is free: Moussaïd et al. 2010); a third
+    follows in the middle behind them, since three abreast do not pass the robot in a 2.4 m
+    hallway."""
+    if size == 1:
+        return 0.0, 0.0
+    if member < 2:
+        return (member - 0.5) * GROUP_SPACING, 0.0
+    return 0.0, GROUP_ROW * (member - 1)
+
+
+def _beside(point: Point, towards: Point, side: float) -> Point:
+    """`point` moved `side` metres to the left of the way to `towards` (a group walks abreast,
+    as groups do when the way is free: Moussaïd et al. 2010). A place name cannot be moved:
+    then the members walk in file, one behind the other."""
+    if side == 0.0 or isinstance(point, str) or isinstance(towards, str):
+        return point
+    dx, dy = towards[0] - point[0], towards[1] - point[1]
+    norm = math.hypot(dx, dy)
+    if norm < 1e-9:
+        return point
+    return (point[0] - dy / norm * side, point[1] + dx / norm * side)
 
 
 def visit(person: "SimPerson", step: Visit, dt: float, world: "World") -> bool:

@@ -117,3 +117,29 @@ def test_propensities_differ_from_seed_to_seed_and_repeat_for_one():
         return world.people[0].step_state["chance"]["voice"]
 
     assert chances(1) == chances(1) != chances(2)
+
+
+def test_a_group_walks_two_abreast_and_a_third_behind_them():
+    found = scenario(count=30, every=[10, 10], group_share=1.0, speed=[1.0, 1.0])
+    by_group = {}
+    for plan in found.people:
+        by_group.setdefault(plan.group, []).append(plan)
+    sizes = {len(members) for members in by_group.values()}
+    assert sizes == {2, 3} and None not in by_group
+    for members in by_group.values():
+        front, rest = members[:2], members[2:]
+        assert front[0].appear == front[1].appear           # side by side, not in file
+        (x0, y0), (x1, y1) = front[0].at, front[1].at
+        assert x0 == x1 == 9.5 and abs(y0 - y1) == pytest.approx(0.5)
+        assert front[0].steps[0].to[1] == pytest.approx(y0)   # and stay on their side
+        for third in rest:
+            assert third.at == (9.5, 0.5) and third.appear == pytest.approx(front[0].appear + 0.6)
+
+
+def test_a_group_between_places_walks_in_file():
+    found = parse_scenario({"scenario": {"robot": "robot_home"},
+                            "visitors": {"count": 5, "first": 0.0, "group_share": 1.0,
+                                         "from": "hall_east", "to": "hall_west"}})
+    first_group = [p for p in found.people if p.group == "visitor0"]
+    assert len({p.appear for p in first_group}) == len(first_group) >= 2
+    assert {p.at for p in first_group} == {"hall_east"}

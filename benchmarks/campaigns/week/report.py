@@ -4,8 +4,9 @@
     interbot campaign benchmarks/campaigns/week/fixed.toml --out week-results/fixed
     python benchmarks/campaigns/week/report.py week-results [--svg regret.svg]
 
-**The oracle is per context the learner sees.** The learner chooses per `people.count` as the
-tracker reports it, not per who the passers-by truly are; so the oracle is, per reported context
+**The oracle is per context the learner sees.** The learner chooses per `people.new` (the party
+that arrived: 1 alone, 2 or 3+ a group) as the tracker reports it, not per who the passers-by
+truly are; so the oracle is, per reported context
 and phase (before / after the shift), the alternative whose true success rate there is highest.
 A rate per (context, alternative) is estimated from every strategy's episodes in that phase:
 no strategy's choice depends on the visitor's hidden propensities once the context is given
@@ -142,9 +143,8 @@ def mean(values: list[float]) -> float:
 
 def on_contexts(episodes: list[tuple], truth: Truth, name: str) -> float:
     """What `name` (oracle, first, random) would have been worth in the contexts of these
-    episodes: which contexts come depends on what happened before (a visitor still leaving
-    after a survey makes the next one's `people.count` 2), so a strategy is compared with the
-    others on its own contexts."""
+    episodes: which contexts come depends on what happened before (a group's third member
+    tracked in time or not), so a strategy is compared with the others on its own contexts."""
     policy = getattr(truth, name)
     return mean([sum(c * truth.p(context, a) for a, c in policy(context).items())
                  for _, context, _, _ in episodes])
@@ -258,7 +258,7 @@ def main() -> None:
         if not truth.cells:
             continue
         phase = "after" if after else "before"
-        print(f"\n{phase} the shift, true rates per context the tracker reported "
+        print(f"\n{phase} the shift, true rates per context the robot saw "
               f"({truth.total} episodes of all strategies):")
         print("\n".join(truth.lines()))
         for name in ("oracle", "first", "random"):
