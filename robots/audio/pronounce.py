@@ -7,13 +7,6 @@ those IPA symbols onto the nearest English phones gives a pronunciation for any 
 any language espeak-ng speaks: German answers are then heard with the English acoustic model
 (no German model is packaged for pocketsphinx; see docs/tablet-and-voice.md).
 
-Accents: a word is said differently across a language's accents ("one" is W AA N in Britain,
-W AH N in America), so `pronounce_accents` gives each distinct pronunciation that espeak-ng's
-own voices for the language (`accent_voices`: for English the British, American, Scottish,
-Lancaster, RP, West Midlands, Caribbean and New York ones) give a text, as ASR lexicons carry
-pronunciation variants. The same rule holds for every word of every application; nothing is
-chosen per word.
-
 `ipa_to_phones` is pure (text in, phones out); `espeak_ipa` runs espeak-ng.
 """
 from __future__ import annotations
@@ -26,8 +19,6 @@ from robots.exceptions import RobotError
 
 TIE = "\u200d"                # espeak-ng's --ipa=3 joins the parts of a diphthong with a ZWJ
 IGNORED = set("ˈˌ.ʔ̩̃‿-") | {"\u0329", "\u0303", "\u032f", "ˑ"}   # stress, syllable, glottal stop…
-# …and marks of place that the English phones do not tell apart: dental (t̪), palatalised (kʲ).
-IGNORED |= {"\u032a", "ʲ"}
 
 # Longest symbols first; the values are ARPAbet phones of the English acoustic model.
 IPA_PHONES: dict[str, tuple[str, ...]] = {
@@ -54,8 +45,6 @@ IPA_PHONES: dict[str, tuple[str, ...]] = {
     "ʃ": ("SH",), "t": ("T",), "θ": ("TH",), "v": ("V",), "w": ("W",), "j": ("Y",),
     "z": ("Z",), "ʒ": ("ZH",), "ç": ("HH",), "x": ("HH",), "χ": ("HH",), "ʋ": ("V",),
     "ɬ": ("L",), "ɲ": ("N", "Y"),
-    # sounds of other English accents (espeak-ng's Scottish voice): the nearest US phone
-    "ʉː": ("UW",), "ʉ": ("UW",), "ʍ": ("W",),
 }
 # The flap: a t or d in US English ("water"), an r in German ("Brot").
 FLAP = {"en": ("D",), "de": ("R",)}
@@ -65,7 +54,7 @@ _LONGEST = max(len(symbol) for symbol in IPA_PHONES)
 def ipa_to_phones(ipa: str, language: str = "en") -> list[str]:
     """ARPAbet phones for an IPA string; an unknown symbol raises ValueError naming it."""
     phones: list[str] = []
-    text = ipa.replace(":", "ː").replace("ː\u200d", "ː").strip()
+    text = ipa.replace("ː\u200d", "ː").strip()
     index = 0
     while index < len(text):
         char = text[index]
@@ -120,35 +109,3 @@ def pronounce_words(text: str, language: str) -> list[list[str]]:
     recognizer lets a pause fall between words."""
     words = [ipa_to_phones(word, language) for word in espeak_ipa(text, language).split()]
     return [phones for phones in words if phones]
-
-
-@functools.lru_cache(maxsize=16)
-def accent_voices(language: str) -> tuple[str, ...]:
-    """espeak-ng's own voices for `language` (its accents: en, en-US, en-GB-scotland, …), the
-    language's own first; MBROLA voices (a separate synthesiser, often not installed) and
-    voice variants (pitch and timbre only) are left out."""
-    from robots.audio.espeak import espeak_voices
-    try:
-        files = espeak_voices(language)
-    except OSError:
-        files = []
-    own = [name.split("/", 1)[1] for name in files if name.startswith("gmw/")]
-    return tuple(dict.fromkeys([language, *own]))
-
-
-def pronounce_accents(text: str, language: str) -> list[list[list[str]]]:
-    """Each distinct pronunciation of `text` (phones per spoken word, as `pronounce_words`)
-    across the language's accents (`accent_voices`), the language's own voice first. An
-    accent whose IPA cannot be mapped is left out; the own voice's error is raised."""
-    found: list[list[list[str]]] = []
-    for index, voice in enumerate(accent_voices(language)):
-        try:
-            words = [ipa_to_phones(word, language) for word in espeak_ipa(text, voice).split()]
-        except (ValueError, RobotError):
-            if index == 0:
-                raise
-            continue
-        words = [phones for phones in words if phones]
-        if words and words not in found:
-            found.append(words)
-    return found

@@ -6,8 +6,8 @@ Debian packages only the same US-English pocketsphinx model, and neither PyPI no
 German one).
 
 Each utterance is decoded three times (utterance verification): with a grammar that holds only
-the answers on the screen, each a path of its words (each word as espeak-ng's voices for the
-language — its accents — and, for English, the dictionary say it: `pronounce.py`), which says *which* answer it most resembles; with a
+the answers on the screen, each a path of its words (each word as espeak-ng and, for English,
+the dictionary say it: `pronounce.py`), which says *which* answer it most resembles; with a
 free loop of the model's phones, which fits any sound as well as the model can; and with the
 other answers only, the best answer's rivals (spared when the margin's cap is 0). Each
 decode starts pocketsphinx's noise estimate afresh, so an utterance is judged the same
@@ -34,7 +34,7 @@ import numpy as np
 
 from robots.audio.confidence import (DEFAULT_THRESHOLDS, Judgement, check_threshold,
                                      default_margin_cap, default_threshold)
-from robots.audio.pronounce import base_language, pronounce_accents
+from robots.audio.pronounce import base_language, pronounce_words
 from robots.devices import AudioSource, SpeechRecognizer
 from robots.exceptions import RobotError
 
@@ -258,13 +258,11 @@ class AnswerRecognizer(SpeechRecognizer):
         return (prompt_id, paths) if paths else None
 
     def _pronunciations(self, choice: str) -> list[tuple[str, ...]]:
-        """Each way of saying `choice`, as the phones of each of its words: as espeak-ng's
-        voices for the language (its accents) say it, and in English as the dictionary does."""
+        """Each way of saying `choice`, as the phones of each of its words."""
         found: list[tuple[str, ...]] = []
         for saying in sayings(choice):
             try:
-                found += [tuple(" ".join(p) for p in words)
-                          for words in pronounce_accents(saying, self.language)]
+                found.append(tuple(" ".join(p) for p in pronounce_words(saying, self.language)))
             except (ValueError, RobotError) as exc:
                 log.info("listening: '%s' cannot be pronounced: %s", saying, exc)
             if base_language(self.language) == "en":

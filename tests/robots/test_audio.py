@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from robots.audio.espeak import EspeakSpeaker, espeak_voices, wav_duration
-from robots.audio.pronounce import accent_voices, ipa_to_phones, pronounce, pronounce_accents
+from robots.audio.pronounce import ipa_to_phones, pronounce
 from robots.audio.confidence import Judgement, check_threshold, default_margin_cap
 from robots.audio.recognizer import (DEFAULT_THRESHOLD, AnswerRecognizer, default_threshold,
                                      sayings, spoken_forms, with_noise_floor)
@@ -282,37 +282,6 @@ def test_sayings_and_pronunciations():
     with pytest.raises(ValueError, match="no English phone for the IPA symbol"):
         ipa_to_phones("ʘ")
     assert pronounce("3", "de") == ["D", "R", "AY"]       # espeak-ng reads digits in German
-
-
-def test_answers_carry_the_pronunciations_of_the_languages_accents(tmp_path):
-    """Every answer word gets each distinct pronunciation that espeak-ng's own voices for the
-    language give it (its accents), as ASR lexicons carry variants; German has one voice."""
-    assert accent_voices("en")[0] == "en" and {"en-US", "en-GB-scotland"} <= set(
-        accent_voices("en"))
-    assert not any(voice.startswith(("mb", "!v")) for voice in accent_voices("en"))
-    assert accent_voices("de") == ("de",)
-    variants = pronounce_accents("one", "en")
-    assert variants[0] == [pronounce("one", "en")] and len(variants) >= 2
-    assert {(("W", "AA", "N"),), (("W", "AH", "N"),)} <= {tuple(map(tuple, v))
-                                                         for v in variants}
-    # the symbols of other accents map onto the nearest phones: Scottish ʉ and ʍ, dental t̪
-    assert ipa_to_phones("ɡˈʉːs ʍˈɪt\u032a") == ["G", "UW", "S", "W", "IH", "T"]
-    assert ipa_to_phones("pa:st") == ["P", "AA", "S", "T"]
-    recognizer = AnswerRecognizer(WavFileSource(spoken(tmp_path, "one", voice="en")))
-    paths = recognizer._sayable(("q1", ("1", "2")))[1]
-    sounds = {recognizer._sounds(path) for path, choice in paths.items() if choice == "1"}
-    assert {"W AA N", "W AH N"} <= sounds                   # the dictionary's W AH N once
-    recognizer.close()
-
-
-@pytest.mark.parametrize("voice", ["en", "en-us"])
-def test_a_calibration_voice_is_still_heard_with_the_accents_variants(tmp_path, voice):
-    """More paths per answer must not cost the plain voices their answers ("one" is said
-    W AA N by the British voice, W AH N by the American)."""
-    choices = ("1", "2", "3", "4", "5")
-    for said, choice in (("one", "1"), ("three", "3")):
-        heard, rejected = hear(spoken(tmp_path, said, voice), choices)
-        assert heard == ("q1", choice), rejected
 
 
 def test_a_missing_capture_device_is_a_clear_error():
