@@ -91,7 +91,8 @@ class Identity:
         # shelf end, into the next aisle); somebody else inside it is kept out by `_others`
         # and by the rule that of two candidates one must be clearly nearer
         gate = self._gate(now - self._belief.t)
-        tracks = [t for t in tracks if self._plausible(t, t.id == self.state.target)]
+        followed = None if self.state.lost else self.state.target
+        tracks = [t for t in tracks if self._plausible(t, t.id == followed)]
         same = next((t for t in tracks if t.id == self.state.target
                      and t.id not in self._others), None)
         if same is not None and same.status == CONFIRMED:      # seen within lost_after (0.35 s)
@@ -308,7 +309,9 @@ class Identity:
         followed track keeps only FOLLOWED_CLEARANCE: a customer standing at a shelf has her
         centre 0.2 m from it, and the track's 0.1 m of jitter put it under PERSON_CLEARANCE
         several times a second; each time she counted as lost for a tick or two (dozens of
-        losses while she stood at the shelf, benchmarks/bench_follow.py seed 2)."""
+        losses while she stood at the shelf, benchmarks/bench_follow.py seed 2). Only while
+        she is seen: once lost, her old id is a candidate like any other (the tracker slid
+        one along the shelf ends, and the relaxed rule took it back as her)."""
         nav = self.navigation
         least = FOLLOWED_CLEARANCE if followed else PERSON_CLEARANCE
         return nav is None or bool(nav.grid.clearance(track.x, track.y) >= least)

@@ -220,3 +220,7 @@ def test_her_track_jittering_close_to_a_shelf_while_she_stands_there_is_not_lost
     perception.believed = (seen(3, 2.1, 0.0, 7.0, RED),)       # 0.1 m from the shelf
     following.sense(7.0)
     assert following.state.lost and following.state.target == 1
+    # nor, once she is lost, her own old id sliding along the shelf's face (laser legs)
+    perception.believed = (seen(1, 2.1, 0.0, 7.1, RED),)
+    following.sense(7.1)
+    assert following.state.lost
