@@ -24,7 +24,10 @@ Against the simulator's ground truth it reports:
   with the robot moving; contacts of a person walking into a standing robot apart). A contact
   with the robot moving is further split by who closed in: the robot drove into the person (or
   cart) if its speed towards them was the larger, else the person walked into the robot while
-  it turned or crept (simulated shoppers do not give way, docs/scenarios.md).
+  it turned or crept (simulated shoppers do not give way, docs/scenarios.md);
+- the time the robot's own position estimate (localization) is 0.5 m or more off the truth,
+  and the follower's reason when it gave up: a run given up with the robot's position lost
+  ("localization lost, standing still") is localization's failure, not the search's.
 
 Scenario families (`--family NAME`, repeatable, or `all`; issue 23): `base` (the shoppers'
 yielding drawn per person), `polite` / `rude` (every other shopper yields fully / not at all),
@@ -62,6 +65,7 @@ from skills.following import HIDDEN, SEARCHING
 from skills.skillset import open_skills
 
 SETPOINT = 1.2
+POSE_OFF = 0.5      # m: the robot's own position estimate this far off the truth is wrong
 ROUTES = [          # from the stop in the front aisle on, never back past the robot
     [["aisle4_south", "shelf_snacks"], ["aisle4_north", "aisle5_north", "shelf_petfood"],
      ["aisle5_south", [23.0, 5.5], "shelf_produce"]],
@@ -177,6 +181,8 @@ class Result:
     episodes: list = field(default_factory=list)    # [start, duration or None]: her track lost
                                                     # or on somebody else, until back on her
     wrong_ticks: int = 0            # ticks following a track that is not hers
+    pose_off: int = 0               # ticks the localization estimate is POSE_OFF m or more off
+    reason: str = ""                # the follower's reason when it gave up
 
 
 def line_of_sight(world, a, b, people, customer) -> bool:
@@ -249,8 +255,11 @@ def run(seed: int, robot: str, folder: Path, give_way: bool | None = True,
             if started is None or customer is None:
                 continue
             state = following.state
+            pose = skills.localization.state
+            result.pose_off += pose is None or math.hypot(pose.x - body.x,
+                                                          pose.y - body.y) >= POSE_OFF
             if state.phase == "gave_up":
-                result.gave_up = True
+                result.gave_up, result.reason = True, state.reason
                 break
             if now - started >= 5.0:
                 result.ticks += 1
@@ -348,7 +357,9 @@ def print_seed(family: str, seed: int, r: Result) -> None:
           f"{[(round(s, 1), None if d is None else round(d, 1)) for s, d in r.episodes]}, "
           f"wrong person {r.wrong_ticks / 10:.1f} s, misses {r.missed}/{r.visible}, clearance "
           f"to others {r.clearance_others:.2f} m, collisions {r.collisions} (robot drove in "
-          f"{r.drove_into}) (walked into {r.walked_into}){', GAVE UP' if r.gave_up else ''}",
+          f"{r.drove_into}) (walked into {r.walked_into}), own position off by "
+          f"{POSE_OFF} m or more {r.pose_off / 10:.1f} s"
+          f"{', GAVE UP: ' + r.reason if r.gave_up else ''}",
           flush=True)
 
 
@@ -370,6 +381,11 @@ def print_family(family: str, results: list, wall: float) -> None:
           f"people walking into it: {sum(r.walked_into for r in results)}; min clearance to "
           f"others {min(r.clearance_others for r in results):.2f} m; gave up: "
           f"{sum(r.gave_up for r in results)}/{len(results)}", flush=True)
+    lost_pose = sum(r.gave_up and "localization" in r.reason for r in results)
+    print(f"   the robot's own position off by {POSE_OFF} m or more: "
+          f"{sum(r.pose_off for r in results) / 10:.1f} s; of the runs given up, "
+          f"{lost_pose} with its position lost (localization), so it could not search",
+          flush=True)
 
 
 if __name__ == "__main__":

@@ -31,7 +31,8 @@ from skills.people.track import CONFIRMED
 
 TRAIL_STEP = 0.3          # m between two points of the customer's trail
 TRAIL_LENGTH = 40         # points kept (12 m)
-PERSON_CLEARANCE = 0.15   # m: a track closer than this to a wall is not a person
+PERSON_CLEARANCE = 0.15   # m: a track closer than this to a wall is not a person ...
+FOLLOWED_CLEARANCE = 0.05  # m: ... unless it is her followed track (see _plausible)
 PACE_WINDOW = 0.4         # s over which the customer's walked distance gives their pace
 FRESH = 0.15              # s: a candidate for re-acquisition must have been seen this recently
 CONTEST_NEAR = 0.8        # m: another track this close to the customer's may swap ids with it
@@ -90,7 +91,8 @@ class Identity:
         # shelf end, into the next aisle); somebody else inside it is kept out by `_others`
         # and by the rule that of two candidates one must be clearly nearer
         gate = self._gate(now - self._belief.t)
-        tracks = [t for t in tracks if self._plausible(t)]
+        followed = None if self.state.lost else self.state.target
+        tracks = [t for t in tracks if self._plausible(t, t.id == followed)]
         same = next((t for t in tracks if t.id == self.state.target
                      and t.id not in self._others), None)
         if same is not None and same.status == CONFIRMED:      # seen within lost_after (0.35 s)
@@ -301,8 +303,15 @@ class Identity:
             self._trail.append((track.x, track.y))
             del self._trail[:-TRAIL_LENGTH]
 
-    def _plausible(self, track) -> bool:
+    def _plausible(self, track, followed: bool = False) -> bool:
         """A person's centre cannot lie in or against a wall or shelf: a track there has been
-        pulled onto a shelf corner or door post (laser legs) and is not the customer."""
+        pulled onto a shelf corner or door post (laser legs) and is not the customer. Her own
+        followed track keeps only FOLLOWED_CLEARANCE: a customer standing at a shelf has her
+        centre 0.2 m from it, and the track's 0.1 m of jitter put it under PERSON_CLEARANCE
+        several times a second; each time she counted as lost for a tick or two (dozens of
+        losses while she stood at the shelf, benchmarks/bench_follow.py seed 2). Only while
+        she is seen: once lost, her old id is a candidate like any other (the tracker slid
+        one along the shelf ends, and the relaxed rule took it back as her)."""
         nav = self.navigation
-        return nav is None or bool(nav.grid.clearance(track.x, track.y) >= PERSON_CLEARANCE)
+        least = FOLLOWED_CLEARANCE if followed else PERSON_CLEARANCE
+        return nav is None or bool(nav.grid.clearance(track.x, track.y) >= least)

@@ -3,6 +3,7 @@ tests of its parts without a world."""
 from __future__ import annotations
 
 from dataclasses import replace
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -10,6 +11,7 @@ from skills.blackboard import Blackboard
 from skills.events import EventLog
 from skills.following import Following
 from skills.people.track import CONFIRMED, Track
+from skills.status import IDLE
 
 
 class Pose:
@@ -84,3 +86,40 @@ def learn_her(following, perception, until=1.0):
         following.sense(t)
         k += 1
     return k * 0.1
+
+
+class ShelfGrid:
+    """A map with one shelf face along x = `shelf_x` (free for x below it): the clearance is
+    the distance to that face (negative inside the shelf)."""
+
+    def __init__(self, shelf_x: float):
+        self.shelf_x = shelf_x
+        self.places = {}
+        self.bounds = (-5.0, -5.0, shelf_x + 1.0, 5.0)
+
+    def clearance(self, x, y):
+        return self.shelf_x - np.asarray(x, dtype=float) + 0.0 * np.asarray(y, dtype=float)
+
+
+class Navigation:
+    """Navigation that records its goals and never moves (for tests without a world)."""
+
+    def __init__(self, grid):
+        from robots.profile import load_profile
+        self.grid = grid
+        self.profile = load_profile("perses")
+        self.limits = self.profile.limits
+        self.state = SimpleNamespace(phase="idle")
+        self.status = IDLE
+        self.ignore_people = frozenset()
+        self.goals = []
+
+    def go_to(self, goal, now, speed=None):
+        self.goals.append(goal)
+        self.state.phase = "driving"
+
+    def set_speed(self, speed):
+        pass
+
+    def cancel(self, now):
+        self.state.phase = "idle"

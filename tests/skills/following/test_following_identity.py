@@ -2,7 +2,13 @@
 re-acquisition gate, her look, and two candidates that fit alike."""
 from __future__ import annotations
 
-from follow_fakes import BLUE, RED, Speech, follower, learn_her, seen, track
+import math
+
+from follow_fakes import (BLUE, RED, Localization, Motion, Navigation, Perception, ShelfGrid,
+                          Speech, follower, learn_her, seen, track)
+from skills.blackboard import Blackboard
+from skills.events import EventLog
+from skills.following import Following
 from skills.following import FOLLOWING, HIDDEN, WAITING
 from skills.following.follower import UNSURE
 from skills.people.track import TENTATIVE
@@ -187,3 +193,34 @@ def test_a_look_alike_seen_apart_from_her_is_never_taken_for_her():
     perception.believed = (seen(6, x - 1.0, 0.2, t, RED), seen(9, x + 0.2, 0.0, t, RED))
     following.sense(t)                          # she steps out again: a new track, her look
     assert not following.state.lost and following.state.target == 9
+
+
+def test_her_track_jittering_close_to_a_shelf_while_she_stands_there_is_not_lost():
+    # she stands with her centre 0.2 m from a shelf's face; the track jitters ±0.1 m about
+    # her, so now and then it lies closer than a person's centre can be to a wall: that rule
+    # (a track pulled onto a shelf corner is not a person) is for other tracks, not hers
+    perception = Perception()
+    following = Following(Blackboard("shelf"), EventLog(), Localization(), perception,
+                          Motion(), navigation=Navigation(ShelfGrid(shelf_x=2.2)))
+    perception.believed = (seen(1, 2.0, 0.0, 0.0, RED),)
+    assert following.follow(0.0, target=1).running
+    phases = []
+    for k in range(1, 60):
+        t = k * 0.1
+        x = 2.0 + 0.1 * math.sin(1.7 * k)               # 0.1 .. 0.3 m from the shelf
+        perception.believed = (seen(1, x, 0.0, t, RED), seen(2, x - 0.6, 0.0, t, BLUE))
+        following.sense(t)
+        phases.append(following.state.phase)
+    assert HIDDEN not in phases and following.state.target == 1
+    # another track as close to the shelf is still no person (a shelf corner's laser legs)
+    perception.believed = ()
+    for k in range(60, 70):
+        following.sense(k * 0.1)
+    assert following.state.lost
+    perception.believed = (seen(3, 2.1, 0.0, 7.0, RED),)       # 0.1 m from the shelf
+    following.sense(7.0)
+    assert following.state.lost and following.state.target == 1
+    # nor, once she is lost, her own old id sliding along the shelf's face (laser legs)
+    perception.believed = (seen(1, 2.1, 0.0, 7.1, RED),)
+    following.sense(7.1)
+    assert following.state.lost
