@@ -23,7 +23,7 @@ from robots.exceptions import FaultResetError
 from robots.profile import Limits
 from skills.perception import PeoplePerception
 from skills.localization import Localization
-from skills.safety import PERSON_MIN_DISTANCE, arbitrate
+from skills.safety import LEFT_BEHIND, PERSON_MIN_DISTANCE, arbitrate
 from skills.skill import Skill
 from skills.status import IDLE, RUNNING, SUCCEEDED, failed
 
@@ -31,7 +31,6 @@ TURN_GAIN = 1.5            # rad/s per rad of heading error
 DISTANCE_GAIN = 0.8        # m/s per m of distance error
 ALIGNED = math.radians(6)  # heading error counted as "facing"
 AT_DISTANCE = 0.1          # m
-LEFT_BEHIND = math.radians(100)  # a person farther off the way the robot drives is left behind
 PERSON_CONE = math.radians(60)   # a person this far off the heading (or its reverse) is
                                  # ahead (behind) for the arbiter's minimum distance
 

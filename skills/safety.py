@@ -16,6 +16,9 @@ STOP_DISTANCE = 0.30        # m of free space ahead (behind) below which forward
 PERSON_MIN_DISTANCE = 0.6   # m, robot centre to a person's, inside which the robot never
                             # drives towards them (a follower sets its own minimum)
 SLOW_STOP = 0.10            # m: driving forward slowly, the free space needed beyond braking
+LEFT_BEHIND = math.radians(100)  # a person farther than this off the way the robot drives
+                            # is left behind: driving on only widens the gap, so the
+                            # near-people speed cap (controller and arbiter) is not for them
 
 
 def stop_distance(v: float, limits: Limits) -> float:

@@ -33,6 +33,7 @@ from scipy.spatial import cKDTree
 from robots.profile import Limits
 from skills.navigation.costmap import CostMap
 from skills.navigation.footprint import Footprint
+from skills.safety import LEFT_BEHIND
 
 PERSON_RADIUS = 0.25       # m: a person's body as an obstacle (shoulders, arms)
 MOVING = 0.4               # m/s: slower counts as standing (tracking noise): static, may block
@@ -43,7 +44,6 @@ OPEN = 0.11                # m either side from which the path's openings cost n
                            # hallway leaves PERSES 0.10-0.115 m, HOROS 0.2 m)
 NARROW_EARLY = 0.3         # m before a wider opening the robot is down to its speed there
 STOPPED = 0.02             # m/s: the robot counts as standing still (passive safety)
-LEFT_BEHIND = math.radians(100)  # a person farther off the heading is left behind: no speed cap
 UNMAPPED = 0.15            # m: a reading this far from any mapped wall is a new obstacle
 
 
