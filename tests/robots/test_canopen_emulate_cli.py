@@ -3,8 +3,11 @@ from __future__ import annotations
 
 import re
 import signal
+import socket
+import struct
 import subprocess
 import sys
+import threading
 import time
 
 import pytest
@@ -28,6 +31,14 @@ def server():
     if proc.poll() is None:
         proc.kill()
         proc.wait()
+
+
+@pytest.fixture
+def thread_exceptions(monkeypatch):
+    """The exceptions that escape any thread during the test (none may)."""
+    raised = []
+    monkeypatch.setattr(threading, "excepthook", lambda args: raised.append(args.exc_value))
+    return raised
 
 
 def test_the_driver_drives_the_served_emulator_from_another_process(server, tmp_path):
@@ -61,7 +72,6 @@ def test_the_can_emulator_refuses_a_pty():
 def test_emulate_can_on_a_python_can_bus_instead_of_tcp(capsys):
     """`--bus socketcan:vcan0` where a machine has vcan; here the same path on a virtual bus."""
     import argparse
-    import threading
 
     from robots.emulate import EmulateCommand
 
@@ -88,15 +98,10 @@ def test_emulate_can_on_a_python_can_bus_instead_of_tcp(capsys):
         parser.parse_args(["can", "--bus", "virtual:x", "--tcp", "0"])      # one or the other
 
 
-def test_losing_the_socketcand_link_is_a_link_fault_not_an_exception(server):
+def test_losing_the_socketcand_link_is_a_link_fault_not_an_exception(server, thread_exceptions):
     """The bus server dies while driving: the driver reports a fault, its threads raise
     nothing (no BrokenPipeError for the CLI to take for a closed stdout), close() returns."""
-    import threading
-
     proc, port = server
-    raised = []
-    previous = threading.excepthook
-    threading.excepthook = lambda args: raised.append(args.exc_value)
     base = CanOpenBase.for_profile(ARGOS, port, clock=RealClock())
     try:
         base.open()
@@ -113,9 +118,8 @@ def test_losing_the_socketcand_link_is_a_link_fault_not_an_exception(server):
         t0 = time.monotonic()
     finally:
         base.close()
-        threading.excepthook = previous
     assert time.monotonic() - t0 < 3.0
-    assert not raised, raised
+    assert not thread_exceptions, thread_exceptions
 
 
 class ResettingProxy:
@@ -123,9 +127,6 @@ class ResettingProxy:
     reset (RST, SO_LINGER 0): the driver then reads ConnectionResetError, not end of file."""
 
     def __init__(self, upstream_port: int) -> None:
-        import socket
-        import threading
-
         self.upstream_port = upstream_port
         self.listener = socket.create_server(("127.0.0.1", 0))
         self.port = self.listener.getsockname()[1]
@@ -133,9 +134,6 @@ class ResettingProxy:
         threading.Thread(target=self._accept, daemon=True).start()
 
     def _accept(self) -> None:
-        import socket
-        import threading
-
         self.client, _ = self.listener.accept()
         upstream = socket.create_connection(("127.0.0.1", self.upstream_port))
         for a, b in ((self.client, upstream), (upstream, self.client)):
@@ -150,24 +148,16 @@ class ResettingProxy:
             pass
 
     def reset(self) -> None:
-        import socket
-        import struct
-
         self.client.setsockopt(socket.SOL_SOCKET, socket.SO_LINGER, struct.pack("ii", 1, 0))
         self.client.close()
         self.listener.close()
 
 
-def test_a_reset_link_is_a_link_fault_and_no_thread_raises(server):
+def test_a_reset_link_is_a_link_fault_and_no_thread_raises(server, thread_exceptions):
     """The receive thread reads 'connection reset' (seen once in the suite when the server was
     killed): the driver takes it as a link fault; canopen's receive thread must not re-raise it."""
-    import threading
-
     _, port = server
     proxy = ResettingProxy(int(port.rsplit(":", 1)[1]))
-    raised = []
-    previous = threading.excepthook
-    threading.excepthook = lambda args: raised.append(args.exc_value)
     base = CanOpenBase.for_profile(ARGOS, f"socketcand:127.0.0.1:{proxy.port}", clock=RealClock())
     try:
         base.open()
@@ -181,5 +171,4 @@ def test_a_reset_link_is_a_link_fault_and_no_thread_raises(server):
         assert base.read_state().extra["fault_device"].startswith("CAN link socketcand:127.0.0.1")
     finally:
         base.close()
-        threading.excepthook = previous
-    assert not raised, raised
+    assert not thread_exceptions, thread_exceptions
