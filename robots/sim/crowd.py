@@ -84,7 +84,7 @@ class Crowd:
         self.social = social
         self.params = params
         self._deviation: dict[int, np.ndarray] = {}
-        self._headway: dict[int, tuple[np.ndarray, float]] = {}   # averaged velocity, wish
+        self._headway: dict[int, tuple[tuple[float, float], float]] = {}   # averaged velocity, wish
         self._walls: WallIndex | None = None
 
     @classmethod
@@ -354,13 +354,13 @@ class Crowd:
         for k, person in enumerate(people):
             rows.append((person.x, person.y, BODY_RADIUS))
             owners.append(k)
-            for circle in person.cart_circles():
-                rows.append(circle)
-                owners.append(k)
-        for circle in world.body.circles():       # the footprint: one circle, or a rectangle's
-            rows.append(tuple(circle))
-            owners.append(-1)
-        return np.array(rows), np.array(owners)
+            if person.plan.cart:
+                carts = person.cart_circles()
+                rows.extend(carts)
+                owners.extend([k] * len(carts))
+        footprint = world.body.circles()    # one circle, or a rectangle's
+        owners.extend([-1] * len(footprint))
+        return np.vstack([np.array(rows, dtype=float).reshape(-1, 3), footprint]), np.array(owners)
 
     def _overlaps(self, people, world):
         circles, owners = self._circles(people, world)
@@ -368,7 +368,7 @@ class Crowd:
         distance = np.hypot(rel[..., 0], rel[..., 1])
         depth = circles[:, None, 2] + circles[None, :, 2] - distance
         other = owners[:, None] != owners[None, :]
-        a, b = np.nonzero(np.triu(other & (depth > OVERLAP_SLACK), 1))
+        a, b = np.nonzero(other & (depth > OVERLAP_SLACK) & _above_diagonal(len(owners)))
         return circles, owners, rel, distance, depth, a, b
 
     def _push_once(self, people: list[SimPerson], world: "World") -> bool:
@@ -438,15 +438,27 @@ class Crowd:
         k = min(h / HEADWAY_WINDOW, 1.0)
         for person in people:
             x0, y0 = before[id(person)][:2]
-            step = np.array([person.x - x0, person.y - y0]) / h
-            headway, wished = self._headway.get(id(person), (np.zeros(2), 0.0))
-            headway = headway + k * (step - headway)
+            step_x, step_y = (person.x - x0) / h, (person.y - y0) / h
+            (head_x, head_y), wished = self._headway.get(id(person), ((0.0, 0.0), 0.0))
+            head_x = head_x + k * (step_x - head_x)
+            head_y = head_y + k * (step_y - head_y)
             wished = wished + k * (person.wished - wished)
-            self._headway[id(person)] = (headway, wished)
-            if person.wished > 1e-6 and math.hypot(*headway) < BLOCKED_SHARE * wished:
+            self._headway[id(person)] = ((head_x, head_y), wished)
+            if person.wished > 1e-6 and math.hypot(head_x, head_y) < BLOCKED_SHARE * wished:
                 person.blocked_for += h
             else:
                 person.blocked_for = 0.0
+
+
+_UPPER: dict[int, np.ndarray] = {}
+
+
+def _above_diagonal(m: int) -> np.ndarray:
+    """(m, m) True above the diagonal: each pair of circles once (kept per size)."""
+    upper = _UPPER.get(m)
+    if upper is None:
+        upper = _UPPER[m] = np.triu(np.ones((m, m), dtype=bool), 1)
+    return upper
 
 
 __all__ = ["Crowd", "CrowdParams"]
