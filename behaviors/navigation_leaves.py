@@ -103,7 +103,11 @@ class Lead(SkillLeaf):
     SUCCESS on arrival; FAILURE when the user did not come (guide.user_lost) or navigation
     failed (navigation.failure), with the reason as feedback. With `turn_back` (a robot without
     a head) the robot turns round to look for the user (towards where it last saw them) once
-    per wait. On the goal, turning to the place's heading, it arrives before it waits; while
+    per wait; a robot with a head does so when it waits for a user it does not see at all:
+    in a 1 m hallway the walls' echo hides a visitor standing more than about 1.8 m straight
+    behind HOROS from every rear sonar (their readings are those of the empty hallway), and
+    the pan-tilt head cannot look back there, so only the laser and camera turned round tell
+    a visitor standing there from one who left. On the goal, turning to the place's heading, it arrives before it waits; while
     the way is blocked it does not wait for the user either (a stall ends as a navigation
     failure, not as a lost user). A stall the robot has not driven past (`Stall`) is what it
     reports if it gives up waiting: held up in a door, ARGOS turned round to look for its
@@ -164,7 +168,7 @@ class Lead(SkillLeaf):
                 nav.resume(now)
             elif state.waiting_for >= self.give_up_after:
                 return self._give_up(now)
-            elif self.turn_back and not self._turned:
+            elif self._may_look_round(distance):
                 self._look_round(now)
         elif state.phase == GAVE_UP:
             return Status.FAILURE
@@ -191,9 +195,13 @@ class Lead(SkillLeaf):
                 self._turned = False
         elif state.waiting_for >= self.give_up_after:
             return self._give_up(now)
-        elif self.turn_back and not self._turned:
+        elif self._may_look_round(distance):
             self._look_round(now)
         return Status.RUNNING
+
+    def _may_look_round(self, distance: float | None) -> bool:
+        """Once per wait: always without a head; with one, only for a user not seen at all."""
+        return not self._turned and (self.turn_back or distance is None)
 
     def _give_up(self, now: float) -> Status:
         """Give up waiting: the user did not follow, unless the robot never got past a stall
