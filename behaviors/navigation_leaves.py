@@ -205,13 +205,16 @@ class Lead(SkillLeaf):
 
     def _give_up(self, now: float) -> Status:
         """Give up waiting: the user did not follow, unless the robot never got past a stall
-        before it stopped for them; then the stall is what failed (navigation failed)."""
+        before it stopped for them; then the stall is what failed (navigation failed). On the
+        goal the robot got where it was going: a stall on the way is no reason there."""
         distance = self.skills.guide.state.user_distance
         seen = "not seen" if distance is None else f"{distance:.1f} m away"
         waited = f"{seen} after waiting {self.skills.guide.state.waiting_for:.0f} s"
-        self.skills.navigation.cancel(now)
-        if self._stall.reason:
-            reason = (f"{self._stall.reason}, not driven past before the robot stopped for "
+        nav = self.skills.navigation
+        stall = "" if nav.status.succeeded else self._stall.reason   # on the goal: past it
+        nav.cancel(now)
+        if stall:
+            reason = (f"{stall}, not driven past before the robot stopped for "
                       f"the user ({waited})")
             self.skills.guide.finish(OUTCOME_NAVIGATION, now, reason)
         else:

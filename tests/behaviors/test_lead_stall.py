@@ -16,7 +16,8 @@ from behaviors.navigation_leaves import Lead
 from behaviors.registry import BehaviorContext
 from skills.guiding import (GAVE_UP, LEADING, OUTCOME_NAVIGATION, OUTCOME_USER_LOST, WAITING,
                             GuideState)
-from skills.navigation.navigation import BLOCKED, DRIVING, IDLE_PHASE, PAUSED, NavigationState
+from skills.navigation.navigation import (ARRIVED, BLOCKED, DRIVING, IDLE_PHASE, PAUSED,
+                                          NavigationState)
 from skills.status import SkillStatus, Status
 
 GIVE_UP_AFTER = 15.0
@@ -36,6 +37,10 @@ class Navigation:
     def drive(self, left: float) -> None:
         self.state = replace(self.state, phase=DRIVING, distance_left=left)
         self.status = SkillStatus(Status.RUNNING)
+
+    def arrive(self) -> None:
+        self.state = replace(self.state, phase=ARRIVED, distance_left=0.0)
+        self.status = SkillStatus(Status.SUCCEEDED, "arrived at room")
 
     def block(self, seconds: float) -> None:
         self.state = replace(self.state, phase=BLOCKED, blocked_for=seconds)
@@ -142,6 +147,20 @@ def test_a_stall_driven_past_is_not_the_reason_a_user_was_lost(turn_back):
     run.ticks(8.0, 1.3, lambda nav: nav.block(run.t - 3.0))
     run.ticks(2.0, 1.3, lambda nav: nav.drive(4.5 - 0.5 * (run.t - 11.0)))  # 1 m on
     status = run.ticks(GIVE_UP_AFTER + 3.0, None, lambda nav: nav.drive(3.5))
+    assert status.name == "FAILURE"
+    ((outcome, reason),) = run.skills.guide.finished
+    assert outcome == OUTCOME_USER_LOST
+    assert reason == "the user did not follow: not seen after waiting 15 s"
+
+
+@pytest.mark.parametrize("turn_back", REALIZATIONS)
+def test_on_the_goal_a_stall_is_behind_the_robot(turn_back):
+    """Held up 0.3 m before its goal, then arrived: a user not seen there is the user lost,
+    not the stall (the robot got where it was going)."""
+    run = Run(turn_back)
+    run.ticks(3.0, 1.3, lambda nav: nav.drive(1.8 - 0.5 * run.t))
+    run.ticks(3.0, 1.3, lambda nav: nav.block(run.t - 3.0))
+    status = run.ticks(GIVE_UP_AFTER + 3.0, None, lambda nav: nav.arrive())
     assert status.name == "FAILURE"
     ((outcome, reason),) = run.skills.guide.finished
     assert outcome == OUTCOME_USER_LOST
