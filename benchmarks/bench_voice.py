@@ -275,6 +275,9 @@ def main(argv=None) -> int:
     parser.add_argument("--snr", type=float, default=None, help="white noise at this dB SNR")
     parser.add_argument("--noise-floor", type=float, default=None,
                         help="the recognizer's noise floor (RMS; default: its own)")
+    parser.add_argument("--speech-pad", type=float, default=None,
+                        help="seconds kept either side of the speech (default: the "
+                             "recognizer's)")
     parser.add_argument("--misses", action="store_true", help="list every miss")
     args = parser.parse_args(argv)
     which = "calibration" if args.calibrate else args.which
@@ -292,6 +295,8 @@ def main(argv=None) -> int:
                     else args.margin_cap)
             recognizer = AnswerRecognizer(_Silent(), language=language, threshold=rule[0],
                                           margin_cap=rule[1])
+            if args.speech_pad is not None:
+                recognizer.speech_pad = args.speech_pad
             if args.noise_floor is not None:
                 recognizer.noise_floor = args.noise_floor
             mine: tuple[list, list] = ([], [])
