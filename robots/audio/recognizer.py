@@ -64,8 +64,10 @@ DECODER_OPTIONS = dict(bestpath=False, compallsen=True, beam=1e-150, wbeam=1e-12
 NOISE_FLOOR = 20.0
 # Seconds of sound kept either side of the speech an utterance holds (None: all of it). The
 # features' mean normalisation (`cmn batch`) is a mean over the whole utterance, silence
-# included: a short answer in a long silence is normalised mostly on the silence.
-SPEECH_PAD: float | None = None
+# included: a short answer in a long silence was normalised mostly on the silence. Chosen on
+# the calibration set among 0, 0.1, 0.2 and 0.3 s (the highest sum over English and German of
+# the lower of the two rates, each at its calibrated rule: docs/tablet-and-voice.md).
+SPEECH_PAD: float | None = 0.1
 VAD_FRAME = 0.03              # s: the voice activity detector's frame (webrtc's: 10, 20, 30 ms)
 NUMBERS = ("zero", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten")
 
