@@ -201,7 +201,8 @@ def test_the_silence_around_an_utterance_is_cut_to_the_same_pad(tmp_path):
 
 def test_an_utterance_is_judged_alike_whatever_silence_surrounds_it(tmp_path):
     """A short answer padded with half a second of silence or with one and a half is judged
-    exactly alike (with the whole sound decoded, the silence moved its fit)."""
+    exactly alike. (With the whole sound decoded, "five" by `en-us` fitted -31.7 per frame in
+    the shorter silence and -43.4 in the longer.)"""
     frame = 2 * 480
     five = WavFileSource(spoken(tmp_path, "five"), pad=0.0)._data
     choices = ("1", "2", "3", "4", "5")
