@@ -5,7 +5,9 @@ language model, so nothing is fetched at run time (Vosk's and Whisper's models a
 Debian packages only the same US-English pocketsphinx model, and neither PyPI nor Debian has a
 German one).
 
-Each utterance is decoded three times (utterance verification): with a grammar that holds only
+Each utterance is cut to its speech with 0.1 s either side (the features' mean normalisation
+is a mean over the whole utterance, so a short answer must not be normalised mostly on
+silence), then decoded three times (utterance verification): with a grammar that holds only
 the answers on the screen, each a path of its words (each word as espeak-ng and, for English,
 the dictionary say it: `pronounce.py`), which says *which* answer it most resembles; with a
 free loop of the model's phones, which fits any sound as well as the model can; and with the
