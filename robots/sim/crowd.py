@@ -84,7 +84,8 @@ class Crowd:
         self.social = social
         self.params = params
         self._deviation: dict[int, np.ndarray] = {}
-        self._headway: dict[int, tuple[tuple[float, float], float]] = {}   # averaged velocity, wish
+        # per person: the averaged velocity (x, y) and the averaged wish
+        self._headway: dict[int, tuple[tuple[float, float], float]] = {}
         self._walls: WallIndex | None = None
 
     @classmethod
@@ -382,7 +383,8 @@ class Crowd:
                 owners.extend([k] * len(carts))
         footprint = world.body.circles()    # one circle, or a rectangle's
         owners.extend([-1] * len(footprint))
-        return np.vstack([np.array(rows, dtype=float).reshape(-1, 3), footprint]), np.array(owners)
+        people_rows = np.array(rows, dtype=float).reshape(-1, 3)
+        return np.vstack([people_rows, footprint]), np.array(owners)
 
     def _overlaps(self, people, world):
         circles, owners = self._circles(people, world)
