@@ -107,8 +107,8 @@ class Lead(SkillLeaf):
     in a 1 m hallway the walls' echo hides a visitor standing more than about 1.8 m straight
     behind HOROS from every rear sonar (their readings are those of the empty hallway), and
     the pan-tilt head cannot look back there, so only the laser and camera turned round tell
-    a visitor standing there from one who left. On the goal, turning to the place's heading, it arrives before it waits; while
-    the way is blocked it does not wait for the user either (a stall ends as a navigation
+    a visitor standing there from one who left. On the goal, turning to the place's heading, it
+    arrives before it waits; while the way is blocked it does not wait for the user either (a stall ends as a navigation
     failure, not as a lost user). A stall the robot has not driven past (`Stall`) is what it
     reports if it gives up waiting: held up in a door, ARGOS turned round to look for its
     visitor, on turning back the way was for a moment clear, it stopped for the visitor and the
@@ -166,10 +166,8 @@ class Lead(SkillLeaf):
                 self._behind_since = None
                 guide.lead(now)
                 nav.resume(now)
-            elif state.waiting_for >= self.give_up_after:
-                return self._give_up(now)
-            elif self._may_look_round(distance):
-                self._look_round(now)
+            else:
+                return self._keep_waiting(now, distance)
         elif state.phase == GAVE_UP:
             return Status.FAILURE
         return Status.RUNNING
@@ -193,9 +191,15 @@ class Lead(SkillLeaf):
             if now - self._behind_since >= BEHIND_GRACE:
                 guide.wait(now)
                 self._turned = False
-        elif state.waiting_for >= self.give_up_after:
+            return Status.RUNNING
+        return self._keep_waiting(now, distance)
+
+    def _keep_waiting(self, now: float, distance: float | None) -> Status:
+        """Waiting for the user (on the way or on the goal): give up after `give_up_after`,
+        else look round once."""
+        if self.skills.guide.state.waiting_for >= self.give_up_after:
             return self._give_up(now)
-        elif self._may_look_round(distance):
+        if self._may_look_round(distance):
             self._look_round(now)
         return Status.RUNNING
 
