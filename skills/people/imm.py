@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from filterpy.kalman import IMMEstimator, KalmanFilter
+from skills.people.kalman import IMMEstimator, KalmanFilter
 
 from skills.people import motion_model
 

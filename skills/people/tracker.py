@@ -13,7 +13,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from filterpy.kalman import KalmanFilter
+from skills.people.kalman import KalmanFilter
 
 from skills.people import imm, motion_model
 from skills.people.association import assign, gated_cost, mahalanobis_sq

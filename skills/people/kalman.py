@@ -1,0 +1,63 @@
+"""filterpy's Kalman filters, imported without importing scipy.stats.
+
+Why: `import filterpy` imports `filterpy.stats`, which imports `scipy.stats`, and SciPy 1.17
+rewrites several hundred docstrings while scipy.stats is imported: about 1 s of CPU in every
+process that tracks people, half of what `interbot run` or `interbot check` costs before its
+first tick. Our filters never call `filterpy.stats` (the tracker's gating and the IMM's
+likelihood are computed in closed form, `skills/people/imm.py`), and filterpy's Kalman filters
+take only `logpdf` from it, so `filterpy.stats` is registered first as a stand-in module that
+imports the real one the first time any of its names is used. Everything of filterpy keeps
+working; only what nobody uses is not paid for.
+"""
+from __future__ import annotations
+
+import importlib.util
+import sys
+import types
+from pathlib import Path
+
+STATS = "filterpy.stats"
+
+
+def _stand_in_for_filterpy_stats() -> None:
+    """Put a stand-in for `filterpy.stats` into sys.modules, unless it is imported already."""
+    if STATS in sys.modules:
+        return
+    top = importlib.util.find_spec("filterpy")       # finds the package without running it
+    if top is None or not top.submodule_search_locations:
+        return                                        # filterpy missing: the import below says so
+    folder = Path(next(iter(top.submodule_search_locations))) / "stats"
+    stand_in = types.ModuleType(STATS, "filterpy.stats, imported when first used")
+    stand_in.__path__ = [str(folder)]
+
+    def real() -> types.ModuleType:
+        module = sys.modules.get(STATS)
+        if module is not None and module is not stand_in:
+            return module
+        spec = importlib.util.spec_from_file_location(
+            STATS, folder / "__init__.py", submodule_search_locations=[str(folder)])
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[STATS] = module
+        try:
+            spec.loader.exec_module(module)
+        except BaseException:
+            sys.modules[STATS] = stand_in
+            raise
+        parent = sys.modules.get("filterpy")
+        if parent is not None:
+            parent.stats = module
+        return module
+
+    def logpdf(*args, **kwargs):
+        return real().logpdf(*args, **kwargs)
+
+    stand_in.logpdf = logpdf
+    stand_in.__getattr__ = lambda name: getattr(real(), name)
+    sys.modules[STATS] = stand_in
+
+
+_stand_in_for_filterpy_stats()
+
+from filterpy.kalman import IMMEstimator, KalmanFilter  # noqa: E402  (after the stand-in)
+
+__all__ = ["IMMEstimator", "KalmanFilter"]
