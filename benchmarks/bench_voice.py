@@ -25,7 +25,8 @@ cut).
                                      [--calibrate]
                                      [--apps survey,guide] [--languages en,de]
                                      [--threshold -14] [--margin-cap 15]
-                                     [--snr 20] [--speech-pad 0.1|none] [--misses]
+                                     [--snr 20] [--speech-pad 0.1|none]
+                                     [--whole-diphthongs] [--misses]
 
 The engine is pocketsphinx (robots/audio/recognizer.py says why); figures in
 docs/tablet-and-voice.md.
@@ -332,6 +333,9 @@ def main(argv=None) -> int:
     parser.add_argument("--speech-pad", type=pad_argument, default="default",
                         help="seconds of sound kept either side of the speech, or 'none' to "
                              "decode the whole sound (default: the recognizer's)")
+    parser.add_argument("--whole-diphthongs", action="store_true",
+                        help="no pronunciation with a diphthong split into its two ends "
+                             "(the recognizer before that variant)")
     parser.add_argument("--misses", action="store_true", help="list every miss")
     args = parser.parse_args(argv)
     which = "calibration" if args.calibrate else args.which
@@ -340,7 +344,8 @@ def main(argv=None) -> int:
           f"margin cap "
           f"{'per language' if args.margin_cap is None else f'{args.margin_cap:g}'}, "
           f"noise {'none' if args.snr is None else f'{args.snr:g} dB SNR'}, speech pad "
-          f"{pad_text(SPEECH_PAD if args.speech_pad == 'default' else args.speech_pad)}")
+          f"{pad_text(SPEECH_PAD if args.speech_pad == 'default' else args.speech_pad)}, "
+          f"diphthongs {'whole only' if args.whole_diphthongs else 'also split'}")
     print(f"{'application':14} {'lang':4} {'recognised':>16} {'rejected':>16} {'s/utt':>6}")
     everything: dict[str, tuple[list, list]] = {}
     with tempfile.TemporaryDirectory() as tmp:
@@ -357,6 +362,8 @@ def main(argv=None) -> int:
                 recognizer.speech_pad = args.speech_pad
             if args.noise_floor is not None:
                 recognizer.noise_floor = args.noise_floor
+            if args.whole_diphthongs:
+                recognizer.split_diphthongs = False
             mine: tuple[list, list] = ([], [])
             for app in args.apps.split(","):
                 start = time.perf_counter()
