@@ -109,3 +109,16 @@ def pronounce_words(text: str, language: str) -> list[list[str]]:
     recognizer lets a pause fall between words."""
     words = [ipa_to_phones(word, language) for word in espeak_ipa(text, language).split()]
     return [phones for phones in words if phones]
+
+
+# The diphthongs that glide up to "ee", said as their two ends: espeak-ng draws them out over a
+# long glide (the "i" of "five" lasts a quarter of a second and ends high), which the acoustic
+# model's one three-state diphthong fits badly; its two ends, as two phones, fit the glide.
+# (OW and AW, which glide to "oo", are not split: their ends, AH UW and AA UW, fitted words
+# that are no answer - "banana" to "no" - as well as the answers: docs/tablet-and-voice.md.)
+DIPHTHONG_ENDS = {"AY": ("AA", "IY"), "EY": ("EH", "IY"), "OY": ("AO", "IY")}
+
+
+def split_diphthongs(phones: list[str]) -> list[str]:
+    """`phones` with each diphthong replaced by its two ends (AY -> AA IY)."""
+    return [part for phone in phones for part in DIPHTHONG_ENDS.get(phone, (phone,))]

@@ -36,7 +36,7 @@ import numpy as np
 
 from robots.audio.confidence import (DEFAULT_THRESHOLDS, Judgement, check_threshold,
                                      default_margin_cap, default_threshold)
-from robots.audio.pronounce import base_language, pronounce_words
+from robots.audio.pronounce import base_language, pronounce_words, split_diphthongs
 from robots.devices import AudioSource, SpeechRecognizer
 from robots.exceptions import RobotError
 
@@ -70,6 +70,12 @@ NOISE_FLOOR = 20.0
 # the calibration set among 0, 0.1, 0.2 and 0.3 s (the highest sum over English and German of
 # the lower of the two rates, each at its calibrated rule: docs/tablet-and-voice.md).
 SPEECH_PAD: float | None = 0.1
+# Each diphthong that glides up to "ee" (AY, EY, OY) may also be said as its two ends (AA IY, …:
+# `pronounce.split_diphthongs`): espeak-ng draws "five" out over a long glide that the model's
+# one diphthong fits badly ("5" by the calibration voices fitted −19 to −31 per frame; with the
+# two ends −10 to −24). Chosen on the calibration set only (docs/tablet-and-voice.md: the
+# rising-to-"oo" ones, OW and AW, split too, made "banana" fit "no" far better).
+SPLIT_DIPHTHONGS = True
 VAD_FRAME = 0.03              # s: the voice activity detector's frame (webrtc's: 10, 20, 30 ms)
 NUMBERS = ("zero", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten")
 
@@ -138,7 +144,8 @@ class AnswerRecognizer(SpeechRecognizer):
     def __init__(self, source: AudioSource, language: str = "en",
                  threshold: float | None = None, noise_floor: float = NOISE_FLOOR,
                  margin_cap: float | None = None,
-                 speech_pad: float | None = SPEECH_PAD) -> None:
+                 speech_pad: float | None = SPEECH_PAD,
+                 split_diphthongs: bool = SPLIT_DIPHTHONGS) -> None:
         check_language(language)
         try:
             from pocketsphinx import Decoder
@@ -163,6 +170,7 @@ class AnswerRecognizer(SpeechRecognizer):
             raise RobotError(f"speech_pad must be 0 or more (seconds of sound kept either side "
                              f"of the speech), not {speech_pad}")
         self.speech_pad = speech_pad
+        self.split_diphthongs = bool(split_diphthongs)
         self.decoder = Decoder(lm=None, loglevel="FATAL", samprate=source.rate,
                                **DECODER_OPTIONS)
         self._add_phone_loop()
@@ -301,6 +309,9 @@ class AnswerRecognizer(SpeechRecognizer):
                 looked_up = [self.decoder.lookup_word(w) for w in form]
                 if form and all(looked_up):
                     found.append(tuple(looked_up))
+        if self.split_diphthongs:
+            found += [tuple(" ".join(split_diphthongs(w.split())) for w in words)
+                      for words in found]
         return [p for p in dict.fromkeys(found) if p]
 
     def _sounds(self, path: str) -> str:

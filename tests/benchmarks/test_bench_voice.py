@@ -51,3 +51,24 @@ def test_calibration_caps_the_margin_when_a_rhyming_word_leads(bench, capsys):
     assert bench.recognised(answers, rule) == (3, 3) and bench.rejected(others, rule) == (3, 3)
     assert 0 < cap < 1000 and -30 + min(40, cap) >= threshold > -40 + min(60, cap)
     assert "calibrated: threshold" in capsys.readouterr().out
+
+
+def test_the_fresh_set_shares_no_voice_or_word_with_the_sets_rules_are_chosen_or_shown_on(bench):
+    """The held-out `fresh` set stays held out: none of its voices (with their options) or
+    other words is in the calibration or test set, and no other word is an answer."""
+    for language, voices in bench.VOICES["fresh"].items():
+        for which in ("calibration", "test", "defaults"):
+            assert not set(voices) & set(bench.VOICES[which].get(language, ()))
+        words = {w.lower() for w in bench.OTHER_WORDS["fresh"][language]}
+        for which in ("calibration", "test"):
+            assert not words & {w.lower() for w in bench.OTHER_WORDS[which][language]}
+        for app in bench.APPS:
+            answers = {bench.spoken(b).lower() for _, buttons in bench.questions(app, language)
+                       for b in buttons}
+            assert not words & answers, app
+
+
+def test_the_defaults_set_is_the_by_hand_check_at_default_speed_and_pitch(bench):
+    voices = bench.VOICES["defaults"]["en"]
+    assert len(voices) == 8 and all(options == () for _, options in voices)
+    assert {"en-gb-scotland", "en-029", "en-gb-x-rp"} <= {name for name, _ in voices}
