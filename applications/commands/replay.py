@@ -1,12 +1,15 @@
 """`interbot replay FILE.mcap`: re-run an application's decisions on a recording's inputs."""
 from __future__ import annotations
 
+import signal
+import threading
 import time
 
 from applications import observing
 from applications.commands.arguments import UsageError
 from applications.commands.refusals import positive_speed, recording_file
 from applications.exceptions import ApplicationError
+from applications.shutdown import HANDLED_SIGNALS
 
 
 class ReplayCommand:
@@ -110,16 +113,29 @@ def _explainer(recording, folder, app, robot_name):
 
 
 def _keep_serving(comparator) -> None:
-    """Leave the inspector up on the last tick (a divergence) until the user is done."""
-    try:             # Ctrl-C right after the line below still ends the replay normally
+    """Leave the inspector up on the last tick (a divergence) until the user is done.
+
+    Ctrl-C, SIGTERM and SIGHUP end the wait through handlers of our own, so that the replay
+    then closes its inspector and recording as after any replay: a SIGTERM used to end the
+    process on the spot, and a SIGINT that whoever started us had set to be ignored (Python
+    then installs no KeyboardInterrupt) was never seen."""
+    done = threading.Event()
+    previous = {}
+    if threading.current_thread() is threading.main_thread():
+        for signum in HANDLED_SIGNALS:
+            previous[signum] = signal.signal(signum, lambda *_: done.set())
+    try:
         if comparator.first is not None:
             print("\n".join(comparator.first.lines()))
         print("interbot: the replay is over; the inspector shows its last tick until Ctrl-C",
               flush=True)
-        while True:
-            time.sleep(1.0)
-    except KeyboardInterrupt:
+        while not done.wait(1.0):
+            pass
+    except KeyboardInterrupt:        # from a handler installed around ours, if any
         pass
+    finally:
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
 
 
 class RecordedTruth:

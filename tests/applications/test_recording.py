@@ -267,6 +267,34 @@ def test_a_real_port_run_on_the_real_clock_records_and_replays_without_divergenc
     assert f"no divergence in {len(ticks)} ticks" in capsys.readouterr().out
 
 
+def _ignoring_sigint():
+    """What a parent that ignores Ctrl-C (a job started with `nohup`, some test runners)
+    passes on: SIGINT ignored, so Python installs no KeyboardInterrupt of its own."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+@pytest.mark.parametrize("signum, ignored_at_start", [(signal.SIGTERM, False),
+                                                      (signal.SIGINT, True)],
+                         ids=["SIGTERM", "SIGINT-ignored-by-the-parent"])
+def test_a_replay_left_on_its_last_tick_ends_cleanly_on_a_signal(recorded, signum,
+                                                                  ignored_at_start):
+    path, _ = recorded
+    process = subprocess.Popen([sys.executable, "-m", "applications.cli", "replay", str(path),
+                                "--inspect", "0"], env=faulthandler_env(),
+                               preexec_fn=_ignoring_sigint if ignored_at_start else None,
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        line = ""
+        while "the replay is over" not in line:
+            line = process.stdout.readline()
+            assert line, process.stderr.read()
+    finally:
+        process.send_signal(signum)
+        rest, err = finish(process, timeout=60)
+    assert process.returncode == 0, err
+    assert "no divergence in 601 ticks" in rest        # closed as after any replay
+
+
 def test_replay_with_the_inspector_pauses_and_steps_one_tick(recorded):
     import urllib.request
 
