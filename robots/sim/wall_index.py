@@ -17,6 +17,7 @@ import numpy as np
 
 FAR = 1e6          # m; the answer on a floor without walls
 FEW_WALLS = 64     # up to this many segments a search over all is quicker than the lookup
+FEW_POSITIONS = 32  # up to this many positions a plain loop looks up bounds quicker than numpy
 
 
 class WallIndex:
@@ -107,14 +108,30 @@ class _LowerBounds:
             nearest = np.minimum(nearest, chunk.min(axis=1))
         slack = 1e-9      # m: the rounding of the distances is far below it
         self.bound = (nearest - self.CELL * math.sqrt(2.0) / 2.0 - slack).reshape(nx, ny)
+        self._rows = self.bound.tolist()       # the same bounds, for the plain loop
+        self._origin = tuple(self.origin.tolist())
 
     def below(self, positions: np.ndarray, distance: float) -> np.ndarray:
+        if len(positions) <= FEW_POSITIONS:
+            return self._below_few(positions, distance)
         cells = np.floor((positions - self.origin) / self.CELL).astype(np.intp)
         inside = ((cells[:, 0] >= 0) & (cells[:, 0] < self.shape[0])
                   & (cells[:, 1] >= 0) & (cells[:, 1] < self.shape[1]))
         bound = np.zeros(len(positions))
         bound[inside] = self.bound[cells[inside, 0], cells[inside, 1]]
         return bound < distance
+
+    def _below_few(self, positions: np.ndarray, distance: float) -> np.ndarray:
+        """`below` for a few positions in plain Python (the same arithmetic: numpy's call
+        overhead outweighs the work for a crowd of ten, queried twice per substep)."""
+        ox, oy = self._origin
+        nx, ny = self.shape
+        rows, cell = self._rows, self.CELL
+        out = []
+        for x, y in positions.tolist():
+            i, j = math.floor((x - ox) / cell), math.floor((y - oy) / cell)
+            out.append((rows[i][j] if 0 <= i < nx and 0 <= j < ny else 0.0) < distance)
+        return np.array(out, dtype=bool)
 
 
 def _segment_parts(segments: np.ndarray) -> tuple[np.ndarray, ...]:
@@ -131,11 +148,15 @@ def _nearest_of(positions: np.ndarray, segments: np.ndarray,
     a search in index order gives."""
     x, y = positions[:, 0:1], positions[:, 1:2]
     x1, y1, ex, ey, length = parts if parts is not None else _segment_parts(segments)
-    u = np.clip(((x - x1) * ex + (y - y1) * ey) / length, 0.0, 1.0)
+    # np.clip's wrapper costs more than its work here; maximum then minimum is the same
+    u = np.minimum(np.maximum(((x - x1) * ex + (y - y1) * ey) / length, 0.0), 1.0)
     px, py = x1 + u * ex, y1 + u * ey
     nearest = np.argmin((px - x) ** 2 + (py - y) ** 2, axis=1)
     rows = np.arange(len(positions))
-    return np.stack([px[rows, nearest], py[rows, nearest]], axis=1)
+    out = np.empty((len(positions), 2))
+    out[:, 0] = px[rows, nearest]
+    out[:, 1] = py[rows, nearest]
+    return out
 
 
 def _distances(points: np.ndarray, segments: np.ndarray) -> np.ndarray:
