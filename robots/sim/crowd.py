@@ -50,7 +50,9 @@ OVERLAP_SLACK = 1e-6       # m of overlap that counts as touching
 BLOCKED_SHARE = 0.25       # moved less than this share of the wish: held up by the crowd
 HEADWAY_WINDOW = 1.0       # s over which headway and wish are averaged for that
 TRAIT_STREAM = 0x7E1D      # seeds each person's trait generator with the run's seed and index
-_NO_DEVIATION = np.zeros(2)
+_NO_DEVIATION = (0.0, 0.0)
+_EPS = 1e-4                # m, the step of the potential's numerical gradient
+_SHIFTS = np.array([[_EPS, 0.0], [-_EPS, 0.0], [0.0, _EPS], [0.0, -_EPS]])
 
 
 @dataclass(frozen=True)
@@ -83,10 +85,11 @@ class Crowd:
     def __init__(self, social: bool = True, params: CrowdParams = CrowdParams()) -> None:
         self.social = social
         self.params = params
-        self._deviation: dict[int, np.ndarray] = {}
+        self._deviation: dict[int, tuple[float, float]] = {}
         # per person: the averaged velocity (x, y) and the averaged wish
         self._headway: dict[int, tuple[tuple[float, float], float]] = {}
         self._walls: WallIndex | None = None
+        self._strengths: dict[tuple, np.ndarray] = {}   # repulsion shares, by the groups
 
     @classmethod
     def for_scenario(cls, people: list[SimPerson], scenario: "Scenario | None",
@@ -143,15 +146,18 @@ class Crowd:
         velocity[over] *= (cap[over] / speed[over])[:, None]
         speed = np.where(over, cap, speed)
         moved = start + velocity * h
-        swerving = (np.hypot(u[:, 0], u[:, 1]) > 1e-6) & (speed > 0.05)
-        for k, person in enumerate(people):
-            person.wished = float(wished[k])
-            self._deviation[id(person)] = velocity[k] - wish[k]
-            person.x, person.y = float(moved[k, 0]), float(moved[k, 1])
-            if swerving[k]:                  # they face where they go
-                person.heading = math.atan2(velocity[k, 1], velocity[k, 0])
+        swerving = ((np.hypot(u[:, 0], u[:, 1]) > 1e-6) & (speed > 0.05)).tolist()
+        # plain floats for the loop: numpy's scalar indexing costs more than the work
+        rows = zip(people, wished.tolist(), (velocity - wish).tolist(), moved.tolist(),
+                   velocity.tolist(), speed.tolist(), swerving)
+        for person, wished_k, deviation_k, (x, y), (vx, vy), speed_k, swerves in rows:
+            person.wished = wished_k
+            self._deviation[id(person)] = tuple(deviation_k)
+            person.x, person.y = x, y
+            if swerves:                      # they face where they go
+                person.heading = math.atan2(vy, vx)
                 person.cart_heading = person.heading
-            person.speed = float(speed[k]) if speed[k] * h > 1e-9 else 0.0
+            person.speed = speed_k if speed_k * h > 1e-9 else 0.0
 
     def forces(self, people: list[SimPerson], positions: np.ndarray, wish: np.ndarray,
                world: "World") -> np.ndarray:
@@ -186,12 +192,12 @@ class Crowd:
             b = 0.5 * np.sqrt(np.maximum((distance + later) ** 2 - travel ** 2, 1e-12))
             return strength * p.v0 * np.exp(-b / p.sigma)
 
-        eps = 1e-4
-        shifts = np.array([[eps, 0.0], [-eps, 0.0], [0.0, eps], [0.0, -eps]])
-        shifts = shifts.reshape((4,) + (1,) * (r.ndim - 1) + (2,))
+        eps = _EPS
+        shifts = _SHIFTS.reshape((4,) + (1,) * (r.ndim - 1) + (2,))
         values = potential(r[None] + shifts)        # one call for the four differences
-        grad = np.stack([(values[0] - values[1]) / (2 * eps),
-                         (values[2] - values[3]) / (2 * eps)], axis=-1)
+        grad = np.empty(values.shape[1:] + (2,))
+        grad[..., 0] = (values[0] - values[1]) / (2 * eps)
+        grad[..., 1] = (values[2] - values[3]) / (2 * eps)
         force = -grad * self._view_weight(-r, own_wish)[..., None]
         return force + self._sideways(force, r, own_wish)
 
@@ -250,9 +256,15 @@ class Crowd:
         r = positions[:, None, :] - positions[None, :, :]
         other_velocity = np.broadcast_to(wish[None, :, :], r.shape)
         own = np.broadcast_to(wish[:, None, :], r.shape)
-        groups = [p.plan.group for p in people]
-        same = np.array([[a is not None and a == b for b in groups] for a in groups])
-        strength = np.where(same, self.params.group_repulsion, 1.0)
+        groups = tuple(p.plan.group for p in people)
+        strength = self._strengths.get(groups)
+        if strength is None:        # the same people walk for many substeps: kept per groups
+            same = np.array([[a is not None and a == b for b in groups] for a in groups])
+            strength = np.where(same, self.params.group_repulsion, 1.0)
+            strength.flags.writeable = False
+            if len(self._strengths) > 64:
+                self._strengths.clear()
+            self._strengths[groups] = strength
         return r, other_velocity - own, own, strength
 
     def _wall_forces(self, positions: np.ndarray, wish: np.ndarray, world: "World"
@@ -366,7 +378,7 @@ class Crowd:
                 if id(person) in present_before:
                     person.x, person.y, person.heading, person.cart_heading = before[id(person)]
                     person.speed = 0.0
-                    self._deviation[id(person)] = np.zeros(2)
+                    self._deviation[id(person)] = _NO_DEVIATION
                 else:                 # appeared this substep (their cart swung into someone)
                     person.hold_back(*before[id(person)])
                     people = [p for p in people if p is not person]
@@ -383,8 +395,8 @@ class Crowd:
                 owners.extend([k] * len(carts))
         footprint = world.body.circles()    # one circle, or a rectangle's
         owners.extend([-1] * len(footprint))
-        people_rows = np.array(rows, dtype=float).reshape(-1, 3)
-        return np.vstack([people_rows, footprint]), np.array(owners)
+        rows.extend(footprint.tolist())
+        return np.array(rows, dtype=float), np.array(owners)
 
     def _overlaps(self, people, world):
         circles, owners = self._circles(people, world)
@@ -414,9 +426,9 @@ class Crowd:
         walls = self._wall_overlaps(people, world)
         for k, push in walls.items():
             moves[k] += push
-        for k, person in enumerate(people):
-            person.x += float(moves[k, 0])
-            person.y += float(moves[k, 1])
+        for person, (dx, dy) in zip(people, moves.tolist()):
+            person.x += dx
+            person.y += dy
         return len(a) > 0 or bool(walls)
 
     def _wall_overlaps(self, people: list[SimPerson], world: "World") -> dict:
