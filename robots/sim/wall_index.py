@@ -30,7 +30,7 @@ class WallIndex:
         self._lower: _LowerBounds | None = None
         self._full = len(segments) <= FEW_WALLS
         if self._full:
-            self._parts = _segment_parts(segments[None, :, :])    # the same for every query
+            self._pairs = _segment_pairs(segments)       # the same for every query
             return
         low = np.minimum(segments[:, :2], segments[:, 2:]).min(axis=0) - reach
         high = np.maximum(segments[:, :2], segments[:, 2:]).max(axis=0) + reach
@@ -77,7 +77,7 @@ class WallIndex:
         if len(self.segments) == 0 or len(positions) == 0:
             return positions + FAR
         if self._full:
-            return _nearest_of(positions, self.segments[None, :, :], self._parts)
+            return _nearest_of_all(positions, self._pairs)
         # a point off the grid is farther than reach from every wall: its clamped cell's
         # walls give some point farther still
         cells = ((positions - self.origin) / self.cell).astype(np.intp)
@@ -141,13 +141,31 @@ def _segment_parts(segments: np.ndarray) -> tuple[np.ndarray, ...]:
     return x1, y1, ex, ey, np.maximum(ex * ex + ey * ey, 1e-18)
 
 
-def _nearest_of(positions: np.ndarray, segments: np.ndarray,
-                parts: tuple[np.ndarray, ...] | None = None) -> np.ndarray:
-    """Nearest point per position (n, 2) among its own segments (n, k, 4), or among the same
-    segments (1, k, 4) whose `_segment_parts` may be given; the first of equally near ones, as
-    a search in index order gives."""
+def _segment_pairs(segments: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Starts (1, 2, m), directions (1, 2, m) and squared lengths (1, m) of segments (m, 4),
+    x above y: what `_nearest_of_all` needs."""
+    x1, y1, ex, ey, length = _segment_parts(segments)
+    return (np.stack([x1, y1])[None], np.stack([ex, ey])[None], length[None])
+
+
+def _nearest_of_all(positions: np.ndarray, pairs: tuple[np.ndarray, ...]) -> np.ndarray:
+    """`_nearest_of` over the same segments for every position, with x and y side by side
+    in one array: the same arithmetic in half the numpy calls (a sum over an axis of two is
+    the one addition `a + b`)."""
+    start, direction, length = pairs
+    at = positions[:, :, None]                                              # (n, 2, 1)
+    along = np.add.reduce((at - start) * direction, axis=1) / length        # (n, m)
+    u = np.minimum(np.maximum(along, 0.0), 1.0)
+    points = start + u[:, None, :] * direction                              # (n, 2, m)
+    nearest = np.argmin(np.add.reduce((points - at) ** 2, axis=1), axis=1)
+    return points[np.arange(len(positions)), :, nearest]
+
+
+def _nearest_of(positions: np.ndarray, segments: np.ndarray) -> np.ndarray:
+    """Nearest point per position (n, 2) among its own segments (n, k, 4); the first of
+    equally near ones, as a search in index order gives."""
     x, y = positions[:, 0:1], positions[:, 1:2]
-    x1, y1, ex, ey, length = parts if parts is not None else _segment_parts(segments)
+    x1, y1, ex, ey, length = _segment_parts(segments)
     # np.clip's wrapper costs more than its work here; maximum then minimum is the same
     u = np.minimum(np.maximum(((x - x1) * ex + (y - y1) * ey) / length, 0.0), 1.0)
     px, py = x1 + u * ex, y1 + u * ey
