@@ -198,28 +198,35 @@ class Crowd:
         grad = np.empty(values.shape[1:] + (2,))
         grad[..., 0] = (values[0] - values[1]) / (2 * eps)
         grad[..., 1] = (values[2] - values[3]) / (2 * eps)
-        force = -grad * self._view_weight(-r, own_wish)[..., None]
-        return force + self._sideways(force, r, own_wish)
+        speed = np.hypot(own_wish[..., 0], own_wish[..., 1])    # for both below
+        force = -grad * self._view_weight(-r, own_wish, speed)[..., None]
+        return force + self._sideways(force, r, own_wish, speed)
 
-    def _sideways(self, force: np.ndarray, r: np.ndarray, wish: np.ndarray) -> np.ndarray:
+    def _sideways(self, force: np.ndarray, r: np.ndarray, wish: np.ndarray,
+                  speed: np.ndarray) -> np.ndarray:
         """A walker swerves past someone ahead: `evade` times the repulsion, across the
         walking direction, away from the side the other is on (to the right when dead
-        ahead)."""
-        speed = np.hypot(wish[..., 0], wish[..., 1])
-        ex = wish[..., 0] / np.maximum(speed, 1e-12)
-        ey = wish[..., 1] / np.maximum(speed, 1e-12)
+        ahead). `speed`: the length of each wish."""
+        length = np.maximum(speed, 1e-12)
+        ex = wish[..., 0] / length
+        ey = wish[..., 1] / length
         ahead = (-r[..., 0] * ex - r[..., 1] * ey) > 0.0
         cross = ex * -r[..., 1] - ey * -r[..., 0]        # > 0: the other is on the left
-        sign = np.where(cross > 0.0, -1.0, np.where(cross < 0.0, 1.0, -1.0))
+        sign = np.where(cross < 0.0, 1.0, -1.0)          # dead ahead (0) counts as left
         size = self.params.evade * np.hypot(force[..., 0], force[..., 1])
         size = np.where(ahead & (speed > 1e-6), size, 0.0)
         # the left normal of (ex, ey) is (-ey, ex); sign -1 turns it to the right
-        return np.stack([sign * -ey * size, sign * ex * size], axis=-1)
+        out = np.empty(size.shape + (2,))
+        out[..., 0] = sign * -ey * size
+        out[..., 1] = sign * ex * size
+        return out
 
-    def _view_weight(self, towards: np.ndarray, wish: np.ndarray) -> np.ndarray:
+    def _view_weight(self, towards: np.ndarray, wish: np.ndarray,
+                     speed: np.ndarray | None = None) -> np.ndarray:
         """1 for what lies in the walking direction's field of view, `behind` otherwise (and
-        for a person standing still)."""
-        speed = np.hypot(wish[..., 0], wish[..., 1])
+        for a person standing still). `speed`: the length of each wish, when known."""
+        if speed is None:
+            speed = np.hypot(wish[..., 0], wish[..., 1])
         distance = np.hypot(towards[..., 0], towards[..., 1])
         cosine = ((wish[..., 0] * towards[..., 0] + wish[..., 1] * towards[..., 1])
                   / np.maximum(speed * distance, 1e-12))
