@@ -131,15 +131,18 @@ class Crowd:
     def _apply_forces(self, people: list[SimPerson], before: dict, h: float,
                       world: "World") -> None:
         """Move each person from where they stood by (wish + deviation) * h."""
-        start = np.array([before[id(p)][:2] for p in people])
-        wish = (np.array([(p.x, p.y) for p in people]) - start) / h
-        force = self.forces(people, start, wish, world)
+        # one table, one conversion: where they stood, where their script put them, their
+        # deviation and scripted speed
+        table = np.array([(*before[id(person)][:2], person.x, person.y,
+                           *self._deviation.get(id(person), _NO_DEVIATION), person.plan.speed)
+                          for person in people])
+        start, deviation, scripted = table[:, 0:2], table[:, 4:6], table[:, 6]
+        wish = (table[:, 2:4] - start) / h
+        wished = np.hypot(wish[:, 0], wish[:, 1])
+        force = self.forces(people, start, wish, world, wished)
         p = self.params
-        deviation = np.array([self._deviation.get(id(person), _NO_DEVIATION) for person in people])
         u = (deviation + h * force) / (1.0 + h / p.tau)
         velocity = wish + u
-        wished = np.hypot(wish[:, 0], wish[:, 1])
-        scripted = np.array([person.plan.speed for person in people])
         cap = np.maximum(np.where(wished > 1e-6, p.overspeed * scripted, 0.0), p.min_cap)
         speed = np.hypot(velocity[:, 0], velocity[:, 1])
         over = speed > cap
@@ -160,15 +163,18 @@ class Crowd:
             person.speed = speed_k if speed_k * h > 1e-9 else 0.0
 
     def forces(self, people: list[SimPerson], positions: np.ndarray, wish: np.ndarray,
-               world: "World") -> np.ndarray:
-        """Social force (m/s²) on each person, (n, 2)."""
+               world: "World", wished: np.ndarray | None = None) -> np.ndarray:
+        """Social force (m/s²) on each person, (n, 2). `wished`: the length of each wish,
+        when known."""
+        if wished is None:
+            wished = np.hypot(wish[:, 0], wish[:, 1])
         from_people, from_robot = self._walker_forces(people, positions, wish, world)
         force = (from_people
-                 + self._wall_forces(positions, wish, world)
+                 + self._wall_forces(positions, wished, world)
                  + self._cart_forces(people, positions, wish)
                  + from_robot
                  + self._group_forces(people, positions, wish))
-        standing = np.hypot(wish[:, 0], wish[:, 1]) < 1e-6
+        standing = wished < 1e-6
         comfort = np.where(standing, self.params.comfort_standing, self.params.comfort)
         weak = np.hypot(force[:, 0], force[:, 1]) < comfort
         force[weak] = 0.0
@@ -243,26 +249,26 @@ class Crowd:
         parts = [part for part in (between, robot) if part is not None]
         if not parts:
             return np.zeros((n, 2)), np.zeros_like(positions)
-        r, relative, own, strength = (np.concatenate(arrays, axis=1) for arrays in zip(*parts))
-        pair = self._potential_force(r, relative, own, strength)
+        r, relative, strength = (np.concatenate(arrays, axis=1) for arrays in zip(*parts))
+        # each row's own walk, broadcast over the row's others (the same value in each)
+        pair = self._potential_force(r, relative, wish[:, None, :], strength)
         from_people, from_robot = np.zeros((n, 2)), np.zeros_like(positions)
         if between is not None:
             others = np.ascontiguousarray(pair[:, :n])
             others[np.arange(n), np.arange(n)] = 0.0
-            from_people = others.sum(axis=1)
+            from_people = np.add.reduce(others, axis=1)     # what others.sum(axis=1) does
         if robot is not None:
             from_robot = pair[:, -1]
         return from_people, from_robot
 
     def _people_pairs(self, people, positions, wish):
-        """Relative positions, velocities, own walks and strengths (n, n, …) between people,
-        or None for fewer than two."""
+        """Relative positions, velocities and strengths (n, n, …) between people, or None for
+        fewer than two."""
         n = len(people)
         if n < 2:
             return None
         r = positions[:, None, :] - positions[None, :, :]
-        other_velocity = np.broadcast_to(wish[None, :, :], r.shape)
-        own = np.broadcast_to(wish[:, None, :], r.shape)
+        relative = wish[None, :, :] - wish[:, None, :]    # the other's walk less one's own
         groups = tuple(p.plan.group for p in people)
         strength = self._strengths.get(groups)
         if strength is None:        # the same people walk for many substeps: kept per groups
@@ -272,9 +278,9 @@ class Crowd:
             if len(self._strengths) > 64:
                 self._strengths.clear()
             self._strengths[groups] = strength
-        return r, other_velocity - own, own, strength
+        return r, relative, strength
 
-    def _wall_forces(self, positions: np.ndarray, wish: np.ndarray, world: "World"
+    def _wall_forces(self, positions: np.ndarray, wished: np.ndarray, world: "World"
                      ) -> np.ndarray:
         """Walls keep walkers off; someone standing against a wall stays (the hard rule
         still keeps them out of it)."""
@@ -290,7 +296,7 @@ class Crowd:
         gap = distance - BODY_RADIUS
         size = np.where(gap < p.wall_reach,
                         p.wall_strength * np.exp(-np.maximum(gap, 0.0) / p.wall_range), 0.0)
-        size[np.hypot(wish[near, 0], wish[near, 1]) < 1e-6] = 0.0
+        size[wished[near] < 1e-6] = 0.0
         out[near] = away * (size / distance)[:, None]
         return out
 
@@ -346,7 +352,7 @@ class Crowd:
             distance, 1e-9)
         r = r * shrink[:, None]
         velocity = np.array([body.v * math.cos(body.th), body.v * math.sin(body.th)])
-        return r[:, None], (velocity - wish)[:, None], wish[:, None], gains[:, None]
+        return r[:, None], (velocity - wish)[:, None], gains[:, None]
 
     def _group_forces(self, people, positions, wish) -> np.ndarray:
         out = np.zeros_like(positions)
