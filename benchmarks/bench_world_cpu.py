@@ -2,9 +2,11 @@
 and ten shoppers in the store): to compare two commits' crowd step, run alternately.
 
 Each floor runs `--ticks` ticks of 0.1 s (world.step, sonar, laser, person detection) after a
-warm-up, `--repeat` times in this process, and prints the smallest user + system CPU time, of the whole and of the crowd's step.
-Set PYTHONPATH to the tree under test:
+warm-up, `--repeat` times in this process, and prints the smallest user + system CPU time, of
+the whole and of the crowd's step. Set PYTHONPATH to the tree under test, e.g. an old commit
+unpacked with `git archive <commit> | tar -x -C /tmp/old`, and alternate the two trees:
 
+    PYTHONPATH=/tmp/old python benchmarks/bench_world_cpu.py [--ticks 1500] [--repeat 3]
     PYTHONPATH=. python benchmarks/bench_world_cpu.py [--ticks 1500] [--repeat 3]
 """
 from __future__ import annotations
