@@ -50,7 +50,9 @@ OVERLAP_SLACK = 1e-6       # m of overlap that counts as touching
 BLOCKED_SHARE = 0.25       # moved less than this share of the wish: held up by the crowd
 HEADWAY_WINDOW = 1.0       # s over which headway and wish are averaged for that
 TRAIT_STREAM = 0x7E1D      # seeds each person's trait generator with the run's seed and index
-_NO_DEVIATION = np.zeros(2)
+_NO_DEVIATION = (0.0, 0.0)
+_EPS = 1e-4                # m, the step of the potential's numerical gradient
+_SHIFTS = np.array([[_EPS, 0.0], [-_EPS, 0.0], [0.0, _EPS], [0.0, -_EPS]])
 
 
 @dataclass(frozen=True)
@@ -83,10 +85,11 @@ class Crowd:
     def __init__(self, social: bool = True, params: CrowdParams = CrowdParams()) -> None:
         self.social = social
         self.params = params
-        self._deviation: dict[int, np.ndarray] = {}
+        self._deviation: dict[int, tuple[float, float]] = {}
         # per person: the averaged velocity (x, y) and the averaged wish
         self._headway: dict[int, tuple[tuple[float, float], float]] = {}
         self._walls: WallIndex | None = None
+        self._strengths: dict[tuple, np.ndarray] = {}   # repulsion shares, by the groups
 
     @classmethod
     def for_scenario(cls, people: list[SimPerson], scenario: "Scenario | None",
@@ -128,41 +131,50 @@ class Crowd:
     def _apply_forces(self, people: list[SimPerson], before: dict, h: float,
                       world: "World") -> None:
         """Move each person from where they stood by (wish + deviation) * h."""
-        start = np.array([before[id(p)][:2] for p in people])
-        wish = (np.array([(p.x, p.y) for p in people]) - start) / h
-        force = self.forces(people, start, wish, world)
+        # one table, one conversion: where they stood, where their script put them, their
+        # deviation and scripted speed
+        table = np.array([(*before[id(person)][:2], person.x, person.y,
+                           *self._deviation.get(id(person), _NO_DEVIATION), person.plan.speed)
+                          for person in people])
+        start, deviation, scripted = table[:, 0:2], table[:, 4:6], table[:, 6]
+        wish = (table[:, 2:4] - start) / h
+        wished = np.hypot(wish[:, 0], wish[:, 1])
+        force = self.forces(people, start, wish, world, wished)
         p = self.params
-        deviation = np.array([self._deviation.get(id(person), _NO_DEVIATION) for person in people])
         u = (deviation + h * force) / (1.0 + h / p.tau)
         velocity = wish + u
-        wished = np.hypot(wish[:, 0], wish[:, 1])
-        scripted = np.array([person.plan.speed for person in people])
         cap = np.maximum(np.where(wished > 1e-6, p.overspeed * scripted, 0.0), p.min_cap)
         speed = np.hypot(velocity[:, 0], velocity[:, 1])
         over = speed > cap
         velocity[over] *= (cap[over] / speed[over])[:, None]
         speed = np.where(over, cap, speed)
         moved = start + velocity * h
-        swerving = (np.hypot(u[:, 0], u[:, 1]) > 1e-6) & (speed > 0.05)
-        for k, person in enumerate(people):
-            person.wished = float(wished[k])
-            self._deviation[id(person)] = velocity[k] - wish[k]
-            person.x, person.y = float(moved[k, 0]), float(moved[k, 1])
-            if swerving[k]:                  # they face where they go
-                person.heading = math.atan2(velocity[k, 1], velocity[k, 0])
+        swerving = ((np.hypot(u[:, 0], u[:, 1]) > 1e-6) & (speed > 0.05)).tolist()
+        # plain floats for the loop: numpy's scalar indexing costs more than the work
+        rows = zip(people, wished.tolist(), (velocity - wish).tolist(), moved.tolist(),
+                   velocity.tolist(), speed.tolist(), swerving)
+        for person, wished_k, deviation_k, (x, y), (vx, vy), speed_k, swerves in rows:
+            person.wished = wished_k
+            self._deviation[id(person)] = tuple(deviation_k)
+            person.x, person.y = x, y
+            if swerves:                      # they face where they go
+                person.heading = math.atan2(vy, vx)
                 person.cart_heading = person.heading
-            person.speed = float(speed[k]) if speed[k] * h > 1e-9 else 0.0
+            person.speed = speed_k if speed_k * h > 1e-9 else 0.0
 
     def forces(self, people: list[SimPerson], positions: np.ndarray, wish: np.ndarray,
-               world: "World") -> np.ndarray:
-        """Social force (m/s²) on each person, (n, 2)."""
+               world: "World", wished: np.ndarray | None = None) -> np.ndarray:
+        """Social force (m/s²) on each person, (n, 2). `wished`: the length of each wish,
+        when known."""
+        if wished is None:
+            wished = np.hypot(wish[:, 0], wish[:, 1])
         from_people, from_robot = self._walker_forces(people, positions, wish, world)
         force = (from_people
-                 + self._wall_forces(positions, wish, world)
+                 + self._wall_forces(positions, wished, world)
                  + self._cart_forces(people, positions, wish)
                  + from_robot
                  + self._group_forces(people, positions, wish))
-        standing = np.hypot(wish[:, 0], wish[:, 1]) < 1e-6
+        standing = wished < 1e-6
         comfort = np.where(standing, self.params.comfort_standing, self.params.comfort)
         weak = np.hypot(force[:, 0], force[:, 1]) < comfort
         force[weak] = 0.0
@@ -186,34 +198,41 @@ class Crowd:
             b = 0.5 * np.sqrt(np.maximum((distance + later) ** 2 - travel ** 2, 1e-12))
             return strength * p.v0 * np.exp(-b / p.sigma)
 
-        eps = 1e-4
-        shifts = np.array([[eps, 0.0], [-eps, 0.0], [0.0, eps], [0.0, -eps]])
-        shifts = shifts.reshape((4,) + (1,) * (r.ndim - 1) + (2,))
+        eps = _EPS
+        shifts = _SHIFTS.reshape((4,) + (1,) * (r.ndim - 1) + (2,))
         values = potential(r[None] + shifts)        # one call for the four differences
-        grad = np.stack([(values[0] - values[1]) / (2 * eps),
-                         (values[2] - values[3]) / (2 * eps)], axis=-1)
-        force = -grad * self._view_weight(-r, own_wish)[..., None]
-        return force + self._sideways(force, r, own_wish)
+        grad = np.empty(values.shape[1:] + (2,))
+        grad[..., 0] = (values[0] - values[1]) / (2 * eps)
+        grad[..., 1] = (values[2] - values[3]) / (2 * eps)
+        speed = np.hypot(own_wish[..., 0], own_wish[..., 1])    # for both below
+        force = -grad * self._view_weight(-r, own_wish, speed)[..., None]
+        return force + self._sideways(force, r, own_wish, speed)
 
-    def _sideways(self, force: np.ndarray, r: np.ndarray, wish: np.ndarray) -> np.ndarray:
+    def _sideways(self, force: np.ndarray, r: np.ndarray, wish: np.ndarray,
+                  speed: np.ndarray) -> np.ndarray:
         """A walker swerves past someone ahead: `evade` times the repulsion, across the
         walking direction, away from the side the other is on (to the right when dead
-        ahead)."""
-        speed = np.hypot(wish[..., 0], wish[..., 1])
-        ex = wish[..., 0] / np.maximum(speed, 1e-12)
-        ey = wish[..., 1] / np.maximum(speed, 1e-12)
+        ahead). `speed`: the length of each wish."""
+        length = np.maximum(speed, 1e-12)
+        ex = wish[..., 0] / length
+        ey = wish[..., 1] / length
         ahead = (-r[..., 0] * ex - r[..., 1] * ey) > 0.0
         cross = ex * -r[..., 1] - ey * -r[..., 0]        # > 0: the other is on the left
-        sign = np.where(cross > 0.0, -1.0, np.where(cross < 0.0, 1.0, -1.0))
+        sign = np.where(cross < 0.0, 1.0, -1.0)          # dead ahead (0) counts as left
         size = self.params.evade * np.hypot(force[..., 0], force[..., 1])
         size = np.where(ahead & (speed > 1e-6), size, 0.0)
         # the left normal of (ex, ey) is (-ey, ex); sign -1 turns it to the right
-        return np.stack([sign * -ey * size, sign * ex * size], axis=-1)
+        out = np.empty(size.shape + (2,))
+        out[..., 0] = sign * -ey * size
+        out[..., 1] = sign * ex * size
+        return out
 
-    def _view_weight(self, towards: np.ndarray, wish: np.ndarray) -> np.ndarray:
+    def _view_weight(self, towards: np.ndarray, wish: np.ndarray,
+                     speed: np.ndarray | None = None) -> np.ndarray:
         """1 for what lies in the walking direction's field of view, `behind` otherwise (and
-        for a person standing still)."""
-        speed = np.hypot(wish[..., 0], wish[..., 1])
+        for a person standing still). `speed`: the length of each wish, when known."""
+        if speed is None:
+            speed = np.hypot(wish[..., 0], wish[..., 1])
         distance = np.hypot(towards[..., 0], towards[..., 1])
         cosine = ((wish[..., 0] * towards[..., 0] + wish[..., 1] * towards[..., 1])
                   / np.maximum(speed * distance, 1e-12))
@@ -230,32 +249,38 @@ class Crowd:
         parts = [part for part in (between, robot) if part is not None]
         if not parts:
             return np.zeros((n, 2)), np.zeros_like(positions)
-        r, relative, own, strength = (np.concatenate(arrays, axis=1) for arrays in zip(*parts))
-        pair = self._potential_force(r, relative, own, strength)
+        r, relative, strength = (np.concatenate(arrays, axis=1) for arrays in zip(*parts))
+        # each row's own walk, broadcast over the row's others (the same value in each)
+        pair = self._potential_force(r, relative, wish[:, None, :], strength)
         from_people, from_robot = np.zeros((n, 2)), np.zeros_like(positions)
         if between is not None:
             others = np.ascontiguousarray(pair[:, :n])
             others[np.arange(n), np.arange(n)] = 0.0
-            from_people = others.sum(axis=1)
+            from_people = np.add.reduce(others, axis=1)     # what others.sum(axis=1) does
         if robot is not None:
             from_robot = pair[:, -1]
         return from_people, from_robot
 
     def _people_pairs(self, people, positions, wish):
-        """Relative positions, velocities, own walks and strengths (n, n, …) between people,
-        or None for fewer than two."""
+        """Relative positions, velocities and strengths (n, n, …) between people, or None for
+        fewer than two."""
         n = len(people)
         if n < 2:
             return None
         r = positions[:, None, :] - positions[None, :, :]
-        other_velocity = np.broadcast_to(wish[None, :, :], r.shape)
-        own = np.broadcast_to(wish[:, None, :], r.shape)
-        groups = [p.plan.group for p in people]
-        same = np.array([[a is not None and a == b for b in groups] for a in groups])
-        strength = np.where(same, self.params.group_repulsion, 1.0)
-        return r, other_velocity - own, own, strength
+        relative = wish[None, :, :] - wish[:, None, :]    # the other's walk less one's own
+        groups = tuple(p.plan.group for p in people)
+        strength = self._strengths.get(groups)
+        if strength is None:        # the same people walk for many substeps: kept per groups
+            same = np.array([[a is not None and a == b for b in groups] for a in groups])
+            strength = np.where(same, self.params.group_repulsion, 1.0)
+            strength.flags.writeable = False
+            if len(self._strengths) > 64:
+                self._strengths.clear()
+            self._strengths[groups] = strength
+        return r, relative, strength
 
-    def _wall_forces(self, positions: np.ndarray, wish: np.ndarray, world: "World"
+    def _wall_forces(self, positions: np.ndarray, wished: np.ndarray, world: "World"
                      ) -> np.ndarray:
         """Walls keep walkers off; someone standing against a wall stays (the hard rule
         still keeps them out of it)."""
@@ -271,7 +296,7 @@ class Crowd:
         gap = distance - BODY_RADIUS
         size = np.where(gap < p.wall_reach,
                         p.wall_strength * np.exp(-np.maximum(gap, 0.0) / p.wall_range), 0.0)
-        size[np.hypot(wish[near, 0], wish[near, 1]) < 1e-6] = 0.0
+        size[wished[near] < 1e-6] = 0.0
         out[near] = away * (size / distance)[:, None]
         return out
 
@@ -327,7 +352,7 @@ class Crowd:
             distance, 1e-9)
         r = r * shrink[:, None]
         velocity = np.array([body.v * math.cos(body.th), body.v * math.sin(body.th)])
-        return r[:, None], (velocity - wish)[:, None], wish[:, None], gains[:, None]
+        return r[:, None], (velocity - wish)[:, None], gains[:, None]
 
     def _group_forces(self, people, positions, wish) -> np.ndarray:
         out = np.zeros_like(positions)
@@ -366,7 +391,7 @@ class Crowd:
                 if id(person) in present_before:
                     person.x, person.y, person.heading, person.cart_heading = before[id(person)]
                     person.speed = 0.0
-                    self._deviation[id(person)] = np.zeros(2)
+                    self._deviation[id(person)] = _NO_DEVIATION
                 else:                 # appeared this substep (their cart swung into someone)
                     person.hold_back(*before[id(person)])
                     people = [p for p in people if p is not person]
@@ -383,8 +408,8 @@ class Crowd:
                 owners.extend([k] * len(carts))
         footprint = world.body.circles()    # one circle, or a rectangle's
         owners.extend([-1] * len(footprint))
-        people_rows = np.array(rows, dtype=float).reshape(-1, 3)
-        return np.vstack([people_rows, footprint]), np.array(owners)
+        rows.extend(footprint.tolist())
+        return np.array(rows, dtype=float), np.array(owners)
 
     def _overlaps(self, people, world):
         circles, owners = self._circles(people, world)
@@ -414,9 +439,9 @@ class Crowd:
         walls = self._wall_overlaps(people, world)
         for k, push in walls.items():
             moves[k] += push
-        for k, person in enumerate(people):
-            person.x += float(moves[k, 0])
-            person.y += float(moves[k, 1])
+        for person, (dx, dy) in zip(people, moves.tolist()):
+            person.x += dx
+            person.y += dy
         return len(a) > 0 or bool(walls)
 
     def _wall_overlaps(self, people: list[SimPerson], world: "World") -> dict:

@@ -80,6 +80,25 @@ def test_people_walk_around_the_shelves_to_every_shelf():
                 assert wall_distance(x1 + s * (x2 - x1), y1 + s * (y2 - y1)) >= BODY_RADIUS, name
 
 
+def test_a_run_of_clear_lines_is_counted_as_one_line_at_a_time_counts_it():
+    """`clear_run` (the string pulling's batch) agrees with `clear` line by line, on lines
+    inside the store, through shelves and off the floor."""
+    from robots.sim.walkways import walk_grid
+    grid = walk_grid(STORE)
+    rng = np.random.default_rng(3)
+    xmin, ymin, xmax, ymax = STORE.bounds
+    runs = set()
+    for _ in range(200):
+        a = (float(rng.uniform(xmin, xmax)), float(rng.uniform(ymin, ymax)))
+        near = rng.uniform(-2.0, 2.0, (int(rng.integers(1, 20)), 2)) + a
+        far = rng.uniform((xmin - 1, ymin - 1), (xmax + 1, ymax + 1), (3, 2))
+        points = [tuple(map(float, p)) for p in np.vstack([near, far])]
+        expected = next((k for k, b in enumerate(points) if not grid.clear(a, b)), len(points))
+        assert grid.clear_run(a, points) == expected
+        runs.add(expected)
+    assert len(runs) > 5             # short and long runs both tested
+
+
 def test_the_way_into_a_dead_end_aisle_comes_from_its_open_end():
     world = store_world([])
     path = world.route(STORE.places["front_aisle"][:2], STORE.places["shelf_canned"][:2])

@@ -25,7 +25,8 @@ def random_walls(rng, count):
     return np.hstack([starts, starts + rng.uniform(-3, 3, (count, 2))])
 
 
-@pytest.mark.parametrize("few_walls", [wall_index.FEW_WALLS, 0])   # searched all, and bucketed
+# the default, bucketed, and every wall searched (150 walls: above the default)
+@pytest.mark.parametrize("few_walls", [wall_index.FEW_WALLS, 0, 10_000])
 @pytest.mark.parametrize("seed", range(3))
 def test_the_nearest_wall_within_reach_is_the_one_a_full_search_finds(monkeypatch, few_walls,
                                                                       seed):
@@ -71,3 +72,18 @@ def test_a_position_said_to_be_far_from_every_wall_is(seed):
         near = index.may_be_near(positions, distance)
         assert (near | (true >= distance)).all()
         assert (~near).sum() > 100                   # and it does rule some out
+
+
+def test_a_few_positions_are_ruled_out_as_many_are():
+    """`may_be_near` answers a crowd's few positions (a plain loop) as it answers many
+    (numpy), off the grid too."""
+    rng = np.random.default_rng(5)
+    index = WallIndex(random_walls(rng, 150), reach=0.7)
+    positions = rng.uniform(-16, 16, (600, 2))
+    assert len(positions) > wall_index.FEW_POSITIONS
+    for distance in (0.2, 0.7):
+        many = index.may_be_near(positions, distance)
+        few = np.concatenate([index.may_be_near(positions[k:k + 7], distance)
+                              for k in range(0, len(positions), 7)])
+        assert many.any() and (~many).any()
+        assert np.array_equal(few, many)
