@@ -127,6 +127,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._searched: list[str] = []        # its places looked at so far
         self._viewed: dict[int, float] = {}   # s each place of the plan was in view (this round)
         self._view_t: float | None = None     # ... counted up to this time
+        self._way = None                      # (search goal, nearest yet, since when)
         self._looking_since: float | None = None
         self._recent: list[tuple[float, float, float]] = []    # (t, x, y) seen, newest last
         self._waiting_since: float | None = None
