@@ -22,6 +22,7 @@ WAIT_SLACK = 1.5         # m beyond the following distance at which the guide st
 NO_PLACE = ("no place to go: the parameter 'place' was not set (its percept had no value or "
             "the database no row for it)")
 IN_A_WALL = 0.15         # m: a "person" closer than this to a wall is a door jamb's echo
+STALL_CLEARED = 0.5      # m further along its path after which a blocked robot is past the stall
 
 
 class Drive(SkillLeaf):
@@ -102,9 +103,16 @@ class Lead(SkillLeaf):
     SUCCESS on arrival; FAILURE when the user did not come (guide.user_lost) or navigation
     failed (navigation.failure), with the reason as feedback. With `turn_back` (a robot without
     a head) the robot turns round to look for the user (towards where it last saw them) once
-    per wait. On the goal, turning to the place's heading, it arrives before it waits; while
-    the way is blocked it does not wait for the user either (a stall ends as a navigation
-    failure, not as a lost user)."""
+    per wait; a robot with a head does so when it waits for a user it does not see at all:
+    in a 1 m hallway the walls' echo hides a visitor standing more than about 1.8 m straight
+    behind HOROS from every rear sonar (their readings are those of the empty hallway), and
+    the pan-tilt head cannot look back there, so only the laser and camera turned round tell
+    a visitor standing there from one who left. On the goal, turning to the place's heading, it
+    arrives before it waits; while the way is blocked it does not wait for the user either (a stall ends as a navigation
+    failure, not as a lost user). A stall the robot has not driven past (`Stall`) is what it
+    reports if it gives up waiting: held up in a door, ARGOS turned round to look for its
+    visitor, on turning back the way was for a moment clear, it stopped for the visitor and the
+    run ended as "user lost", which hid the stall."""
 
     def __init__(self, ctx: BehaviorContext, place: str, *, pace: float | None,
                  follow_distance: float, give_up_after: float, turn_back: bool) -> None:
@@ -114,6 +122,7 @@ class Lead(SkillLeaf):
         self.turn_back = turn_back
         self._behind_since: float | None = None
         self._turned = False
+        self._stall = Stall()
 
     def start(self) -> None:
         if self.place is None:
@@ -123,6 +132,7 @@ class Lead(SkillLeaf):
         skills.require("guide").start(self.place, now, user.id if user is not None else None)
         skills.require("navigation").go_to(self.place, now, speed=self.pace, lead=True)
         self._behind_since, self._turned = None, False
+        self._stall = Stall()
 
     def update(self) -> Status:
         if self.place is None:
@@ -136,6 +146,7 @@ class Lead(SkillLeaf):
             guide.finish(OUTCOME_NAVIGATION, now, nav.status.reason)
             self.feedback_message = nav.status.reason
             return Status.FAILURE
+        self._stall.note(nav.state, nav.status.reason)
         state = guide.state
         distance = state.user_distance
         if state.phase == LEADING:
@@ -155,10 +166,8 @@ class Lead(SkillLeaf):
                 self._behind_since = None
                 guide.lead(now)
                 nav.resume(now)
-            elif state.waiting_for >= self.give_up_after:
-                return self._give_up(now)
-            elif self.turn_back and not self._turned:
-                self._look_round(now)
+            else:
+                return self._keep_waiting(now, distance)
         elif state.phase == GAVE_UP:
             return Status.FAILURE
         return Status.RUNNING
@@ -182,19 +191,39 @@ class Lead(SkillLeaf):
             if now - self._behind_since >= BEHIND_GRACE:
                 guide.wait(now)
                 self._turned = False
-        elif state.waiting_for >= self.give_up_after:
+            return Status.RUNNING
+        return self._keep_waiting(now, distance)
+
+    def _keep_waiting(self, now: float, distance: float | None) -> Status:
+        """Waiting for the user (on the way or on the goal): give up after `give_up_after`,
+        else look round once."""
+        if self.skills.guide.state.waiting_for >= self.give_up_after:
             return self._give_up(now)
-        elif self.turn_back and not self._turned:
+        if self._may_look_round(distance):
             self._look_round(now)
         return Status.RUNNING
 
+    def _may_look_round(self, distance: float | None) -> bool:
+        """Once per wait: always without a head; with one, only for a user not seen at all."""
+        return not self._turned and (self.turn_back or distance is None)
+
     def _give_up(self, now: float) -> Status:
+        """Give up waiting: the user did not follow, unless the robot never got past a stall
+        before it stopped for them; then the stall is what failed (navigation failed). On the
+        goal the robot got where it was going: a stall on the way is no reason there."""
         distance = self.skills.guide.state.user_distance
         seen = "not seen" if distance is None else f"{distance:.1f} m away"
-        reason = (f"the user did not follow: {seen} after waiting "
-                  f"{self.skills.guide.state.waiting_for:.0f} s")
-        self.skills.navigation.cancel(now)
-        self.skills.guide.finish(OUTCOME_USER_LOST, now, reason)
+        waited = f"{seen} after waiting {self.skills.guide.state.waiting_for:.0f} s"
+        nav = self.skills.navigation
+        stall = "" if nav.status.succeeded else self._stall.reason   # on the goal: past it
+        nav.cancel(now)
+        if stall:
+            reason = (f"{stall}, not driven past before the robot stopped for "
+                      f"the user ({waited})")
+            self.skills.guide.finish(OUTCOME_NAVIGATION, now, reason)
+        else:
+            reason = f"the user did not follow: {waited}"
+            self.skills.guide.finish(OUTCOME_USER_LOST, now, reason)
         self.feedback_message = reason
         return Status.FAILURE
 
@@ -214,6 +243,23 @@ class Lead(SkillLeaf):
         if new_status == Status.INVALID and self.place is not None:
             self.skills.navigation.cancel(self.now)
             self.skills.guide.cancel(self.now)
+
+
+class Stall:
+    """The last time navigation was held up (BLOCKED) on this run, until the robot has driven
+    STALL_CLEARED m further along its path: a stall it has not driven past."""
+
+    def __init__(self) -> None:
+        self.reason = ""                    # the navigation's status then ("blocked for …")
+        self._left = math.inf               # m of path left where it was held up
+
+    def note(self, state, status_reason: str) -> None:
+        """Look at the navigation's state of this tick."""
+        if state.phase == BLOCKED:
+            self.reason = status_reason or "blocked"
+            self._left = state.distance_left
+        elif self.reason and state.distance_left < self._left - STALL_CLEARED:
+            self.reason, self._left = "", math.inf
 
 
 class LookBack(SkillLeaf):

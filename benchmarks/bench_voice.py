@@ -13,12 +13,14 @@ it: `--calibrate` prints the rates for a range of margin caps and thresholds, an
 where the lower of the two rates is highest, then the worst application's lower rate) and
 `test` (the figures; other espeak-ng voices, speeds and pitches, and other words). `--snr DB`
 mixes white noise into every utterance at that signal-to-noise ratio (the speech's mean power
-over the noise's; seeded, so the same run gives the same figures).
+over the noise's; seeded, so the same run gives the same figures). `--speech-pad` sets how much
+of the silence around the speech the recognizer keeps (`none`: the whole sound, as before the
+cut).
 
     python benchmarks/bench_voice.py [--set test|calibration] [--calibrate]
                                      [--apps survey,guide] [--languages en,de]
                                      [--threshold -14] [--margin-cap 15]
-                                     [--snr 20] [--misses]
+                                     [--snr 20] [--speech-pad 0.1|none] [--misses]
 
 The engine is pocketsphinx (robots/audio/recognizer.py says why); figures in
 docs/tablet-and-voice.md.
@@ -44,7 +46,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from applications.appfolder import load_folder            # noqa: E402
 from robots.audio.confidence import (Judgement, default_margin_cap,  # noqa: E402
                                      default_threshold)
-from robots.audio.recognizer import AnswerRecognizer                      # noqa: E402
+from robots.audio.recognizer import SPEECH_PAD, AnswerRecognizer          # noqa: E402
 from robots.audio.source import WavFileSource               # noqa: E402
 
 APPS = ("survey", "guide", "receptionist", "shopping")
@@ -259,6 +261,23 @@ def calibrate(answers: list[dict], others: list[dict]) -> Rule:
     return best
 
 
+def pad_argument(text: str) -> float | None | str:
+    """--speech-pad: seconds (0 or more), 'none' (no cut) or 'default'."""
+    if text in ("none", "default"):
+        return None if text == "none" else text
+    try:
+        value = float(text)
+    except ValueError:
+        value = -1.0
+    if not value >= 0:
+        raise argparse.ArgumentTypeError(f"seconds (0 or more) or 'none', not {text!r}")
+    return value
+
+
+def pad_text(pad: float | None) -> str:
+    return "none (the whole sound)" if pad is None else f"{pad:g} s"
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--apps", default=",".join(APPS))
@@ -275,6 +294,9 @@ def main(argv=None) -> int:
     parser.add_argument("--snr", type=float, default=None, help="white noise at this dB SNR")
     parser.add_argument("--noise-floor", type=float, default=None,
                         help="the recognizer's noise floor (RMS; default: its own)")
+    parser.add_argument("--speech-pad", type=pad_argument, default="default",
+                        help="seconds of sound kept either side of the speech, or 'none' to "
+                             "decode the whole sound (default: the recognizer's)")
     parser.add_argument("--misses", action="store_true", help="list every miss")
     args = parser.parse_args(argv)
     which = "calibration" if args.calibrate else args.which
@@ -282,7 +304,8 @@ def main(argv=None) -> int:
           f"{'per language' if args.threshold is None else f'{args.threshold:g}'}, "
           f"margin cap "
           f"{'per language' if args.margin_cap is None else f'{args.margin_cap:g}'}, "
-          f"noise {'none' if args.snr is None else f'{args.snr:g} dB SNR'}")
+          f"noise {'none' if args.snr is None else f'{args.snr:g} dB SNR'}, speech pad "
+          f"{pad_text(SPEECH_PAD if args.speech_pad == 'default' else args.speech_pad)}")
     print(f"{'application':14} {'lang':4} {'recognised':>16} {'rejected':>16} {'s/utt':>6}")
     everything: dict[str, tuple[list, list]] = {}
     with tempfile.TemporaryDirectory() as tmp:
@@ -292,6 +315,8 @@ def main(argv=None) -> int:
                     else args.margin_cap)
             recognizer = AnswerRecognizer(_Silent(), language=language, threshold=rule[0],
                                           margin_cap=rule[1])
+            if args.speech_pad != "default":
+                recognizer.speech_pad = args.speech_pad
             if args.noise_floor is not None:
                 recognizer.noise_floor = args.noise_floor
             mine: tuple[list, list] = ([], [])

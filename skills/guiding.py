@@ -31,9 +31,10 @@ walls are heard 1.38 m away). Where the laser looks the rays span the whole cone
 and camera find a person there, so the sonar must be sure (ARGOS, turned round to look with
 its front sonars, took wall echoes at its cones' edges for a visitor who had left). The span
 is widened by the turn the robot makes in one tick, since an echo may be that old.
-Other people walking behind the robot look like the follower to these sources, and in a 1 m
-hallway a visitor more than about 1.6 m straight behind is hidden by the walls' echo (known
-limits).
+Other people walking behind the robot look like the follower to these sources (a known
+limit). In a 1 m hallway a visitor more than about 1.8 m straight behind HOROS is hidden by
+the walls' echo: its rear sonars read what they read in the empty hallway, so this skill cannot
+see them; GuidePerson's `Lead` turns the robot round to look for a visitor it does not see.
 
 The behavior owns the decisions (lead, stop and wait, give up); this skill owns the state that
 conditions read (`guide/state`) and the log event of a finished guide run (`guide`, with

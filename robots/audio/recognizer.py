@@ -5,7 +5,9 @@ language model, so nothing is fetched at run time (Vosk's and Whisper's models a
 Debian packages only the same US-English pocketsphinx model, and neither PyPI nor Debian has a
 German one).
 
-Each utterance is decoded three times (utterance verification): with a grammar that holds only
+Each utterance is cut to its speech with 0.1 s either side (the features' mean normalisation
+is a mean over the whole utterance, so a short answer must not be normalised mostly on
+silence), then decoded three times (utterance verification): with a grammar that holds only
 the answers on the screen, each a path of its words (each word as espeak-ng and, for English,
 the dictionary say it: `pronounce.py`), which says *which* answer it most resembles; with a
 free loop of the model's phones, which fits any sound as well as the model can; and with the
@@ -62,6 +64,13 @@ DECODER_OPTIONS = dict(bestpath=False, compallsen=True, beam=1e-150, wbeam=1e-12
 # German. Louder floors (100, 300) did better on the calibration set but, at 300, worse on the
 # held-out voices (docs/tablet-and-voice.md), so the floor stays.
 NOISE_FLOOR = 20.0
+# Seconds of sound kept either side of the speech an utterance holds (None: all of it). The
+# features' mean normalisation (`cmn batch`) is a mean over the whole utterance, silence
+# included: a short answer in a long silence was normalised mostly on the silence. Chosen on
+# the calibration set among 0, 0.1, 0.2 and 0.3 s (the highest sum over English and German of
+# the lower of the two rates, each at its calibrated rule: docs/tablet-and-voice.md).
+SPEECH_PAD: float | None = 0.1
+VAD_FRAME = 0.03              # s: the voice activity detector's frame (webrtc's: 10, 20, 30 ms)
 NUMBERS = ("zero", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten")
 
 
@@ -96,6 +105,23 @@ def with_noise_floor(audio: bytes, rms: float) -> bytes:
     return np.clip(np.rint(samples), -32768, 32767).astype("<i2").tobytes()
 
 
+def trimmed(audio: bytes, pad: float | None, rate: int = 16000) -> bytes:
+    """`audio` cut to the speech in it, with `pad` seconds either side (as far as the sound
+    goes): the frames from the first to the last that pocketsphinx's voice activity detector
+    (webrtc's) takes for speech. Unchanged when `pad` is None or no frame is speech."""
+    if pad is None:
+        return audio
+    from pocketsphinx import Vad
+    vad = Vad(sample_rate=rate, frame_length=VAD_FRAME)
+    size = vad.frame_bytes
+    speech = [start for start in range(0, len(audio) - size + 1, size)
+              if vad.is_speech(audio[start:start + size])]
+    if not speech:
+        return audio
+    margin = 2 * int(round(pad * rate))
+    return audio[max(0, speech[0] - margin):speech[-1] + size + margin]
+
+
 def check_language(language: str) -> None:
     """Refuse, with the reason, a language espeak-ng cannot pronounce answers in."""
     from robots.audio.espeak import espeak_voices
@@ -111,7 +137,8 @@ def check_language(language: str) -> None:
 class AnswerRecognizer(SpeechRecognizer):
     def __init__(self, source: AudioSource, language: str = "en",
                  threshold: float | None = None, noise_floor: float = NOISE_FLOOR,
-                 margin_cap: float | None = None) -> None:
+                 margin_cap: float | None = None,
+                 speech_pad: float | None = SPEECH_PAD) -> None:
         check_language(language)
         try:
             from pocketsphinx import Decoder
@@ -132,6 +159,10 @@ class AnswerRecognizer(SpeechRecognizer):
             raise RobotError(f"margin_cap must be 0 or more (the most that the lead over the "
                              f"next best answer adds to the score), not {margin_cap}")
         self.noise_floor = float(noise_floor)
+        if speech_pad is not None and not speech_pad >= 0:
+            raise RobotError(f"speech_pad must be 0 or more (seconds of sound kept either side "
+                             f"of the speech), not {speech_pad}")
+        self.speech_pad = speech_pad
         self.decoder = Decoder(lm=None, loglevel="FATAL", samprate=source.rate,
                                **DECODER_OPTIONS)
         self._add_phone_loop()
@@ -330,7 +361,8 @@ class AnswerRecognizer(SpeechRecognizer):
         than the free phones (0: as well; the more negative, the less it is that); and how much
         better than the best of the other answers (0 when there is none, or when `margin` is
         false: a cap of 0 makes it count nothing, so the rivals' decode is spared)."""
-        audio = with_noise_floor(audio, self.noise_floor)
+        audio = with_noise_floor(trimmed(audio, self.speech_pad, self.source.rate),
+                                 self.noise_floor)
         said = self._decode("answers", audio)
         if said is None:
             return Judgement(None, None)

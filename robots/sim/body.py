@@ -43,6 +43,7 @@ class UnicycleBody:
         self.x = float(x)
         self.y = float(y)
         self.th = float(th)
+        self._circles: tuple | None = None    # (pose, circles) of the last `circles()`
         self.limits = limits
         self.radius = float(radius)        # the bounding circle people keep away from
         self.rectangle = rectangle         # the outline of a box-shaped base (None: the circle)
@@ -137,9 +138,13 @@ class UnicycleBody:
         """(k, 3) circles that make up the footprint where it stands, for the crowd, which
         keeps people out of circles: the bounding circle of a round body; a rectangle's
         filling circles (robots/sim/outline.py)."""
-        if self.rectangle is not None:
-            return self.rectangle.circles(self.x, self.y, self.th)
-        return np.array([(self.x, self.y, self.radius)])
+        pose = (self.x, self.y, self.th)      # asked for several times a substep
+        if self._circles is None or self._circles[0] != pose:
+            circles = (self.rectangle.circles(*pose) if self.rectangle is not None
+                       else np.array([(self.x, self.y, self.radius)]))
+            circles.flags.writeable = False
+            self._circles = (pose, circles)
+        return self._circles[1]
 
     def _pose(self, x, y, th) -> tuple[float, float, float]:
         return (self.x if x is None else x, self.y if y is None else y,

@@ -84,7 +84,8 @@ class Crowd:
         self.social = social
         self.params = params
         self._deviation: dict[int, np.ndarray] = {}
-        self._headway: dict[int, tuple[np.ndarray, float]] = {}   # averaged velocity, wish
+        # per person: the averaged velocity (x, y) and the averaged wish
+        self._headway: dict[int, tuple[tuple[float, float], float]] = {}
         self._walls: WallIndex | None = None
 
     @classmethod
@@ -155,10 +156,11 @@ class Crowd:
     def forces(self, people: list[SimPerson], positions: np.ndarray, wish: np.ndarray,
                world: "World") -> np.ndarray:
         """Social force (m/s²) on each person, (n, 2)."""
-        force = (self._people_forces(people, positions, wish)
+        from_people, from_robot = self._walker_forces(people, positions, wish, world)
+        force = (from_people
                  + self._wall_forces(positions, wish, world)
                  + self._cart_forces(people, positions, wish)
-                 + self._robot_forces(people, positions, wish, world)
+                 + from_robot
                  + self._group_forces(people, positions, wish))
         standing = np.hypot(wish[:, 0], wish[:, 1]) < 1e-6
         comfort = np.where(standing, self.params.comfort_standing, self.params.comfort)
@@ -218,19 +220,40 @@ class Crowd:
         seen = (speed > 1e-6) & (cosine >= math.cos(self.params.fov / 2))
         return np.where(seen, 1.0, self.params.behind)
 
-    def _people_forces(self, people, positions, wish) -> np.ndarray:
+    def _walker_forces(self, people, positions, wish, world: "World"
+                       ) -> tuple[np.ndarray, np.ndarray]:
+        """The potential forces (n, 2) from the other people and from the robot, evaluated
+        together: each person's row holds the others, then the robot."""
+        n = len(people)
+        between = self._people_pairs(people, positions, wish)
+        robot = self._robot_pair(people, positions, wish, world)
+        parts = [part for part in (between, robot) if part is not None]
+        if not parts:
+            return np.zeros((n, 2)), np.zeros_like(positions)
+        r, relative, own, strength = (np.concatenate(arrays, axis=1) for arrays in zip(*parts))
+        pair = self._potential_force(r, relative, own, strength)
+        from_people, from_robot = np.zeros((n, 2)), np.zeros_like(positions)
+        if between is not None:
+            others = np.ascontiguousarray(pair[:, :n])
+            others[np.arange(n), np.arange(n)] = 0.0
+            from_people = others.sum(axis=1)
+        if robot is not None:
+            from_robot = pair[:, -1]
+        return from_people, from_robot
+
+    def _people_pairs(self, people, positions, wish):
+        """Relative positions, velocities, own walks and strengths (n, n, …) between people,
+        or None for fewer than two."""
         n = len(people)
         if n < 2:
-            return np.zeros((n, 2))
+            return None
         r = positions[:, None, :] - positions[None, :, :]
         other_velocity = np.broadcast_to(wish[None, :, :], r.shape)
         own = np.broadcast_to(wish[:, None, :], r.shape)
         groups = [p.plan.group for p in people]
         same = np.array([[a is not None and a == b for b in groups] for a in groups])
         strength = np.where(same, self.params.group_repulsion, 1.0)
-        pair = self._potential_force(r, other_velocity - own, own, strength)
-        pair[np.arange(n), np.arange(n)] = 0.0
-        return pair.sum(axis=1)
+        return r, other_velocity - own, own, strength
 
     def _wall_forces(self, positions: np.ndarray, wish: np.ndarray, world: "World"
                      ) -> np.ndarray:
@@ -288,23 +311,23 @@ class Crowd:
         people, near = np.nonzero(gap < self.params.wall_reach + 1e-6)
         return list(zip(people.tolist(), near.tolist()))
 
-    def _robot_forces(self, people, positions, wish, world: "World") -> np.ndarray:
-        """The robot as another walker, weighted by how much each person yields to it."""
+    def _robot_pair(self, people, positions, wish, world: "World"):
+        """The robot as another walker, weighted by how much each person yields to it: the
+        same inputs as `_people_pairs`, (n, 1, …), or None when nobody minds it."""
         body = world.body
         low, high = self.params.robot_gain
         gains = np.array([0.0 if isinstance(p.current_step, ROBOT_ATTENDED)
                           else low + (high - low) * p.yielding for p in people])
         if not gains.any():
-            return np.zeros_like(positions)
+            return None
         r = positions - (body.x, body.y)
         # the potential is made for bodies of 0.2 m; widen it by the footprint's excess
         distance = np.hypot(r[:, 0], r[:, 1])
         shrink = np.maximum(distance - (body.radius - BODY_RADIUS), 1e-3) / np.maximum(
             distance, 1e-9)
         r = r * shrink[:, None]
-        velocity = np.broadcast_to(np.array([body.v * math.cos(body.th),
-                                             body.v * math.sin(body.th)]), r.shape)
-        return self._potential_force(r, velocity - wish, wish, gains)
+        velocity = np.array([body.v * math.cos(body.th), body.v * math.sin(body.th)])
+        return r[:, None], (velocity - wish)[:, None], wish[:, None], gains[:, None]
 
     def _group_forces(self, people, positions, wish) -> np.ndarray:
         out = np.zeros_like(positions)
@@ -354,13 +377,14 @@ class Crowd:
         for k, person in enumerate(people):
             rows.append((person.x, person.y, BODY_RADIUS))
             owners.append(k)
-            for circle in person.cart_circles():
-                rows.append(circle)
-                owners.append(k)
-        for circle in world.body.circles():       # the footprint: one circle, or a rectangle's
-            rows.append(tuple(circle))
-            owners.append(-1)
-        return np.array(rows), np.array(owners)
+            if person.plan.cart:
+                carts = person.cart_circles()
+                rows.extend(carts)
+                owners.extend([k] * len(carts))
+        footprint = world.body.circles()    # one circle, or a rectangle's
+        owners.extend([-1] * len(footprint))
+        people_rows = np.array(rows, dtype=float).reshape(-1, 3)
+        return np.vstack([people_rows, footprint]), np.array(owners)
 
     def _overlaps(self, people, world):
         circles, owners = self._circles(people, world)
@@ -368,7 +392,7 @@ class Crowd:
         distance = np.hypot(rel[..., 0], rel[..., 1])
         depth = circles[:, None, 2] + circles[None, :, 2] - distance
         other = owners[:, None] != owners[None, :]
-        a, b = np.nonzero(np.triu(other & (depth > OVERLAP_SLACK), 1))
+        a, b = np.nonzero(other & (depth > OVERLAP_SLACK) & _above_diagonal(len(owners)))
         return circles, owners, rel, distance, depth, a, b
 
     def _push_once(self, people: list[SimPerson], world: "World") -> bool:
@@ -438,15 +462,27 @@ class Crowd:
         k = min(h / HEADWAY_WINDOW, 1.0)
         for person in people:
             x0, y0 = before[id(person)][:2]
-            step = np.array([person.x - x0, person.y - y0]) / h
-            headway, wished = self._headway.get(id(person), (np.zeros(2), 0.0))
-            headway = headway + k * (step - headway)
+            step_x, step_y = (person.x - x0) / h, (person.y - y0) / h
+            (head_x, head_y), wished = self._headway.get(id(person), ((0.0, 0.0), 0.0))
+            head_x = head_x + k * (step_x - head_x)
+            head_y = head_y + k * (step_y - head_y)
             wished = wished + k * (person.wished - wished)
-            self._headway[id(person)] = (headway, wished)
-            if person.wished > 1e-6 and math.hypot(*headway) < BLOCKED_SHARE * wished:
+            self._headway[id(person)] = ((head_x, head_y), wished)
+            if person.wished > 1e-6 and math.hypot(head_x, head_y) < BLOCKED_SHARE * wished:
                 person.blocked_for += h
             else:
                 person.blocked_for = 0.0
+
+
+_UPPER: dict[int, np.ndarray] = {}
+
+
+def _above_diagonal(m: int) -> np.ndarray:
+    """(m, m) True above the diagonal: each pair of circles once (kept per size)."""
+    upper = _UPPER.get(m)
+    if upper is None:
+        upper = _UPPER[m] = np.triu(np.ones((m, m), dtype=bool), 1)
+    return upper
 
 
 __all__ = ["Crowd", "CrowdParams"]

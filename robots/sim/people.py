@@ -64,6 +64,7 @@ class SimPerson:
         self.x, self.y = resolve(plan.at)
         self.heading = 0.0
         self.cart_heading = 0.0       # the cart points where the person last walked
+        self._cart_circles: tuple | None = None   # (x, y, cart heading), circles
         self.speed = 0.0              # m/s, current
         self.in_world = False
         self.gone = False             # has left for good
@@ -141,8 +142,12 @@ class SimPerson:
         not when the person turns to a shelf or to the robot."""
         if not self.plan.cart:
             return []
-        c, s = math.cos(self.cart_heading), math.sin(self.cart_heading)
-        return [(self.x + c * d, self.y + s * d, CART_RADIUS) for d in CART_OFFSETS]
+        key = (self.x, self.y, self.cart_heading)    # asked for several times a substep
+        if self._cart_circles is None or self._cart_circles[0] != key:
+            c, s = math.cos(self.cart_heading), math.sin(self.cart_heading)
+            self._cart_circles = (key, [(self.x + c * d, self.y + s * d, CART_RADIUS)
+                                        for d in CART_OFFSETS])
+        return self._cart_circles[1]
 
     # -- helpers ---------------------------------------------------------------------------
 

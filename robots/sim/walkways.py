@@ -42,6 +42,7 @@ class WalkGrid:
         self._nearest: dict[tuple[int, int], int | None] = {}
         self._graph = self._build_graph()
         self._searches: dict[int, np.ndarray] = {}
+        self._fractions: dict[int, np.ndarray] = {}     # samples -> linspace(0, 1)
 
     def route(self, start: tuple[float, float], goal: tuple[float, float]
               ) -> list[tuple[float, float]]:
@@ -65,7 +66,9 @@ class WalkGrid:
         """True when every point of the straight line a–b lies in a free cell."""
         length = math.hypot(b[0] - a[0], b[1] - a[1])
         samples = max(2, int(length / (self.cell / 2)) + 2)
-        s = np.linspace(0.0, 1.0, samples)
+        s = self._fractions.get(samples)
+        if s is None:                       # the same few counts come back all the time
+            s = self._fractions[samples] = np.linspace(0.0, 1.0, samples)
         rows, cols = self._cells(a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]))
         inside = (rows >= 0) & (rows < self.rows) & (cols >= 0) & (cols < self.cols)
         return bool(inside.all() and self.free[rows, cols].all())

@@ -29,6 +29,7 @@ class WallIndex:
         self._lower: _LowerBounds | None = None
         self._full = len(segments) <= FEW_WALLS
         if self._full:
+            self._parts = _segment_parts(segments[None, :, :])    # the same for every query
             return
         low = np.minimum(segments[:, :2], segments[:, 2:]).min(axis=0) - reach
         high = np.maximum(segments[:, :2], segments[:, 2:]).max(axis=0) + reach
@@ -75,7 +76,7 @@ class WallIndex:
         if len(self.segments) == 0 or len(positions) == 0:
             return positions + FAR
         if self._full:
-            return _nearest_of(positions, self.segments[None, :, :])
+            return _nearest_of(positions, self.segments[None, :, :], self._parts)
         # a point off the grid is farther than reach from every wall: its clamped cell's
         # walls give some point farther still
         cells = ((positions - self.origin) / self.cell).astype(np.intp)
@@ -116,13 +117,20 @@ class _LowerBounds:
         return bound < distance
 
 
-def _nearest_of(positions: np.ndarray, segments: np.ndarray) -> np.ndarray:
-    """Nearest point per position (n, 2) among its own segments (n, k, 4), or among the same
-    segments (1, k, 4); the first of equally near ones, as a search in index order gives."""
-    x, y = positions[:, 0:1], positions[:, 1:2]
+def _segment_parts(segments: np.ndarray) -> tuple[np.ndarray, ...]:
+    """x1, y1, ex, ey and squared length of segments (…, 4): what `_nearest_of` needs."""
     x1, y1, x2, y2 = (segments[..., k] for k in range(4))
     ex, ey = x2 - x1, y2 - y1
-    length = np.maximum(ex * ex + ey * ey, 1e-18)
+    return x1, y1, ex, ey, np.maximum(ex * ex + ey * ey, 1e-18)
+
+
+def _nearest_of(positions: np.ndarray, segments: np.ndarray,
+                parts: tuple[np.ndarray, ...] | None = None) -> np.ndarray:
+    """Nearest point per position (n, 2) among its own segments (n, k, 4), or among the same
+    segments (1, k, 4) whose `_segment_parts` may be given; the first of equally near ones, as
+    a search in index order gives."""
+    x, y = positions[:, 0:1], positions[:, 1:2]
+    x1, y1, ex, ey, length = parts if parts is not None else _segment_parts(segments)
     u = np.clip(((x - x1) * ex + (y - y1) * ey) / length, 0.0, 1.0)
     px, py = x1 + u * ex, y1 + u * ey
     nearest = np.argmin((px - x) ** 2 + (py - y) ** 2, axis=1)

@@ -408,10 +408,11 @@ class LocalController:
         rows, cols = field.shape
         inside = (r0 >= 0) & (c0 >= 0) & (r0 + 1 < rows) & (c0 + 1 < cols)
         r0c, c0c = np.clip(r0, 0, rows - 2), np.clip(c0, 0, cols - 2)
-        d = ((1 - tx) * (1 - ty) * field[r0c, c0c] + tx * (1 - ty) * field[r0c, c0c + 1]
-             + (1 - tx) * ty * field[r0c + 1, c0c] + tx * ty * field[r0c + 1, c0c + 1])
-        d = np.minimum(d, np.minimum(np.minimum(field[r0c, c0c], field[r0c, c0c + 1]),
-                                     np.minimum(field[r0c + 1, c0c], field[r0c + 1, c0c + 1]))
+        f00, f01 = field[r0c, c0c], field[r0c, c0c + 1]          # the four cell centres
+        f10, f11 = field[r0c + 1, c0c], field[r0c + 1, c0c + 1]
+        d = ((1 - tx) * (1 - ty) * f00 + tx * (1 - ty) * f01
+             + (1 - tx) * ty * f10 + tx * ty * f11)
+        d = np.minimum(d, np.minimum(np.minimum(f00, f01), np.minimum(f10, f11))
                        + grid.resolution)
         return np.where(inside, d, 0.0)
 

@@ -53,9 +53,10 @@ def _isolated_runs(scan: LaserScan, points: np.ndarray, p: LegParams):
     last_end = -1
     starts, ends = _segments(scan.ranges, p)
     centres, widths = _segment_geometry(points, scan, starts, ends, p)
+    ranges = scan.ranges.tolist()       # plain floats: read one at a time below
     for start, end, centre, width in zip(starts.tolist(), ends.tolist(), centres.tolist(),
                                          widths.tolist()):
-        if width > p.max_both_width or _is_hole(scan.ranges, start, end, p.jump):
+        if width > p.max_both_width or _is_hole(ranges, start, end, p.jump):
             last_end = -1
             continue
         if start != last_end:
@@ -66,7 +67,7 @@ def _isolated_runs(scan: LaserScan, points: np.ndarray, p: LegParams):
             run[2].append(((centre[0], centre[1]), width))
         last_end = end
     for start, end, legs, pieces in runs:
-        if legs and pieces <= 3 and _stands_out(scan.ranges, start, end, p.contrast):
+        if legs and pieces <= 3 and _stands_out(ranges, start, end, p.contrast):
             yield legs
 
 
@@ -117,20 +118,20 @@ def _segment_geometry(points: np.ndarray, scan: LaserScan, starts: np.ndarray, e
     return centres, widths
 
 
-def _is_hole(ranges: np.ndarray, start: int, end: int, jump: float) -> bool:
+def _is_hole(ranges: list[float], start: int, end: int, jump: float) -> bool:
     """Beams between two nearer things (the wall seen between two legs)."""
     left = ranges[start - 1] if start > 0 else math.inf
     right = ranges[end] if end < len(ranges) else math.inf
     return left < ranges[start] - jump and right < ranges[end - 1] - jump
 
 
-def _stands_out(ranges: np.ndarray, start: int, end: int, contrast: float) -> bool:
+def _stands_out(ranges: list[float], start: int, end: int, contrast: float) -> bool:
     """The beams beside the run see something clearly behind it, or on one side clearly in
     front (an occluding leg). Not so the gap between two legs, whose beams reach the wall
     behind: that piece is farther than both its neighbours."""
     left = ranges[start - 1] if start > 0 else math.inf
     right = ranges[end] if end < len(ranges) else math.inf
-    behind = [not np.isfinite(side) or side > own + contrast
+    behind = [not math.isfinite(side) or side > own + contrast
               for side, own in ((left, ranges[start]), (right, ranges[end - 1]))]
     in_front = [side < own - contrast
                 for side, own in ((left, ranges[start]), (right, ranges[end - 1]))]

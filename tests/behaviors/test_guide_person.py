@@ -269,3 +269,74 @@ def test_a_visitor_who_leaves_in_a_1_m_hallway_is_given_up(tmp_path, robot_name)
     assert status == "FAILURE"
     (event,) = guide.guide_events()
     assert event["outcome"] == OUTCOME_USER_LOST
+
+
+STANDING_BEHIND = """
+[scenario]
+name = "standing behind"
+duration = 120.0
+map = "hall.yaml"
+robot = "robot_home"
+[[person]]
+id = "pat"
+at = [{x:.2f}, 0.5]
+steps = [ {steps} ]
+"""
+STANDS_FOR = 20.0        # s pat stands still behind the robot before she follows it
+
+
+def standing_behind(tmp_path, behind: float, steps: str) -> str:
+    """pat stands `behind` m straight behind HOROS in the 16 m long, 1 m wide hallway (the
+    robot at x = 3.0 facing its end), then does `steps`."""
+    from tests.skills.test_guiding import write_long_hallway
+    write_long_hallway(tmp_path)
+    path = tmp_path / "standing.toml"
+    path.write_text(STANDING_BEHIND.format(x=3.0 - behind, steps=steps))
+    return str(path)
+
+
+@pytest.mark.parametrize("behind", [1.8, 2.2, 2.5])
+def test_horos_waits_for_a_visitor_standing_straight_behind_it_in_a_1_m_hallway(tmp_path,
+                                                                              behind):
+    """Issue 22, point 3: more than about 1.8 m straight behind HOROS in a 1 m hallway, the
+    walls' echo hides a visitor from every rear sonar, and the head cannot look there; the
+    guide stopped for "nobody" and, had she stood 30 s, reported her lost. Waiting for a
+    visitor it does not see at all, HOROS turns round to look: it sees her standing there all
+    the while she stands, and leads on when she comes."""
+    path = standing_behind(tmp_path, behind,
+                           f'{{ pause = {STANDS_FOR} }}, {{ follow = 1.2, goal = "hall_end" }}')
+    guide = Guide("horos", path, place="hall_end", give_up_after=30.0)
+    try:
+        world = guide.robot.skills.hardware.simulation.world
+        pat = next(p for p in world.people if p.id == "pat")
+        seen, truth = [], []
+        while guide.robot.now() < STANDS_FOR - 0.5:
+            guide.tick(1)
+            seen.append(guide.robot.skills.guide.state.user_distance)
+            truth.append(math.hypot(pat.x - world.body.x, pat.y - world.body.y))
+        status = guide.run_until_done(100.0)
+    finally:
+        guide.close()
+    looked = next(i for i, (_, phase, _) in enumerate(guide.phases) if phase == WAITING) + 60
+    assert looked < len(seen) - 50                   # it stopped and turned within 6 s
+    assert all(d is not None and d == pytest.approx(t, abs=0.3)
+               for d, t in zip(seen[looked:], truth[looked:]))
+    assert status == "SUCCESS"
+    assert [e["outcome"] for e in guide.guide_events()] == [OUTCOME_ARRIVED]
+    assert world.body.x > 14.5 and world.measures.contact_count() == 0
+
+
+@pytest.mark.parametrize("behind", [1.8, 2.5])
+def test_horos_notices_a_visitor_who_leaves_from_straight_behind_it_in_a_1_m_hallway(
+        tmp_path, behind):
+    """The same visitor walking off down the hallway (out of sight of the rear sonars all
+    the way) is not taken for one standing there: the guide gives her up."""
+    path = standing_behind(tmp_path, behind, '{ pause = 2.0 }, { leave = [0.3, 0.5] }')
+    guide = Guide("horos", path, place="hall_end", give_up_after=30.0)
+    try:
+        status = guide.run_until_done(60.0)
+    finally:
+        guide.close()
+    assert status == "FAILURE"
+    (event,) = guide.guide_events()
+    assert event["outcome"] == OUTCOME_USER_LOST

@@ -12,8 +12,9 @@ import pytest
 from robots.audio.espeak import EspeakSpeaker, espeak_voices, wav_duration
 from robots.audio.pronounce import ipa_to_phones, pronounce
 from robots.audio.confidence import Judgement, check_threshold, default_margin_cap
-from robots.audio.recognizer import (DEFAULT_THRESHOLD, AnswerRecognizer, default_threshold,
-                                     sayings, spoken_forms, with_noise_floor)
+from robots.audio.recognizer import (DEFAULT_THRESHOLD, SPEECH_PAD, AnswerRecognizer,
+                                     default_threshold, sayings, spoken_forms, trimmed,
+                                     with_noise_floor)
 from robots.audio.source import MicrophoneSource, WavFileSource, WavQueueSource
 from robots.clock import RealClock
 from robots.exceptions import RobotError
@@ -176,6 +177,40 @@ def test_the_noise_floor_is_small_seeded_and_can_be_left_out():
     assert floored == with_noise_floor(silence, 20.0)
     assert 18.0 < np.frombuffer(floored, dtype="<i2").std() < 22.0
     assert with_noise_floor(silence, 0.0) == silence
+
+
+def test_the_silence_around_an_utterance_is_cut_to_the_same_pad(tmp_path):
+    """The features' mean normalisation is a mean over the whole utterance, so the recognizer
+    keeps only SPEECH_PAD seconds either side of the speech (webrtc's voice activity
+    detector): the same word in short or long silence is cut alike, and every sound of it
+    is kept; without a pad nothing is cut, nor in silence alone; a negative pad is refused."""
+    frame = 2 * 480                                    # bytes of the detector's 30 ms frame
+    for text, voice in (("five", "en-us"), ("Follow me", "en-us"), ("nein", "de")):
+        word = WavFileSource(spoken(tmp_path, text, voice), pad=0.0)._data
+        short, long = (trimmed(bytes(n * frame) + word + bytes(n * frame), SPEECH_PAD)
+                       for n in (16, 48))
+        assert short == long and len(short) < len(word) + 16 * frame
+        kept = np.frombuffer(short, dtype="<i2")
+        assert np.count_nonzero(kept) == np.count_nonzero(np.frombuffer(word, dtype="<i2"))
+        assert trimmed(word, None) == word
+    silence = bytes(32000)
+    assert trimmed(silence, SPEECH_PAD) == silence
+    with pytest.raises(RobotError, match="speech_pad must be 0 or more"):
+        AnswerRecognizer(WavFileSource(spoken(tmp_path, "yes")), speech_pad=-0.1)
+
+
+def test_an_utterance_is_judged_alike_whatever_silence_surrounds_it(tmp_path):
+    """A short answer padded with half a second of silence or with one and a half is judged
+    exactly alike. (With the whole sound decoded, "five" by `en-us` fitted -31.7 per frame in
+    the shorter silence and -43.4 in the longer.)"""
+    frame = 2 * 480
+    five = WavFileSource(spoken(tmp_path, "five"), pad=0.0)._data
+    choices = ("1", "2", "3", "4", "5")
+    recognizer = AnswerRecognizer(WavFileSource(spoken(tmp_path, "yes")))
+    short, long = (recognizer.judge(bytes(n * frame) + five + bytes(n * frame), choices)
+                   for n in (16, 48))
+    recognizer.close()
+    assert short.choice == "5" and short == long
 
 
 def test_answers_of_several_words_are_heard_whole(tmp_path):
