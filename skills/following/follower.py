@@ -114,6 +114,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._belief: _Belief | None = None
         self._others: set[int] = set()
         self._strangers: set[int] = set()     # look-alikes seen apart from her: never her
+        self._stranger_seen: dict[int, _Belief] = {}   # id: a stranger's last sighting
         self._lost_since: float | None = None
         self._last_call = -math.inf
         self._goal: tuple[float, float] | None = None
@@ -341,6 +342,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._belief = None
         self._others = set()
         self._strangers = set()
+        self._stranger_seen = {}
         self._lost_since = None
         self._last_call = -math.inf
         self._goal = None
