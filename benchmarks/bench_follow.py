@@ -182,6 +182,7 @@ class Result:
                                                     # or on somebody else, until back on her
     wrong_ticks: int = 0            # ticks following a track that is not hers
     pose_off: int = 0               # ticks the localization estimate is POSE_OFF m or more off
+    pose_errors: list = field(default_factory=list)   # m: the estimate's position error, per tick
     reason: str = ""                # the follower's reason when it gave up
 
 
@@ -256,8 +257,9 @@ def run(seed: int, robot: str, folder: Path, give_way: bool | None = True,
                 continue
             state = following.state
             pose = skills.localization.state
-            result.pose_off += pose is None or math.hypot(pose.x - body.x,
-                                                          pose.y - body.y) >= POSE_OFF
+            error = math.inf if pose is None else math.hypot(pose.x - body.x, pose.y - body.y)
+            result.pose_errors.append(error)
+            result.pose_off += error >= POSE_OFF
             if state.phase == "gave_up":
                 result.gave_up, result.reason = True, state.reason
                 break
@@ -358,9 +360,19 @@ def print_seed(family: str, seed: int, r: Result) -> None:
           f"wrong person {r.wrong_ticks / 10:.1f} s, misses {r.missed}/{r.visible}, clearance "
           f"to others {r.clearance_others:.2f} m, collisions {r.collisions} (robot drove in "
           f"{r.drove_into}) (walked into {r.walked_into}), own position off by "
-          f"{POSE_OFF} m or more {r.pose_off / 10:.1f} s"
+          f"{POSE_OFF} m or more {r.pose_off / 10:.1f} s ({pose_summary(r.pose_errors)})"
           f"{', GAVE UP: ' + r.reason if r.gave_up else ''}",
           flush=True)
+
+
+def pose_summary(errors: list) -> str:
+    """The localization error over a run (or pooled runs): median, 95th percentile, maximum and
+    the share of ticks within 0.3 m of the truth."""
+    if not errors:
+        return "no pose error measured"
+    e = np.asarray(errors, dtype=float)
+    return (f"pose error median {np.median(e):.3f} m, p95 {np.percentile(e, 95):.2f} m, "
+            f"max {e.max():.2f} m, within 0.3 m {np.mean(e <= 0.3):.1%}")
 
 
 def print_family(family: str, results: list, wall: float) -> None:
@@ -386,6 +398,11 @@ def print_family(family: str, results: list, wall: float) -> None:
           f"{sum(r.pose_off for r in results) / 10:.1f} s; of the runs given up, "
           f"{lost_pose} with its position lost (localization), so it could not search",
           flush=True)
+    pooled = [e for r in results for e in r.pose_errors]
+    worst = min(results, key=lambda r: np.mean(np.asarray(r.pose_errors) <= 0.3)
+                if r.pose_errors else 1.0)
+    print(f"   localization: pooled {pose_summary(pooled)}; worst seed "
+          f"{pose_summary(worst.pose_errors)}", flush=True)
 
 
 if __name__ == "__main__":

@@ -92,18 +92,24 @@ class ObstacleSensing(Skill):
         return xs, ys
 
     def _free_ahead_points(self, xs: np.ndarray, ys: np.ndarray) -> float:
-        """The free distance before the front of the corridor the body sweeps, padded by
-        CORRIDOR_PAD either side; a reading in the pad but not yet ahead of the front is beside
-        the body, which drives past it (counted, it stopped a robot in a narrow door)."""
+        """The free distance before the front of the corridor the body sweeps, padded either
+        side by as much as a heading drift of PAD_DRIFT brings the body sideways by the time it
+        gets there, up to CORRIDOR_PAD; a reading in the pad but not yet ahead of the front is
+        beside the body, which drives past it (counted, it stopped a robot in a narrow door).
+        A flat pad of CORRIDOR_PAD right at the front corner stopped HOROS in a door 0.25 m
+        wider than it for many seconds: the jamb 9 cm beside its corner, with the laser's 2 cm
+        noise, put readings 4-5 cm beside it, "0.00 m ahead" (issue 23's measurements)."""
         side = np.abs(ys)
-        ahead = np.isfinite(xs) & (xs > 0) & (side <= self.half_width + CORRIDOR_PAD) & (
+        pad = np.clip((xs - self.front) * math.tan(PAD_DRIFT), 0.0, CORRIDOR_PAD)
+        ahead = np.isfinite(xs) & (xs > 0) & (side <= self.half_width + pad) & (
             (side <= self.half_width) | (xs >= self.front))
         if not ahead.any():
             return math.inf
         return float(max(0.0, xs[ahead].min() - self.front))
 
 
-CORRIDOR_PAD = 0.05         # m beyond the half width counted as in the way ahead
+CORRIDOR_PAD = 0.05         # m beyond the half width counted as in the way ahead, at most
+PAD_DRIFT = math.radians(15)   # the pad widens as a drift of this heading would bring the body
 ECHO_TOLERANCE = 0.10       # m: a laser reading this near a sonar's range explains its echo
 CONE_SLACK = math.radians(5)   # beyond the cone's half angle (the cone's edge is not sharp)
 

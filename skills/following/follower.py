@@ -114,6 +114,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._belief: _Belief | None = None
         self._others: set[int] = set()
         self._strangers: set[int] = set()     # look-alikes seen apart from her: never her
+        self._stranger_seen: dict[int, _Belief] = {}   # id: a stranger's last sighting
         self._lost_since: float | None = None
         self._last_call = -math.inf
         self._goal: tuple[float, float] | None = None
@@ -125,6 +126,9 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._plan = None                     # the search plan of this loss (searching.py)
         self._plan_index = 0
         self._searched: list[str] = []        # its places looked at so far
+        self._viewed: dict[int, float] = {}   # s each place of the plan was in view (this round)
+        self._view_t: float | None = None     # ... counted up to this time
+        self._way = None                      # (search goal, nearest yet, since when)
         self._looking_since: float | None = None
         self._recent: list[tuple[float, float, float]] = []    # (t, x, y) seen, newest last
         self._waiting_since: float | None = None
@@ -338,6 +342,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._belief = None
         self._others = set()
         self._strangers = set()
+        self._stranger_seen = {}
         self._lost_since = None
         self._last_call = -math.inf
         self._goal = None

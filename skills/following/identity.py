@@ -8,7 +8,10 @@ that was seen as somebody else while the customer was in view, and never two tha
 (the robot waits rather than guesses). Once the camera has shown her a few times, her look (a
 running average of the camera's colour histograms of her, `skills.people.appearance`) decides:
 a track that looks like her may be taken back whatever its id, only such a track, and a
-look-alike seen apart from her while her own track looked like her is a stranger for good.
+look-alike seen apart from her while her own track looked like her is a stranger for good,
+and so is a track born where a stranger's track has just vanished, when the stranger explains
+where it was born clearly better than she does (`_born_as_a_stranger`: the tracker handing the
+stranger a new id does not make her someone who may be taken for her).
 While she is followed, the same identity score (`skills.following.score`) and its one
 threshold decide each tick whether her track is still her (`_followed_score`). Without appearance, a track
 born after the loss outside the gate of that moment (someone who came from elsewhere) is not
@@ -43,6 +46,7 @@ LOOK_KNOWN = 5            # views of her before her look is trusted
 MISMATCHES = 2            # her track's last views, and those within
 UNLIKE_FOR = 0.6          # this long (s), of which the best counts (see _followed_score)
 VIEWS_KEPT = 20           # appearance scores of her track's views kept
+STRANGER_MEMORY = 30.0    # s a stranger's last sighting is kept after their track is gone
 
 
 @dataclass
@@ -207,13 +211,51 @@ class Identity:
     def _note_births(self, now: float) -> None:
         """Where each track was first seen: a track born far from where the customer could
         have been is somebody else (a shopper who came from behind the robot), whatever it
-        does later."""
+        does later; one born where a stranger was just seen is that stranger. Also where each
+        stranger was last seen."""
         ids = set()
-        for t in self.perception.believed:
+        tracks = self.perception.believed
+        for t in tracks:
             ids.add(t.id)
-            self._first_seen.setdefault(t.id, (now, t.x, t.y))
+            if t.id in self._strangers and t.status == CONFIRMED \
+                    and t.last_seen >= now - FRESH:
+                self._stranger_seen[t.id] = _Belief(t.x, t.y, t.vx, t.vy, t.last_seen)
+        for t in tracks:
+            if t.id not in self._first_seen:
+                self._first_seen[t.id] = (now, t.x, t.y)
+                if self._born_as_a_stranger(t, tracks, now):
+                    self._strangers.add(t.id)
+                    self._others.add(t.id)
         for gone in set(self._first_seen) - ids:
             del self._first_seen[gone]
+        for gone in set(self._stranger_seen) - ids:
+            if now - self._stranger_seen[gone].t > STRANGER_MEMORY:
+                del self._stranger_seen[gone]
+
+    def _born_as_a_stranger(self, track, tracks, now: float) -> bool:
+        """A track born while a stranger's track is out of sight, where that stranger explains
+        its birth place better than the customer does by score.MARGIN (log densities of the
+        two predictions, each with its own gate: a stranger unseen for a moment is pinned
+        down, she, unseen for seconds, may be anywhere in a wide gate). The search took a
+        look-alike standing in an aisle for her after a loss: the look-alike's track had
+        been given a new id, so the stranger rule had no hold on it (bench_follow lookalike
+        seed 2, PERSES, issue 23)."""
+        if self._belief is None or track.id == self.state.target:
+            return False
+        seen_now = {t.id for t in tracks if t.last_seen >= now - FRESH}
+        p = self.params
+        her = score.position_log_density(
+            (track.x, track.y), self._belief.at(now, p.predict_for),
+            self._gate(now - self._belief.t))
+        for sid, s in self._stranger_seen.items():
+            if sid in seen_now or sid == track.id:
+                continue                    # the stranger is in view: this is someone else
+            at, gate = s.at(now, p.predict_for), self._gate(now - s.t)
+            if score.position_score(track, at, gate) < score.THRESHOLD:
+                continue                    # not where the stranger can have got to
+            if score.position_log_density((track.x, track.y), at, gate) - her >= score.MARGIN:
+                return True
+        return False
 
     def _born_where_she_could_be(self, track) -> bool:
         """A track first seen after the customer was last seen must have been born inside the

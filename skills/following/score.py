@@ -41,6 +41,17 @@ def position_score(track, predicted: tuple[float, float], gate: float) -> float:
     return -0.5 * (d / sigma) ** 2
 
 
+def position_log_density(xy: tuple[float, float], predicted: tuple[float, float],
+                         gate: float) -> float:
+    """log of the 2-D Gaussian density (up to a constant) of a person at `xy` predicted at
+    `predicted` with the gate's sigma: unlike `position_score` it counts the spread, so a
+    person unseen for a moment (tight gate) explains a point near them better than one
+    unseen for seconds (wide gate) explains the same point near her."""
+    sigma = max(gate / 2.0, MIN_SIGMA)
+    d = math.hypot(xy[0] - predicted[0], xy[1] - predicted[1])
+    return -0.5 * (d / sigma) ** 2 - 2.0 * math.log(sigma)
+
+
 def motion_score(track, velocity: tuple[float, float]) -> float:
     dv = math.hypot(track.vx - velocity[0], track.vy - velocity[1])
     return -0.5 * (dv / MOTION_SIGMA) ** 2
@@ -73,4 +84,4 @@ def decide(scored: list[tuple[float, object]]):
     return ranked[0][1], False
 
 
-__all__ = ["identity_score", "decide", "THRESHOLD", "MARGIN"]
+__all__ = ["identity_score", "decide", "position_log_density", "THRESHOLD", "MARGIN"]

@@ -110,3 +110,20 @@ def test_the_rear_sonars_give_the_free_space_behind_and_none_means_none(tmp_path
     blackboard = Blackboard(blind.name)
     ObstacleSensing(blackboard, EventLog(), blind, Standing(), None).sense(0.0)
     assert blackboard.value("obstacles/rear") == 0.0     # cannot see behind: not free
+
+
+def test_a_reading_beside_the_front_corner_is_not_ahead_but_one_farther_on_is():
+    """The corridor's pad widens with the distance ahead (as a heading drift of PAD_DRIFT
+    would bring the body there): a door's jamb 4.5 cm beside HOROS's front corner, 1 cm ahead
+    of it, stopped the robot in a door 0.25 m wider than it ("0.00 m ahead"); 0.3 m on, the
+    same offset is in the way."""
+    profile = load_profile("horos")
+    sensing = ObstacleSensing(Blackboard(profile.name), EventLog(), profile, Standing(), None)
+    side = sensing.half_width + 0.045
+    beside = sensing._free_ahead_points(np.array([sensing.front + 0.01]), np.array([-side]))
+    farther = sensing._free_ahead_points(np.array([sensing.front + 0.3]), np.array([-side]))
+    inside = sensing._free_ahead_points(np.array([sensing.front + 0.01]),
+                                        np.array([-sensing.half_width + 0.01]))
+    assert beside == math.inf
+    assert farther == pytest.approx(0.3)
+    assert inside == pytest.approx(0.01)

@@ -224,3 +224,57 @@ def test_her_track_jittering_close_to_a_shelf_while_she_stands_there_is_not_lost
     perception.believed = (seen(1, 2.1, 0.0, 7.1, RED),)
     following.sense(7.1)
     assert following.state.lost
+
+
+def test_a_look_alike_given_a_new_track_id_is_still_a_stranger():
+    """bench_follow lookalike seed 2 (PERSES): she was lost behind a look-alike standing in
+    an aisle, the look-alike's track was given a new id, and the search took that new track
+    for her (the stranger rule held the old id only). A track born where a stranger has just
+    vanished, which the stranger explains clearly better than she does, is that stranger;
+    she stepping out where she should be is still taken back."""
+    following, perception = follower()
+    t = learn_her(following, perception)
+    x = 2.0 + 0.5 * (t - 0.1)
+    for _ in range(5):
+        perception.believed = (seen(1, x, 0.0, t, RED), seen(6, x - 1.2, 0.3, t, RED))
+        following.sense(t)
+        t += 0.1
+    assert 6 in following._strangers
+    for _ in range(30):                         # she is hidden; the look-alike stands
+        perception.believed = (seen(6, x - 1.2, 0.3, t, RED),)
+        following.sense(t)
+        t += 0.1
+    perception.believed = ()                    # the look-alike hidden a moment ...
+    following.sense(t)
+    t += 0.3
+    for _ in range(20):                         # ... and seen again under a new id
+        perception.believed = (seen(11, x - 1.15, 0.3, t, RED),)
+        following.sense(t)
+        assert following.state.lost and following.state.target == 1, t
+        t += 0.1
+    assert 11 in following._strangers
+    perception.believed = (seen(11, x - 1.15, 0.3, t, RED), seen(9, x + 1.0, 0.0, t, RED))
+    following.sense(t)                          # she steps out where she should be
+    assert not following.state.lost and following.state.target == 9
+
+
+def test_a_new_track_where_a_stranger_vanished_long_ago_is_not_ruled_out():
+    """The stranger's hold on a place fades as the time since they were seen widens their
+    gate: a track born there 20 s later, near where she should be, may be her."""
+    following, perception = follower()
+    t = learn_her(following, perception)
+    x = 2.0 + 0.5 * (t - 0.1)
+    for _ in range(5):
+        perception.believed = (seen(1, x, 0.0, t, RED), seen(6, x + 0.9, 0.8, t, RED))
+        following.sense(t)
+        t += 0.1
+    assert 6 in following._strangers
+    perception.believed = ()
+    for _ in range(200):                        # nobody in view for 20 s
+        following.sense(t)
+        t += 0.1
+    where = following.state.predicted
+    perception.believed = (seen(12, where[0], where[1] + 0.3, t, RED),)
+    following.sense(t)
+    assert 12 not in following._strangers
+    assert not following.state.lost and following.state.target == 12

@@ -4,11 +4,13 @@ robot working through a plan: looking along her heading, calling, on to the next
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 
-from follow_fakes import Speech, follower, track
+from follow_fakes import Pose, Speech, follower, track
 from skills.following import GAVE_UP_REASON, SEARCHING
 from skills.following.room import walking_distances
-from skills.following.searching import MAX_LOOKOUTS, further_lookouts, search_plan
+from skills.following.searching import (MAX_LOOKOUTS, Lookout, further_lookouts,
+                                        search_plan)
 from skills.navigation.gridmap import load_map
 
 NORTH, SOUTH = math.pi / 2, -math.pi / 2
@@ -121,3 +123,94 @@ def test_it_looks_along_her_heading_calls_goes_on_and_gives_up_naming_the_places
     status = following.status
     assert status.failed and status.reason.startswith(GAVE_UP_REASON)
     assert "searched where she should be, 3 m on along her way" in status.reason
+
+
+class Navigation:
+    """A navigation skill on the store's map that drives nowhere: it records its goals, and a
+    test sets its phase ("blocked", with how long)."""
+
+    def __init__(self):
+        from robots.profile import load_profile
+        self.grid = load_map("store")
+        self.profile = load_profile("perses")
+        self.limits = self.profile.limits
+        self.state = SimpleNamespace(phase="idle", blocked_for=0.0, reason="")
+        self.status = SimpleNamespace(status=None, failed=False)
+        self.goals = []
+        self.ignore_people = frozenset()
+
+    def go_to(self, goal, now, speed=None):
+        self.goals.append(goal)
+        self.state.phase = "driving"
+
+    def set_speed(self, speed):
+        pass
+
+    def cancel(self, now):
+        self.state.phase = "idle"
+
+
+def _searching_from(robot, plan_places):
+    """A follower with a map searching a plan of `plan_places` (x, y), the robot at `robot`
+    (x, y, heading) and nobody in view; she was last seen walking east at (12, 4.75)."""
+    following, perception = follower(Speech())
+    following.navigation = Navigation()
+    for k in range(11):
+        t = 0.1 * k
+        perception.believed = (track(1, 11.5 + 0.5 * t, 4.75, t, vx=0.5),)
+        if k == 0:
+            following.follow(0.0, target=1, give_up_after=60.0)
+        following.sense(t)
+    perception.believed = ()
+    following.localization.state = Pose(*robot)
+    following._plan = [Lookout(x, y, (NORTH,), f"place{k}") for k, (x, y) in
+                       enumerate(plan_places)]
+    following._plan_index, following._searched, following._search_goal = 0, [], None
+    following._viewed, following._view_t, following._way = {}, None, None
+    following._lost_since = 1.0
+    return following, perception
+
+
+def _search_for(following, start, seconds):
+    now = start
+    while now < start + seconds:
+        now += 0.1
+        following.sense(now)
+    return now
+
+
+def test_a_place_in_view_is_looked_at_from_where_the_robot_is_and_passed():
+    """Issue 23: reaching every place of the plan took one or two places in 30 s. A place
+    within 3 m, in the detector's field and with the map's line to it clear is looked at from
+    there; the search goes on to the next place without driving to it."""
+    following, _ = _searching_from((12.0, 4.75, 0.0), [(12.5, 4.75), (14.0, 6.5), (20.0, 6.5)])
+    now = _search_for(following, 5.0, 2.0)
+    assert following.state.phase == SEARCHING
+    assert following._searched[:2] == ["place0", "place1"]      # both in view from here
+    assert following._plan_index == 2
+    assert following._search_goal == (20.0, 6.5)
+
+
+def test_a_place_behind_somebody_standing_in_the_line_of_sight_is_not_looked_at():
+    following, perception = _searching_from((12.0, 4.75, 0.0), [(14.5, 4.75), (20.0, 6.5)])
+    now = 5.0
+    while now < 8.0:
+        now += 0.1
+        perception.believed = (track(7, 13.2, 4.8, now),)            # standing in the way
+        following.sense(now)
+    assert following._searched == [] and following._plan_index == 0
+    assert following.navigation.goals                            # it drives on to the place
+
+
+def test_a_place_the_robot_gets_no_nearer_is_passed_over_and_not_counted_as_searched():
+    """Base seed 2 (issue 23): a shopper standing in an aisle held the search 25 s; navigation
+    went from blocked to backing off and back, so its blocked clock never ran out. A place the
+    robot has got no 0.3 m nearer for 5 s is passed over for the round."""
+    following, _ = _searching_from((5.0, 4.75, math.pi), [(20.0, 6.5), (5.0, 16.5),
+                                                           (8.0, 16.5)])
+    following.navigation.state.phase = "blocked"
+    now = _search_for(following, 5.0, 4.5)
+    assert following._plan_index == 0
+    now = _search_for(following, now, 1.0)
+    assert following._plan_index == 1 and following._searched == []
+    assert following._search_goal == (5.0, 16.5)
