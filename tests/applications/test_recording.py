@@ -280,7 +280,7 @@ def test_a_replay_left_on_its_last_tick_ends_cleanly_on_a_signal(recorded, signu
                                                                   ignored_at_start):
     path, _ = recorded
     process = subprocess.Popen([sys.executable, "-m", "applications.cli", "replay", str(path),
-                                "--inspect", "0"], env=faulthandler_env(),
+                                "--inspect", "0", "--speed", "20"], env=faulthandler_env(),
                                preexec_fn=_ignoring_sigint if ignored_at_start else None,
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
