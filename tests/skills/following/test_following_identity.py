@@ -174,16 +174,23 @@ def test_while_followed_her_track_is_her_by_the_one_score_and_its_threshold():
     assert following.state.lost
 
 
-def test_a_look_alike_seen_apart_from_her_is_never_taken_for_her():
-    # a look-alike (red, like her) stands 1.2 m from her while the camera sees both: when she
-    # is hidden, the look-alike near where she should be is not her, however like her it looks
+def _her_and_a_look_alike(dx: float, dy: float):
+    """A follower that has learnt her (red) and then saw her and a look-alike (red too)
+    `dx`, `dy` m from her for half a second: (following, perception, t, x), x where she is."""
     following, perception = follower()
     t = learn_her(following, perception)
     x = 2.0 + 0.5 * (t - 0.1)
     for _ in range(5):
-        perception.believed = (seen(1, x, 0.0, t, RED), seen(6, x - 1.2, 0.3, t, RED))
+        perception.believed = (seen(1, x, 0.0, t, RED), seen(6, x + dx, dy, t, RED))
         following.sense(t)
         t += 0.1
+    return following, perception, t, x
+
+
+def test_a_look_alike_seen_apart_from_her_is_never_taken_for_her():
+    # a look-alike (red, like her) stands 1.2 m from her while the camera sees both: when she
+    # is hidden, the look-alike near where she should be is not her, however like her it looks
+    following, perception, t, x = _her_and_a_look_alike(-1.2, 0.3)
     assert following.state.target == 1 and 6 in following._strangers
     for _ in range(20):                         # she is hidden; the look-alike stays in view
         perception.believed = (seen(6, x - 1.0, 0.2, t, RED),)
@@ -232,13 +239,7 @@ def test_a_look_alike_given_a_new_track_id_is_still_a_stranger():
     for her (the stranger rule held the old id only). A track born where a stranger has just
     vanished, which the stranger explains clearly better than she does, is that stranger;
     she stepping out where she should be is still taken back."""
-    following, perception = follower()
-    t = learn_her(following, perception)
-    x = 2.0 + 0.5 * (t - 0.1)
-    for _ in range(5):
-        perception.believed = (seen(1, x, 0.0, t, RED), seen(6, x - 1.2, 0.3, t, RED))
-        following.sense(t)
-        t += 0.1
+    following, perception, t, x = _her_and_a_look_alike(-1.2, 0.3)
     assert 6 in following._strangers
     for _ in range(30):                         # she is hidden; the look-alike stands
         perception.believed = (seen(6, x - 1.2, 0.3, t, RED),)
@@ -261,13 +262,7 @@ def test_a_look_alike_given_a_new_track_id_is_still_a_stranger():
 def test_a_new_track_where_a_stranger_vanished_long_ago_is_not_ruled_out():
     """The stranger's hold on a place fades as the time since they were seen widens their
     gate: a track born there 20 s later, near where she should be, may be her."""
-    following, perception = follower()
-    t = learn_her(following, perception)
-    x = 2.0 + 0.5 * (t - 0.1)
-    for _ in range(5):
-        perception.believed = (seen(1, x, 0.0, t, RED), seen(6, x + 0.9, 0.8, t, RED))
-        following.sense(t)
-        t += 0.1
+    following, perception, t, x = _her_and_a_look_alike(0.9, 0.8)
     assert 6 in following._strangers
     perception.believed = ()
     for _ in range(200):                        # nobody in view for 20 s

@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 from types import SimpleNamespace
 
+import follow_fakes
 from follow_fakes import Pose, Speech, follower, track
 from skills.following import GAVE_UP_REASON, SEARCHING
 from skills.following.room import walking_distances
@@ -125,29 +126,14 @@ def test_it_looks_along_her_heading_calls_goes_on_and_gives_up_naming_the_places
     assert "searched where she should be, 3 m on along her way" in status.reason
 
 
-class Navigation:
-    """A navigation skill on the store's map that drives nowhere: it records its goals, and a
-    test sets its phase ("blocked", with how long)."""
+class Navigation(follow_fakes.Navigation):
+    """follow_fakes' navigation on the store's map, with the phase a test sets ("blocked",
+    with how long)."""
 
     def __init__(self):
-        from robots.profile import load_profile
-        self.grid = load_map("store")
-        self.profile = load_profile("perses")
-        self.limits = self.profile.limits
+        super().__init__(load_map("store"))
         self.state = SimpleNamespace(phase="idle", blocked_for=0.0, reason="")
         self.status = SimpleNamespace(status=None, failed=False)
-        self.goals = []
-        self.ignore_people = frozenset()
-
-    def go_to(self, goal, now, speed=None):
-        self.goals.append(goal)
-        self.state.phase = "driving"
-
-    def set_speed(self, speed):
-        pass
-
-    def cancel(self, now):
-        self.state.phase = "idle"
 
 
 def _searching_from(robot, plan_places):
