@@ -88,14 +88,19 @@ def test_walking_distances_go_round_the_store_shelves():
     assert walk(40.0, 10.0) is None                                # outside the store
 
 
-def _lose_her_walking_east(following, perception, speech):
-    for k in range(11):                                   # she walks along x, then vanishes
+def _she_walks_east_and_vanishes(following, perception, x0, y, give_up_after):
+    """Follow her for 1 s walking east at 0.5 m/s from (x0, y); then nobody is in view."""
+    for k in range(11):
         t = 0.1 * k
-        perception.believed = (track(1, 2.0 + 0.5 * t, 0.0, t, vx=0.5),)
+        perception.believed = (track(1, x0 + 0.5 * t, y, t, vx=0.5),)
         if k == 0:
-            following.follow(0.0, target=1, give_up_after=12.0)
+            following.follow(0.0, target=1, give_up_after=give_up_after)
         following.sense(t)
     perception.believed = ()
+
+
+def _lose_her_walking_east(following, perception, speech):
+    _she_walks_east_and_vanishes(following, perception, 2.0, 0.0, give_up_after=12.0)
     now = 1.0
     while now < 1.0 + following.params.search_after + 0.05:
         now += 0.1
@@ -141,13 +146,7 @@ def _searching_from(robot, plan_places):
     (x, y, heading) and nobody in view; she was last seen walking east at (12, 4.75)."""
     following, perception = follower(Speech())
     following.navigation = Navigation()
-    for k in range(11):
-        t = 0.1 * k
-        perception.believed = (track(1, 11.5 + 0.5 * t, 4.75, t, vx=0.5),)
-        if k == 0:
-            following.follow(0.0, target=1, give_up_after=60.0)
-        following.sense(t)
-    perception.believed = ()
+    _she_walks_east_and_vanishes(following, perception, 11.5, 4.75, give_up_after=60.0)
     following.localization.state = Pose(*robot)
     following._plan = [Lookout(x, y, (NORTH,), f"place{k}") for k, (x, y) in
                        enumerate(plan_places)]
