@@ -163,11 +163,8 @@ class Crowd:
             person.speed = speed_k if speed_k * h > 1e-9 else 0.0
 
     def forces(self, people: list[SimPerson], positions: np.ndarray, wish: np.ndarray,
-               world: "World", wished: np.ndarray | None = None) -> np.ndarray:
-        """Social force (m/s²) on each person, (n, 2). `wished`: the length of each wish,
-        when known."""
-        if wished is None:
-            wished = np.hypot(wish[:, 0], wish[:, 1])
+               world: "World", wished: np.ndarray) -> np.ndarray:
+        """Social force (m/s²) on each person, (n, 2). `wished`: the length of each wish."""
         from_people, from_robot = self._walker_forces(people, positions, wish, world)
         force = (from_people
                  + self._wall_forces(positions, wished, world)
