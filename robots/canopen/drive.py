@@ -31,6 +31,10 @@ S = p.State402
 FOLLOWING_WINDOW = 0.25      # m/s between demand and actual ...
 FOLLOWING_TIME = 1.0         # ... for this long: following error
 COAST_DECEL = 0.2            # m/s²: a wheel whose drive let go rolls on, slowed by friction only
+LIVE = frozenset((p.STATUSWORD, p.MODES_DISPLAY, p.POSITION_ACTUAL, p.VELOCITY_ACTUAL,
+                  p.VELOCITY_DEMAND, p.ERROR_CODE, p.ERROR_REGISTER, p.CONTROLWORD,
+                  p.TARGET_VELOCITY))      # objects (sub 0) whose value is the drive's own state
+_UNKNOWN = object()
 
 
 class Drive:
@@ -43,6 +47,15 @@ class Drive:
         self.node._write_callbacks.remove(self.node.nmt.on_write)     # heartbeat timing is ours
         self.node.add_write_callback(self._on_write)
         self.node.add_read_callback(self._on_read)
+        self._live = {p.STATUSWORD: self.statusword, p.MODES_DISPLAY: lambda: self.mode,
+                      p.POSITION_ACTUAL: lambda: _i32(self.position),
+                      p.VELOCITY_ACTUAL: lambda: _clamp32(round(self.actual)),
+                      p.VELOCITY_DEMAND: lambda: _clamp32(round(self.demand)),
+                      p.ERROR_CODE: lambda: self.error_code,
+                      p.ERROR_REGISTER: lambda: self.error_register,
+                      p.CONTROLWORD: lambda: self.controlword, p.TARGET_VELOCITY: lambda: self.target}
+        self._variables: dict[tuple[int, int], object] = {}     # `_u`'s dictionary look-ups
+        self._decoded: dict[tuple[int, int], tuple[object, int]] = {}   # and last decodings
         self.sdo_delay = 0.0
         self.refuse: dict[tuple[int, int], int] = {}
         self.boot_delay = boot_delay
@@ -116,11 +129,29 @@ class Drive:
         return word
 
     def _u(self, index: int, sub: int = 0, default: int = 0) -> int:
-        """An object's value; `default` where this drive lacks the object (`remove_objects`)."""
-        var = self.node.object_dictionary.get_variable(index, sub)
+        """An object's value; `default` where this drive lacks the object (`remove_objects`).
+
+        Read about 24 times a step through `canopen`'s look-ups, so each object's variable is
+        kept (until `remove_objects`) and its last decoding too, decoded again only when its
+        stored bytes (or, unwritten, the dictionary's value and default) differ from the
+        kept ones. A live object (statusword...) is asked every time, as an SDO upload is."""
+        key = (index, sub)
+        var = self._variables.get(key, _UNKNOWN)
+        if var is _UNKNOWN:
+            var = self._variables[key] = self.node.object_dictionary.get_variable(index, sub)
         if var is None:
             return default
-        return var.decode_raw(self.node.get_data(index, sub))
+        if sub == 0 and index in LIVE:
+            return var.decode_raw(self.node.get_data(index, sub))
+        stored = self.node.data_store.get(index)
+        raw = stored.get(sub) if stored is not None else None
+        source = raw if raw is not None else (var.value, var.default)
+        kept = self._decoded.get(key)
+        if kept is not None and kept[0] == source:
+            return kept[1]
+        value = var.decode_raw(self.node.get_data(index, sub))
+        self._decoded[key] = (source, value)
+        return value
 
     def _quick_stop_option(self) -> int:
         """0x605A, or the drive's own behaviour where it has no such object."""
@@ -130,6 +161,8 @@ class Drive:
         """Tests: a drive without these optional objects (an index, or (index, sub)): its SDO
         server then aborts 0x06020000 / 0x06090011 like another maker's drive."""
         od = self.node.object_dictionary
+        self._variables.clear()
+        self._decoded.clear()
         for key in keys:
             index, sub = key if isinstance(key, tuple) else (key, None)
             if sub is None:
@@ -141,14 +174,8 @@ class Drive:
 
     # -- object access (SDO and RPDO) -----------------------------------------------------------
     def _on_read(self, index: int, subindex: int, od, **_):
-        live = {p.STATUSWORD: self.statusword, p.MODES_DISPLAY: lambda: self.mode,
-                p.POSITION_ACTUAL: lambda: _i32(self.position),
-                p.VELOCITY_ACTUAL: lambda: _clamp32(round(self.actual)),
-                p.VELOCITY_DEMAND: lambda: _clamp32(round(self.demand)),
-                p.ERROR_CODE: lambda: self.error_code, p.ERROR_REGISTER: lambda: self.error_register,
-                p.CONTROLWORD: lambda: self.controlword, p.TARGET_VELOCITY: lambda: self.target}
-        if index in live and subindex == 0:
-            return live[index]()
+        if subindex == 0 and index in LIVE:
+            return self._live[index]()
         return None
 
     def _on_write(self, index: int, subindex: int, od, data: bytes) -> None:
