@@ -121,6 +121,7 @@ class World:
         self._cache: dict[str, tuple[tuple, object]] = {}
         self._near_walls: dict[float, tuple[float, float, np.ndarray]] = {}
         self._wall_hits: dict[str, tuple[tuple[float, float, float], np.ndarray]] = {}
+        self._scenes: dict[str, tuple[tuple[float, float, float], bytes, np.ndarray]] = {}
 
     # -- places ----------------------------------------------------------------------------
 
@@ -301,6 +302,9 @@ class World:
         return self._cached("sonar", self._sonar_ranges).copy()
 
     def _sonar_ranges(self) -> np.ndarray:
+        return self._same_scene("sonar", self.body_circles(), self._sonar_cast)
+
+    def _sonar_cast(self) -> np.ndarray:
         sonar = self.profile.sonar
         reach = sonar.max_range + float(np.hypot(*self._sonar_rays[:, :2].T).max())
         origins, angles = self._to_world(self._sonar_rays)
@@ -322,6 +326,9 @@ class World:
 
     def _laser_ranges(self) -> np.ndarray:
         """Noise-free laser ranges of the current substep."""
+        return self._same_scene("laser", self.leg_circles(), self._laser_cast)
+
+    def _laser_cast(self) -> np.ndarray:
         laser, body = self.profile.laser, self.body
         c, s = math.cos(body.th), math.sin(body.th)
         origins = np.array([[body.x + c * laser.x - s * laser.y,
@@ -331,6 +338,21 @@ class World:
         angles = self._laser_offsets + body.th
         walls = self._wall_distances("laser", origins, angles, reach)
         return cast_rays(origins, angles, None, circles, laser.max_range, walls)
+
+    def _same_scene(self, sensor: str, circles: np.ndarray, cast: Callable[[], np.ndarray]
+                    ) -> np.ndarray:
+        """A sensor's noise-free ranges, cast again only when the body stands elsewhere or the
+        circles it sees (people, legs, carts) differ by a bit: walls do not move, so the same
+        pose and the same circles hit the same things. The survey's robot stands alone for most
+        of a run, and cast the same rays every substep."""
+        pose = (self.body.x, self.body.y, self.body.th)
+        seen = circles.tobytes()
+        kept = self._scenes.get(sensor)
+        if kept is not None and kept[0] == pose and kept[1] == seen:
+            return kept[2]
+        ranges = cast()
+        self._scenes[sensor] = (pose, seen, ranges)
+        return ranges
 
     def _wall_distances(self, sensor: str, origins: np.ndarray, angles: np.ndarray,
                         reach: float) -> np.ndarray:

@@ -180,3 +180,27 @@ def test_a_look_alike_has_the_appearance_of_the_person_she_dresses_like():
     world = World(load_floor("office"), load_profile("perses"), scenario, seed=0)
     assert list(world.appearances["tess"]) == list(appearance_of("tara"))
     assert list(world.appearances["sam"]) != list(appearance_of("tara"))
+
+
+def fresh_cast(world):
+    """Sonar and noise-free laser ranges cast now, without the kept scene."""
+    return world._sonar_cast(), world._laser_cast()
+
+
+def test_a_kept_scene_gives_the_ranges_a_fresh_cast_gives():
+    """The sensors cast again only when the body or a circle moved (`World._same_scene`)."""
+    world = World(FLOOR, exact(HOROS), standing(("p", 1.0, 0.4)))
+    for _ in range(3):                          # standing: the same scene substep after substep
+        world.step(0.05)
+        sonar, laser = fresh_cast(world)
+        np.testing.assert_array_equal(world.sonar_ranges(), sonar)
+        np.testing.assert_array_equal(world.laser_scan()[1], laser)
+    kept = world._scenes["laser"][2]
+    world.people[0].x = 0.3                     # someone moved in front of the robot
+    world.step(0.05)
+    sonar, laser = fresh_cast(world)
+    np.testing.assert_array_equal(world.sonar_ranges(), sonar)
+    np.testing.assert_array_equal(world.laser_scan()[1], laser)
+    assert not np.array_equal(laser, kept)
+    world.body.th += 0.3                        # the body turned by hand
+    np.testing.assert_array_equal(world.laser_scan()[1], world._laser_cast())
