@@ -59,5 +59,32 @@ def _stand_in_for_filterpy_stats() -> None:
 _stand_in_for_filterpy_stats()
 
 from filterpy.kalman import IMMEstimator, KalmanFilter  # noqa: E402  (after the stand-in)
+from numpy import dot  # noqa: E402
 
-__all__ = ["IMMEstimator", "KalmanFilter"]
+__all__ = ["IMMEstimator", "KalmanFilter", "LeanKalmanFilter"]
+
+
+class LeanKalmanFilter(KalmanFilter):
+    """filterpy's KalmanFilter with the same arithmetic in `predict` and `update`, but without
+    the copies it keeps for inspection (x_prior, P_prior, z, x_post, P_post) and the
+    likelihood resets, which the tracker never reads: a third of the cost of a filter step
+    on a 4-state filter, for every track on every tick. Only the call forms the tracker uses
+    are taken: `predict(F=..., Q=...)` and `update(z, R=..., H=...)` with arrays."""
+
+    def predict(self, u=None, B=None, F=None, Q=None):
+        if u is not None or B is not None or F is None or not hasattr(Q, "shape"):
+            return super().predict(u, B, F, Q)
+        self.x = dot(F, self.x)
+        self.P = self._alpha_sq * dot(dot(F, self.P), F.T) + Q
+
+    def update(self, z, R=None, H=None):
+        if z is None or R is None or H is None or not hasattr(R, "shape"):
+            return super().update(z, R, H)
+        self.y = z - dot(H, self.x)
+        PHT = dot(self.P, H.T)
+        self.S = dot(H, PHT) + R
+        self.SI = self.inv(self.S)
+        self.K = dot(PHT, self.SI)
+        self.x = self.x + dot(self.K, self.y)
+        I_KH = self._I - dot(self.K, H)
+        self.P = dot(dot(I_KH, self.P), I_KH.T) + dot(dot(self.K, R), self.K.T)

@@ -13,7 +13,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from skills.people.kalman import KalmanFilter
+from skills.people.kalman import LeanKalmanFilter
 
 from skills.people import imm, motion_model
 from skills.people.association import assign, gated_cost, mahalanobis_sq
@@ -61,7 +61,7 @@ class _TrackState:
         if params.model == "imm":
             kf = imm.make_imm(x0, p0, inverse_2x2_single)
         else:
-            kf = KalmanFilter(dim_x=4, dim_z=2)
+            kf = LeanKalmanFilter(dim_x=4, dim_z=2)
             kf.x, kf.P, kf.H, kf.inv = x0, p0, motion_model.H, inverse_2x2_single
         self.id = track_id
         self.kf = kf

@@ -256,3 +256,26 @@ def test_a_track_carries_the_newest_camera_view_of_the_person():
     assert track.appearance == blue and track.appearance_t == 0.3
     (other,) = PeopleTracker().update(0.0, [(1.0, 0.0, R)])
     assert other.appearance is None and other.appearance_t is None
+
+
+def test_the_lean_filter_steps_bit_for_bit_as_filterpy():
+    """`LeanKalmanFilter` leaves out filterpy's copies, not its arithmetic."""
+    from skills.people import motion_model
+    from skills.people.kalman import KalmanFilter, LeanKalmanFilter
+    from skills.people.tracker import inverse_2x2_single
+    rng = np.random.default_rng(4)
+    filters = []
+    for cls in (KalmanFilter, LeanKalmanFilter):
+        kf = cls(dim_x=4, dim_z=2)
+        kf.x, kf.P = np.array([[1.0], [2.0], [0.3], [-0.1]]), np.diag([0.04, 0.04, 1.0, 1.0])
+        kf.H, kf.inv = motion_model.H, inverse_2x2_single
+        filters.append(kf)
+    for _ in range(50):
+        dt = float(rng.uniform(0.05, 0.3))
+        z = rng.normal([[1.0], [2.0]], 0.3)
+        r = np.diag(rng.uniform(0.001, 0.05, 2))
+        for kf in filters:
+            kf.predict(F=motion_model.transition(dt), Q=motion_model.process_noise(dt, 0.5))
+            kf.update(z, R=r, H=motion_model.H)
+        assert filters[0].x.tobytes() == filters[1].x.tobytes()
+        assert filters[0].P.tobytes() == filters[1].P.tobytes()
