@@ -74,7 +74,10 @@ def _isolated_runs(scan: LaserScan, points: np.ndarray, p: LegParams):
 def _scan_points(scan: LaserScan) -> np.ndarray:
     ox, oy, _ = scan.origin
     ranges = np.where(np.isfinite(scan.ranges), scan.ranges, np.nan)
-    return np.column_stack((ox + ranges * np.cos(scan.angles), oy + ranges * np.sin(scan.angles)))
+    points = np.empty((len(ranges), 2))
+    points[:, 0] = ox + ranges * np.cos(scan.angles)
+    points[:, 1] = oy + ranges * np.sin(scan.angles)
+    return points
 
 
 def _segments(ranges: np.ndarray, p: LegParams) -> tuple[np.ndarray, np.ndarray]:
@@ -100,11 +103,12 @@ def _segment_geometry(points: np.ndarray, scan: LaserScan, starts: np.ndarray, e
     counts = (ends - starts).astype(float)
     finite = np.isfinite(scan.ranges)
     ranges_sum = np.concatenate(([0.0], np.cumsum(np.where(finite, scan.ranges, 0.0))))
-    points_sum = np.vstack((np.zeros((1, 2)), np.cumsum(np.nan_to_num(points), axis=0)))
+    points_sum = np.zeros((len(points) + 1, 2))      # points are finite or NaN (no echo)
+    np.cumsum(np.where(np.isnan(points), 0.0, points), axis=0, out=points_sum[1:])
     mean_range = (ranges_sum[ends] - ranges_sum[starts]) / counts
     n = len(scan.angles)
     if n >= 2:
-        i = np.clip(starts, 1, n - 1)
+        i = np.minimum(np.maximum(starts, 1), n - 1)
         beam_step = np.abs(scan.angles[i] - scan.angles[i - 1])
     else:
         beam_step = np.zeros(len(starts))
@@ -114,7 +118,10 @@ def _segment_geometry(points: np.ndarray, scan: LaserScan, starts: np.ndarray, e
     ray = centres - np.asarray(scan.origin[:2], dtype=float)
     norm = np.hypot(ray[:, 0], ray[:, 1])
     away = norm > 1e-9
-    centres[away] += ray[away] / norm[away, None] * p.leg_radius
+    if away.all():                              # the usual case: one step instead of masks
+        centres += ray / norm[:, None] * p.leg_radius
+    else:
+        centres[away] += ray[away] / norm[away, None] * p.leg_radius
     return centres, widths
 
 
