@@ -77,7 +77,7 @@ class Snapshot:
     def of(cls, world) -> "Snapshot":
         odometry = _odometry(world)
         return cls(odometry.x, odometry.y, odometry.th, odometry.v, odometry.w,
-                   tuple(float(r) for r in np.asarray(world.sonar_ranges())),
+                   tuple(np.asarray(world.sonar_ranges(), dtype=float).tolist()),
                    int(world.bumpers), bool(world.stalled))
 
 
@@ -320,13 +320,18 @@ class Firmware:
             stall_bumpers |= 0x0101
         flags = ((0x01 if self.motors else 0) | (0x02 if self.sonar_on else 0)
                  | (ESTOP_FLAG if self.estop else 0))
-        sonar = tuple((i, self._range_units(r)) for i, r in enumerate(snap.sonar)) \
-            if self.sonar_on else ()
+        sonar = self._sonar_units(snap.sonar) if self.sonar_on else ()
         return p.encode_sip(p.SIP(
             moving=bool(snap.v or snap.w), xpos=round(x_mm / f.dist) & 0x7FFF,
             ypos=round(y_mm / f.dist) & 0x7FFF, thpos=_i16(th / f.angle), lvel=left, rvel=right,
             battery=BATTERY_DECIVOLTS, stall_bumpers=stall_bumpers,
             control=_i16(control / f.angle), flags=flags, sonar=sonar))
+
+    def _sonar_units(self, ranges: tuple[float, ...]) -> tuple[tuple[int, int], ...]:
+        """(number, units) of every reading: `_range_units` inlined, for 16-48 sonars a SIP."""
+        top, unit, isfinite = self.sonar_max_units, self.factors.range, math.isfinite
+        return tuple((i, min(top, max(0, round(r * 1000.0 / unit))) if isfinite(r) else top)
+                     for i, r in enumerate(ranges))
 
     def _range_units(self, metres: float) -> int:
         if not math.isfinite(metres):
@@ -363,6 +368,8 @@ class P2OSEmulator(EmulatorHost):
         self._body_limits = replace(world.body.limits, max_speed=factors.max_vel / 1000.0,
                                     max_turn_rate=math.radians(factors.max_rvel))
         world.body.limits = self._body_limits
+        self._ramp: tuple[float, float] | None = None    # `_apply`'s last rates and their Limits
+        self._ramped = self._body_limits
         self.clock = clock
         self.baud = baud
         self.sips_sent = 0
@@ -504,7 +511,10 @@ class P2OSEmulator(EmulatorHost):
         if firmware.estop_pending:               # ESTOP overrides the deceleration
             firmware.estop_pending = False
             body.v = body.w = 0.0
-        accel, turn_accel = firmware.ramp((body.v, body.w), target)
-        body.limits = replace(self._body_limits, max_accel=accel, max_turn_accel=turn_accel)
+        ramp = firmware.ramp((body.v, body.w), target)
+        if ramp != self._ramp:                   # a new Limits only when the rates change
+            self._ramp = ramp
+            self._ramped = replace(self._body_limits, max_accel=ramp[0], max_turn_accel=ramp[1])
+        body.limits = self._ramped
         body.set_command(*target)
 

@@ -126,6 +126,9 @@ def test_sip_reports_pose_sonar_bumpers_stall():
     ranges = dict(sip.sonar)
     assert ranges[0] * 0.268 == pytest.approx(1200, abs=0.2)
     assert ranges[1] * 0.268 >= 5000                   # no echo: the sonar's maximum
+    readings = (0.0, -0.5, 0.2, 1.2, 4.99, 5.0, 7.3, math.inf, math.nan)
+    assert firmware._sonar_units(readings) == tuple(
+        (i, firmware._range_units(r)) for i, r in enumerate(readings))   # inlined, the same
 
 
 def test_seto_resets_odometry_to_the_current_pose():
