@@ -16,6 +16,7 @@ import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Callable
 
 import can
 
@@ -108,13 +109,16 @@ class CandumpLog:
 
 class DriverBus:
     """A bus that counts sent frames for lock-step and tees them into the log. The driver's
-    `send` also waits until the emulator has handled the frame (`wait`); the emulator's not."""
+    `send` also waits until the emulator has handled the frame (`wait`), through `deliver`
+    (`LockStep.deliver`: the in-process emulator reads it on this thread); the emulator's not."""
 
     def __init__(self, bus: can.BusABC, counter: ByteCounter | None = None,
-                 log: CandumpLog | None = None, drain_timeout: float = 2.0, wait: bool = True) -> None:
+                 log: CandumpLog | None = None, drain_timeout: float = 2.0, wait: bool = True,
+                 deliver: Callable[[float], bool] | None = None) -> None:
         self.bus = bus
         self.counter = counter
         self.wait = wait
+        self.deliver = deliver or (counter.wait_drained if counter is not None else None)
         self.log = log
         self.drain_timeout = drain_timeout
         self.channel_info = getattr(bus, "channel_info", "can")
@@ -139,7 +143,7 @@ class DriverBus:
             self.log.write(can.Message(timestamp=time.time(), arbitration_id=msg.arbitration_id,
                                        data=msg.data, is_extended_id=msg.is_extended_id,
                                        is_remote_frame=msg.is_remote_frame))
-        if self.wait and self.counter is not None and not self.counter.wait_drained(self.drain_timeout):
+        if self.wait and self.counter is not None and not self.deliver(self.drain_timeout):
             raise can.CanOperationError("in-process emulator did not take the frame within "
                                         f"{self.drain_timeout} s")
 

@@ -331,7 +331,8 @@ class CanOpenBase(DriveStartUp, DriveStopping, Base):
             self.lockstep.reset()
         network = canopen.Network()
         network.NOTIFIER_CYCLE = NOTIFIER_CYCLE          # close() returns promptly
-        network.bus = DriverBus(bus, self.lockstep.to_device if self.lockstep else None, self.can_log)
+        network.bus = DriverBus(bus, self.lockstep.to_device if self.lockstep else None, self.can_log,
+                                deliver=self.lockstep.deliver if self.lockstep else None)
         network.listeners.append(_Raw(self))
         if self.lockstep is not None:
             network.listeners.append(Counted(self.lockstep.to_host))

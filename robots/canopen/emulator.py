@@ -73,7 +73,11 @@ class CanOpenEmulator:
         for drive in self.drives.values():
             drive.attach(self.network)
         self.network.subscribe(p.SYNC_ID, self._on_sync_sonar)
-        self.network.connect()
+        self._pump_lock = threading.Lock()
+        if lockstep is not None and port is None:
+            lockstep.pump = self._pump           # the driver's thread hands us its frames
+        else:
+            self.network.connect()               # a notifier thread reads the bus
         self._stop = threading.Event()
         self._thread: threading.Thread | None = None
         self._servers: list = []
@@ -96,6 +100,19 @@ class CanOpenEmulator:
             self.sent += 1
         except can.CanError as exc:
             log.warning("emulator: could not send %03X: %s", can_id, exc)
+
+    def _pump(self, timeout: float) -> None:
+        """Lock-step on the in-process bus: read the frames that have arrived (waiting up to
+        `timeout` s for the first) and hand each to the listeners in order, as python-can's
+        notifier thread would, but on the caller's thread (`LockStep.deliver`, called by the
+        driver's `send`): no thread hand-over per frame. One caller at a time keeps the order."""
+        bus = self.network.bus
+        with self._pump_lock:
+            msg = bus.recv(timeout)
+            while msg is not None:
+                for listener in self.network.listeners:
+                    listener.on_message_received(msg)
+                msg = bus.recv(0.0)
 
     def now(self) -> float:
         if self.lockstep is not None or self.clock is None:
@@ -224,6 +241,8 @@ class CanOpenEmulator:
 
     def close(self) -> None:
         self._stop.set()
+        if self.lockstep is not None and self.lockstep.pump == self._pump:
+            self.lockstep.pump = None
         if self._thread is not None:
             self._thread.join(timeout=1.0)
         for server in self._servers:

@@ -380,3 +380,17 @@ def test_a_wheel_that_cannot_follow_raises_following_error(fast):
     fault = base.read_state().extra["fault"]
     assert "EMCY 0x8611 following error" in fault, fault
     assert all(d.target == 0 for d in base.emulator.drives.values())
+
+
+def test_in_lock_step_the_emulator_handles_frames_on_the_drivers_thread(fast):
+    """No notifier thread in the in-process emulator: the driver's `send` hands each frame over
+    (`LockStep.deliver` -> `CanOpenEmulator._pump`), so it is handled before `send` returns."""
+    import threading
+    base, simulation, clock, tick = fast
+    emulator = base.emulator
+    assert emulator.network.notifier is None and base.lockstep.pump == emulator._pump
+    handled = []
+    emulator.network.subscribe(p.SYNC_ID, lambda *frame: handled.append(threading.current_thread()))
+    tick()
+    assert handled and all(thread is threading.current_thread() for thread in handled)
+    assert base.lockstep.to_device.backlog() == 0
