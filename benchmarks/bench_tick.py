@@ -11,7 +11,9 @@ with the real drivers talking their wire protocols to the emulators:
                 with carts) walking between the shelves, 10 min.
 
 Printed per workload: the median and p99 of the tick (wall clock from one `sense` to the next:
-everything the loop does, on every thread it waits for), the share of each layer and each
+everything the loop does, on every thread it waits for), the median CPU time of a tick (the
+process's, all threads: it does not count the waits for a busy machine's cores, so two commits
+run alternately compare by it when other work shares the machine), the share of each layer and each
 skill in it (time inside each, not counting what it called that is counted elsewhere: a skill
 reading the simulated laser counts the ray casting to L0), and the ratio to a baseline run in
 the same process just before: the same workload with localization weighing every scan, the
@@ -112,6 +114,8 @@ class Probe:
     def __init__(self) -> None:
         self.own: Counter = Counter()
         self.ticks: list[float] = []
+        self.cpu: list[float] = []         # the process's CPU time of each tick (all threads)
+        self._last_cpu: float | None = None
         self._stack: list[float] = []
         self._main = threading.get_ident()
         self._last_sense: float | None = None
@@ -139,10 +143,11 @@ class Probe:
         self._undo.append((cls, name, original))
 
     def mark_tick(self) -> None:
-        now = time.perf_counter()
+        now, cpu = time.perf_counter(), time.process_time()
         if self._last_sense is not None:
             self.ticks.append(now - self._last_sense)
-        self._last_sense = now
+            self.cpu.append(cpu - self._last_cpu)
+        self._last_sense, self._last_cpu = now, cpu
 
     def undo(self) -> None:
         for cls, name, original in reversed(self._undo):
@@ -214,6 +219,7 @@ def run_once(args: list[str], folder: Path) -> dict:
     shares = {label: 100 * 1000 * own / total for label, own in probe.own.items()}
     shares["rest of the loop"] = max(0.0, 100 - sum(shares.values()))
     return {"median": float(np.median(ticks)), "p99": float(np.percentile(ticks, 99)),
+            "cpu": float(np.median(probe.cpu)) * 1000,
             "ticks": len(ticks), "wall": wall, "shares": shares}
 
 
@@ -243,6 +249,8 @@ def report(name: str, now: dict, base: dict | None) -> None:
     print(f"\n{name}: {now['ticks']} ticks in {now['wall']:.1f} s; tick median "
           f"{now['median']:.3f} ms, p99 {now['p99']:.3f} ms (target median <= {target} ms: "
           f"{'met' if now['median'] <= target else 'MISSED by %.0f %%' % (100 * (now['median'] / target - 1))})")
+    print(f"  CPU per tick (the process, every thread): median {now['cpu']:.3f} ms; steadier than "
+          f"the wall clock on a loaded machine, so compare commits by it, run alternately")
     if base is not None:
         print(f"  baseline (a scan weighed every tick): median {base['median']:.3f} ms, p99 "
               f"{base['p99']:.3f} ms; ratio now / baseline: median "
