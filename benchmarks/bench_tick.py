@@ -20,6 +20,7 @@ the same process just before: the same workload with localization weighing every
 update rule before issue 21.
 
     python benchmarks/bench_tick.py [--minutes-scale 1.0] [--only survey_idle,guide_crowd]
+                                    [--robot argos]
 
 Benchmarks are not a layer: this script wraps methods of every layer to time them.
 """
@@ -229,10 +230,15 @@ def main() -> None:
                         help="scale every workload's simulated time (0.1: a tenth)")
     parser.add_argument("--only", help="comma-separated workloads")
     parser.add_argument("--no-baseline", action="store_true")
+    parser.add_argument("--robot", help="run every workload on this robot instead (e.g. argos, "
+                        "the CAN base)")
     options = parser.parse_args()
     print(f"load average before: {os.getloadavg()[0]:.2f}")
     with tempfile.TemporaryDirectory() as folder:
         jobs = workloads(Path(folder), options.minutes_scale)
+        if options.robot:
+            for args in jobs.values():
+                args[args.index("--robot") + 1] = options.robot
         names = options.only.split(",") if options.only else list(jobs)
         for name in names:
             base = None
