@@ -15,13 +15,15 @@ other espeak-ng voices, speeds and pitches, and other words); `fresh` (held out 
 choice: voices and variants in neither set, most at espeak-ng's default speed and pitch, and
 other words, fixed before the fit of "five" was worked on); `defaults` (the by-hand check of
 issue 25: eight English voices at default speed and pitch, two of them calibration voices,
-with the fresh set's other words). `--snr DB`
+with the fresh set's other words); `fresh2` (held out like `fresh`, fixed after the fresh
+set's misses were known and before anything was tuned against them: every English accent
+and German with variants in no other set, and other words in no other set). `--snr DB`
 mixes white noise into every utterance at that signal-to-noise ratio (the speech's mean power
 over the noise's; seeded, so the same run gives the same figures). `--speech-pad` sets how much
 of the silence around the speech the recognizer keeps (`none`: the whole sound, as before the
 cut).
 
-    python benchmarks/bench_voice.py [--set test|calibration|fresh|defaults]
+    python benchmarks/bench_voice.py [--set test|calibration|fresh|fresh2|defaults]
                                      [--calibrate]
                                      [--apps survey,guide] [--languages en,de]
                                      [--threshold -14] [--margin-cap 15]
@@ -82,6 +84,21 @@ VOICES = {
                ("de+m5", ("-s", "130")), ("de+f5", ("-p", "30")),
                ("de+m7", ("-s", "200", "-p", "70"))),
     },
+    # Fixed (and committed) after the fresh set's misses were known and before anything was
+    # tuned against them (issue 25, third round): every English accent once and German, each
+    # with a variant in no other set, some at other speeds and pitches. Measured once, after
+    # the change is chosen; nothing is ever chosen on it.
+    "fresh2": {
+        "en": (("en-gb-scotland+m7", ()), ("en-gb-x-rp+klatt2", ()),
+               ("en-us+robert", ("-s", "150")), ("en-us-nyc+steph", ()),
+               ("en-029+max", ("-p", "60")), ("en-gb-x-gbcwmd+m8", ("-s", "185")),
+               ("en-gb-x-gbclan+linda", ("-s", "165", "-p", "45")),
+               ("en+klatt3", ("-s", "120", "-p", "35"))),
+        "de": (("de+m8", ()), ("de+klatt2", ()), ("de+klatt3", ("-s", "150")),
+               ("de+steph", ()), ("de+robert", ("-p", "60")), ("de+max", ("-s", "185")),
+               ("de+linda", ("-s", "165", "-p", "45")),
+               ("de+Michael", ("-s", "120", "-p", "35"))),
+    },
     # The check made by hand that reopened issue 25 (point 2): eight English voices at
     # espeak-ng's default speed and pitch (en-us and en are calibration voices too).
     "defaults": {
@@ -117,6 +134,18 @@ OTHER_WORDS = {
                "Fahrkarte", "bitte hilf mir", "neun", "guten Morgen", "Flughafen", "gelb",
                "wie heißt du", "Brötchen", "Parkplatz", "Krankenhaus", "gut danke", "siebzehn",
                "Wasser", "Tschüss"),
+    },
+    # Words in no set above and among no answers; a few near an answer ("eight", "zero" and
+    # the digits, "guess" and "yes", "snow" and "no"; "acht", "null").
+    "fresh2": {
+        "en": ("thursday", "scissors", "river", "nice to meet you", "where can I buy milk",
+               "pardon", "nurse", "receipt", "can you help me", "eight", "good evening",
+               "station", "purple", "who are you", "biscuit", "lift", "pharmacy", "guess",
+               "snow", "zero"),
+        "de": ("Donnerstag", "Schere", "Fluss", "schön dich zu sehen",
+               "wo kann ich Milch kaufen", "wie bitte", "Krankenschwester", "Quittung",
+               "kannst du mir helfen", "acht", "guten Abend", "Bahnhof", "lila", "wer bist du",
+               "Keks", "Aufzug", "Apotheke", "null", "Tasche", "Keller"),
     },
 }
 OTHER_WORDS["defaults"] = {"en": OTHER_WORDS["fresh"]["en"]}

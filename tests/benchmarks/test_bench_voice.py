@@ -68,6 +68,28 @@ def test_the_fresh_set_shares_no_voice_or_word_with_the_sets_rules_are_chosen_or
             assert not words & answers, app
 
 
+def test_the_fresh2_set_shares_no_voice_variant_or_word_with_any_other_set(bench):
+    """The second held-out set was fixed after the fresh set's misses were known: none of its
+    voices, even at other speeds or pitches (the voice with its variant, options aside), is
+    in any other set, none of its other words is in any other set or an answer, and it has
+    voices and words in both languages."""
+    for language, voices in bench.VOICES["fresh2"].items():
+        names = {name.lower() for name, _ in voices}
+        assert len(names) == len(voices) >= 7
+        words = {w.lower() for w in bench.OTHER_WORDS["fresh2"][language]}
+        assert len(words) == 20
+        for which in set(bench.VOICES) - {"fresh2"}:
+            theirs = {name.lower() for name, _ in bench.VOICES[which].get(language, ())}
+            assert not names & theirs, which
+            their_words = {w.lower() for w in bench.OTHER_WORDS[which].get(language, ())}
+            assert not words & their_words, which
+        for app in bench.APPS:
+            answers = {bench.spoken(b).lower() for _, buttons in bench.questions(app, language)
+                       for b in buttons}
+            assert not words & answers, app
+    assert set(bench.VOICES["fresh2"]) == {"en", "de"}
+
+
 def test_the_defaults_set_is_the_by_hand_check_at_default_speed_and_pitch(bench):
     voices = bench.VOICES["defaults"]["en"]
     assert len(voices) == 8 and all(options == () for _, options in voices)
