@@ -62,7 +62,8 @@ DECODER_OPTIONS = dict(bestpath=False, compallsen=True, beam=1e-150, wbeam=1e-12
 # file) made the feature normalisation take speech for silence; with this floor the
 # calibration set's lower rate rose from 90.0 to 91.9 % in English and from 77.2 to 87.0 % in
 # German. Louder floors (100, 300) did better on the calibration set but, at 300, worse on the
-# held-out voices (docs/tablet-and-voice.md), so the floor stays.
+# held-out voices; 100 did better on every known set too, but let "banana" through as "no"
+# in the listening path (docs/tablet-and-voice.md), so the floor stays.
 NOISE_FLOOR = 20.0
 # Seconds of sound kept either side of the speech an utterance holds (None: all of it). The
 # features' mean normalisation (`cmn batch`) is a mean over the whole utterance, silence

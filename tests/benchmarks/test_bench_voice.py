@@ -53,6 +53,21 @@ def test_calibration_caps_the_margin_when_a_rhyming_word_leads(bench, capsys):
     assert "calibrated: threshold" in capsys.readouterr().out
 
 
+def test_the_choice_on_the_known_sets_raises_the_worst_cell(bench, capsys):
+    """--choose values each set's each application at the lower of its two rates and takes
+    the rule whose lowest such cell is highest: here the one answer of set "b" that fits
+    worst must be heard and the one other word of set "a" refused; ties go to the smaller
+    cap and the higher threshold."""
+    answers = [dict(answer("x", True, -5, 0), set="a") for _ in range(9)]
+    answers.append(dict(answer("x", True, -20, 0), set="b"))
+    others = [dict(other("x", -22, 0), set="a"), dict(other("x", -40, 0), set="b")]
+    assert bench.worst_cell(answers, others, (-10.0, 0.0)) == 0.0      # b's answer missed
+    assert bench.worst_cell(answers, others, (-30.0, 0.0)) == 0.0      # a's word taken
+    rule = bench.choose(answers, others)
+    assert rule == (-20.0, 0.0) and bench.worst_cell(answers, others, rule) == 1.0
+    assert "chosen: threshold -20, margin cap 0" in capsys.readouterr().out
+
+
 def test_the_fresh_set_shares_no_voice_or_word_with_the_sets_rules_are_chosen_or_shown_on(bench):
     """The held-out `fresh` set stays held out: none of its voices (with their options) or
     other words is in the calibration or test set, and no other word is an answer."""
