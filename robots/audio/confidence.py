@@ -16,9 +16,10 @@ and not the others ("hello" against "yes" and "no") leads by as much as the answ
 the margin counts only up to a **cap**: the **score** is `fit + min(margin, cap)`, and an
 answer is taken when its score is at least the **threshold**. Raise the threshold to accept
 fewer (fewer other words slip through, more answers are missed), lower it to accept more; a cap
-of 0 leaves the fit alone. Cap and threshold per language were calibrated on espeak-ng voices
-and words that the benchmark's test set does not contain (`benchmarks/bench_voice.py
---calibrate`; docs/tablet-and-voice.md has the figures).
+of 0 leaves the fit alone. Cap and threshold per language were chosen on every set of
+espeak-ng voices and words whose results are known (`benchmarks/bench_voice.py --choose`) and
+checked on one held out from the choice (`--set fresh2`; docs/tablet-and-voice.md has the
+figures).
 """
 from __future__ import annotations
 

@@ -18,10 +18,10 @@ answer fits than the free phones (its fit) and how much better than its best riv
 margin) say *whether* it was that answer at all (`confidence.py`): `threshold` is the least
 score (the fit plus the margin up to `margin_cap`) taken. **Raise it to accept fewer** — fewer
 other words slip through, more real answers are missed; lower it to accept more. The defaults
-were calibrated on espeak-ng voices and words that the benchmark's test set does not include
-(benchmarks/bench_voice.py --calibrate). Languages other than English are heard with the
-English acoustic model through espeak-ng's pronunciation of the answers (see
-docs/tablet-and-voice.md for the measured rates).
+were chosen on every set of espeak-ng voices and words whose results are known, and checked on
+a set held out from the choice (benchmarks/bench_voice.py --choose, --set fresh2). Languages
+other than English are heard with the English acoustic model through espeak-ng's
+pronunciation of the answers (see docs/tablet-and-voice.md for the measured rates).
 """
 from __future__ import annotations
 
