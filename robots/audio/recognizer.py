@@ -18,10 +18,10 @@ answer fits than the free phones (its fit) and how much better than its best riv
 margin) say *whether* it was that answer at all (`confidence.py`): `threshold` is the least
 score (the fit plus the margin up to `margin_cap`) taken. **Raise it to accept fewer** — fewer
 other words slip through, more real answers are missed; lower it to accept more. The defaults
-were calibrated on espeak-ng voices and words that the benchmark's test set does not include
-(benchmarks/bench_voice.py --calibrate). Languages other than English are heard with the
-English acoustic model through espeak-ng's pronunciation of the answers (see
-docs/tablet-and-voice.md for the measured rates).
+were chosen on every set of espeak-ng voices and words whose results are known, and checked on
+a set held out from the choice (benchmarks/bench_voice.py --choose, --set fresh2). Languages
+other than English are heard with the English acoustic model through espeak-ng's
+pronunciation of the answers (see docs/tablet-and-voice.md for the measured rates).
 """
 from __future__ import annotations
 
@@ -62,7 +62,8 @@ DECODER_OPTIONS = dict(bestpath=False, compallsen=True, beam=1e-150, wbeam=1e-12
 # file) made the feature normalisation take speech for silence; with this floor the
 # calibration set's lower rate rose from 90.0 to 91.9 % in English and from 77.2 to 87.0 % in
 # German. Louder floors (100, 300) did better on the calibration set but, at 300, worse on the
-# held-out voices (docs/tablet-and-voice.md), so the floor stays.
+# held-out voices; 100 did better on every known set too, but let "banana" through as "no"
+# in the listening path (docs/tablet-and-voice.md), so the floor stays.
 NOISE_FLOOR = 20.0
 # Seconds of sound kept either side of the speech an utterance holds (None: all of it). The
 # features' mean normalisation (`cmn batch`) is a mean over the whole utterance, silence
