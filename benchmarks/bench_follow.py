@@ -197,28 +197,42 @@ def line_of_sight(world, a, b, people, customer) -> bool:
     return True
 
 
+def _circles(person) -> list:
+    """A person's outline as circle centres: their body, then their cart's (if any)."""
+    return [(person.x, person.y)] + [(x, y) for x, y, _ in person.cart_circles()]
+
+
 def _positions(world) -> dict:
-    """Where the robot and each person stand now (for velocities over the next tick)."""
-    where = {p.plan.id: (p.x, p.y) for p in world.present_people()}
+    """Where the robot and each person (body and cart circles) stand now (for velocities over
+    the next tick)."""
+    where = {p.plan.id: _circles(p) for p in world.present_people()}
     where["robot"] = (world.body.x, world.body.y)
     return where
 
 
 def _robot_closed_in(contact, world, before: dict, dt: float = 0.1) -> bool:
     """Whether the robot's speed towards the thing it touched (the person, or their cart) was
-    larger than the person's speed towards the robot, over the tick the contact began in."""
+    larger than that thing's speed towards the robot, over the tick the contact began in. A
+    cart's speed is its circle's, so a cart the person swings round into the robot (the
+    simulated cart turns with the walker at once) is theirs: the person's centre barely moves
+    (crowd20 seed 1, issue 23: two such swings were counted as driven into)."""
     person = next((p for p in world.present_people() if p.plan.id == contact.who), None)
     if person is None or "robot" not in before or contact.who not in before:
         return True                          # cannot tell: count it against the robot
     body = world.body
-    circles = [(person.x, person.y)] + [(x, y) for x, y, _ in person.cart_circles()]
-    px, py = min(circles, key=lambda c: math.hypot(c[0] - body.x, c[1] - body.y))
-    gap = math.hypot(px - body.x, py - body.y) or 1e-9
-    ux, uy = (px - body.x) / gap, (py - body.y) / gap
+    circles = _circles(person)
+    k = min(range(len(circles)), key=lambda i: math.hypot(circles[i][0] - body.x,
+                                                          circles[i][1] - body.y))
+    px, py = circles[k]
     rx, ry = before["robot"]
-    robot_closing = ((body.x - rx) * ux + (body.y - ry) * uy) / dt
-    qx, qy = before[contact.who]
-    person_closing = -((person.x - qx) * ux + (person.y - qy) * uy) / dt
+    earlier = before[contact.who]
+    qx, qy = earlier[k] if k < len(earlier) else earlier[0]
+    # the gap's change over the tick, split into the thing's part (seen from where the robot
+    # was) and the robot's (towards where the thing is now); a swinging cart is not a
+    # straight-line motion, so the gap is compared, not a velocity along one line
+    was = math.hypot(qx - rx, qy - ry)
+    robot_closing = (math.hypot(px - rx, py - ry) - math.hypot(px - body.x, py - body.y)) / dt
+    person_closing = (was - math.hypot(px - rx, py - ry)) / dt
     return robot_closing > 0.02 and robot_closing >= person_closing
 
 
