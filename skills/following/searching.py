@@ -10,24 +10,32 @@
   2. then the places where she is likely to reappear, expanding outwards from where she
      vanished: SEARCH_AHEAD on along the direction her trail last took, and the map's aisle
      ends and crossings (its places named `aisle…`; in the store, where each aisle meets the
-     front or back aisle) within SEARCH_REACH of walking (round shelves, `room.walking_distances`), nearest first, those along her
-     heading counted nearer than those aside or behind (a place straight behind her counts
+     front or back aisle) within SEARCH_REACH of walking (round shelves,
+     `room.walking_distances`), nearest first, those along her heading counted nearer than
+     those aside or behind (a place straight behind her counts
      twice its walking distance). At an aisle end the robot looks into the aisle (the
      place's heading; the people detector's 240° take in the cross aisle on both sides too)
      for LOOK_DWELL s;
-  3. when all are seen, it goes back to the plan's second place (the likeliest after the
-     predicted one, where she had been heading) and
-     waits there, looking into the aisle, until she comes back into view or the application's
+  3. when all are seen, the aisle ends it left out and the map's places where shoppers stand
+     (named `shelf…`), the nearest where she vanished first, visited as a walk from where the
+     robot is (`further_lookouts`); once every place is planned and seen, it goes back to the
+     plan's second place (the likeliest after the predicted one, where she had been heading)
+     and goes round again, until she comes back into view or the application's
      `give_up_after` runs out (the phase machine's; the reason names the places searched).
 
+  The further places are visited as a walk (`_tour`): each next the one whose walk from the
+  last plus its walk from where she vanished is least, so the robot does not go to and fro
+  across the store.
+
   A place need not be reached to be looked at (with a map): one that has been within SEE_FROM,
-  within IN_VIEW of the robot's heading, with the map's line to it clear and no tracked person
-  within HIDDEN_BY of that line, for LOOK_DWELL s in all, is looked at, on the way to another
-  place too; the search passes it. A place the robot has got no WAY_PROGRESS nearer for
-  SEARCH_BLOCKED s (its way blocked by a crowd or by somebody standing in an aisle, the robot
-  backing off from them) is passed over for now (not counted as looked at: the round after the
-  last place comes back to it). Reaching each aisle end in turn took one or two
-  places in 30 s (issue 23).
+  within IN_VIEW of the robot's heading, with the map's line to it (for an aisle end, to a
+  point INTO m into the aisle) clear and no tracked person within HIDDEN_BY of that line (one
+  standing at the place itself does not hide it), for LOOK_DWELL s in all, is looked at, on
+  the way to another place too; the search passes it. A place the robot has got no
+  WAY_PROGRESS nearer for SEARCH_BLOCKED s (its way blocked by a crowd or by somebody
+  standing in an aisle, the robot backing off from them) is passed over for now (not counted
+  as looked at: the round after the last place comes back to it). Reaching each aisle end in
+  turn took one or two places in 30 s (issue 23).
 
 A part of `Following` (`skills.following.follower`); it reads `params`, `navigation`,
 `speech`, the belief and her trail (`skills.following.identity`) and where the robot fits
@@ -78,7 +86,7 @@ class Lookout:
 
 
 def search_plan(predicted, seen, heading, ends, walk=None, ahead=None,
-                course=None, walk_from=None) -> list[Lookout]:
+                course=None) -> list[Lookout]:
     """The places to search, in order, for a customer last seen at `seen` walking along
     `heading` (a unit vector, or None when she stood), predicted at `predicted`.
 
@@ -87,11 +95,9 @@ def search_plan(predicted, seen, heading, ends, walk=None, ahead=None,
     default: the straight line); `ahead` is the point SEARCH_AHEAD on along her trail where
     the robot fits (None: no such point); `course` the direction of her trail as a whole (a
     unit vector or None), which breaks ties between places as far off her heading. See the
-    module's docstring for the order: the places are chosen by that cost, the likeliest
-    comes second, and the rest are visited as a walk from it (`walk_from(point)`: walking
-    distances from a point; straight lines without it): in the order of their cost the robot
-    went from aisle A2's north end to A4's south end and back to A1's north end (fast seed
-    0, issue 23)."""
+    module's docstring for the order. (Visiting the plan's places as a walk, each next the
+    least walk plus cost, was tried and not kept: on HOROS crowd10 seed 2 it turned the robot
+    back to aisle A5's south end 5.2 m short of her, who stood on up aisle A4.)"""
     walk = walk or (lambda x, y: math.hypot(x - seen[0], y - seen[1]))
     plan = [Lookout(predicted[0], predicted[1], _along(heading), "where she should be")]
     candidates = []
@@ -102,11 +108,7 @@ def search_plan(predicted, seen, heading, ends, walk=None, ahead=None,
         cost = _cost((x, y), seen, heading, walk, course)
         if cost is not None:
             candidates.append((cost, _end(name, x, y, th)))
-    plan = _fill(plan, candidates, MAX_LOOKOUTS)
-    if len(plan) <= 3:
-        return plan
-    return plan[:2] + _tour(plan[2:], (plan[1].x, plan[1].y), walk_from,
-                            {lookout: c for c, lookout in candidates})
+    return _fill(plan, candidates, MAX_LOOKOUTS)
 
 
 def _end(name, x, y, th) -> Lookout:
@@ -405,7 +407,7 @@ class Searching:
             # short of it
             ahead = self._nearest_free(*point) or self._free_towards((x1, y1), point)
         return search_plan(predicted, seen, heading, self._lookouts(), self._walking_from(seen),
-                           ahead, self._course(), self._walking_from)
+                           ahead, self._course())
 
     def _course(self):
         """The direction of her trail as a whole (its first point kept to its last; a unit
