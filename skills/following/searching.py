@@ -125,9 +125,10 @@ def further_lookouts(plan, seen, ends, walk=None, stops=(), start=None,
     stand, as (name, x, y, heading)), the MAX_LOOKOUTS - 1 nearest `seen` (walking distance,
     any reach: expanding outwards); none when every one has been planned. A customer faster
     than the robot is searched for across the store where she may stand, not waited for where
-    she was last. Given the robot's position `start`, they are visited nearest first from
-    there, each next one nearest the last (`walk_from(point)` gives walking distances from
-    a point): nearest `seen` first sent the robot to and fro across the store (fast seed 2)."""
+    she was last. Given the robot's position `start`, they are visited as a walk from there
+    (`_tour`: each next the least walk from the last plus its walk from `seen`;
+    `walk_from(point)` gives walking distances from a point): nearest `seen` first sent the
+    robot to and fro across the store (fast seed 2)."""
     walk = walk or (lambda x, y: math.hypot(x - seen[0], y - seen[1]))
     candidates = []
     for name, x, y, th in ends:
