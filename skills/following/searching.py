@@ -10,24 +10,32 @@
   2. then the places where she is likely to reappear, expanding outwards from where she
      vanished: SEARCH_AHEAD on along the direction her trail last took, and the map's aisle
      ends and crossings (its places named `aisle…`; in the store, where each aisle meets the
-     front or back aisle) within SEARCH_REACH of walking (round shelves, `room.walking_distances`), nearest first, those along her
-     heading counted nearer than those aside or behind (a place straight behind her counts
+     front or back aisle) within SEARCH_REACH of walking (round shelves,
+     `room.walking_distances`), nearest first, those along her heading counted nearer than
+     those aside or behind (a place straight behind her counts
      twice its walking distance). At an aisle end the robot looks into the aisle (the
      place's heading; the people detector's 240° take in the cross aisle on both sides too)
      for LOOK_DWELL s;
-  3. when all are seen, it goes back to the plan's second place (the likeliest after the
-     predicted one, where she had been heading) and
-     waits there, looking into the aisle, until she comes back into view or the application's
+  3. when all are seen, the aisle ends it left out and the map's places where shoppers stand
+     (named `shelf…`), the nearest where she vanished first, visited as a walk from where the
+     robot is (`further_lookouts`); once every place is planned and seen, it goes back to the
+     plan's second place (the likeliest after the predicted one, where she had been heading)
+     and goes round again, until she comes back into view or the application's
      `give_up_after` runs out (the phase machine's; the reason names the places searched).
 
+  The further places are visited as a walk (`_tour`): each next the one whose walk from the
+  last plus its walk from where she vanished is least, so the robot does not go to and fro
+  across the store.
+
   A place need not be reached to be looked at (with a map): one that has been within SEE_FROM,
-  within IN_VIEW of the robot's heading, with the map's line to it clear and no tracked person
-  within HIDDEN_BY of that line, for LOOK_DWELL s in all, is looked at, on the way to another
-  place too; the search passes it. A place the robot has got no WAY_PROGRESS nearer for
-  SEARCH_BLOCKED s (its way blocked by a crowd or by somebody standing in an aisle, the robot
-  backing off from them) is passed over for now (not counted as looked at: the round after the
-  last place comes back to it). Reaching each aisle end in turn took one or two
-  places in 30 s (issue 23).
+  within IN_VIEW of the robot's heading, with the map's line to it (for an aisle end, to a
+  point INTO m into the aisle) clear and no tracked person within HIDDEN_BY of that line (one
+  standing at the place itself does not hide it), for LOOK_DWELL s in all, is looked at, on
+  the way to another place too; the search passes it. A place the robot has got no
+  WAY_PROGRESS nearer for SEARCH_BLOCKED s (its way blocked by a crowd or by somebody
+  standing in an aisle, the robot backing off from them) is passed over for now (not counted
+  as looked at: the round after the last place comes back to it). Reaching each aisle end in
+  turn took one or two places in 30 s (issue 23).
 
 A part of `Following` (`skills.following.follower`); it reads `params`, `navigation`,
 `speech`, the belief and her trail (`skills.following.identity`) and where the robot fits
@@ -52,12 +60,15 @@ MERGE = 1.5               # m: a place this near one already planned is seen fro
 LOOK_DWELL = 1.5          # s looking along each bearing
 ARRIVE = 0.5              # m from an aisle end counts as there
 LOOKOUT_PREFIX = "aisle"  # the map's places that are aisle ends and crossings
+STOP_PREFIX = "shelf"     # the map's places where shoppers stand (searched once ends are seen)
+INTO = 2.0                # m into the aisle the robot must see for an aisle end to count
 HEADING_BASE = 1.5        # m of her trail her heading is taken over
 ALIGNED = 0.15            # rad: a turn this close to its bearing is done
 SEE_FROM = 3.0            # m: a place of the plan this near, in view and not hidden, is looked at
 IN_VIEW = math.radians(100)   # rad either side of the robot's heading a place counts in view
                               # (the people detector sees 240 deg)
 HIDDEN_BY = 0.35          # m: a tracked person this near the line of sight hides what is behind
+AT_PLACE = 0.6            # m: ... unless standing this near the place itself
 SEARCH_BLOCKED = 5.0      # s without getting WAY_PROGRESS nearer a place before the search
 WAY_PROGRESS = 0.3        # m   goes on (a blocked way, backing off from someone, a crowd)
 
@@ -65,11 +76,13 @@ WAY_PROGRESS = 0.3        # m   goes on (a blocked way, backing off from someone
 @dataclass(frozen=True)
 class Lookout:
     """A place of the search plan: where to stand, where to look on arrival (None: round in
-    thirds), why it is in the plan."""
+    thirds), why it is in the plan, and the point the robot must see for the place to count
+    as looked at (None: the place itself; an aisle end: INTO m into the aisle)."""
     x: float
     y: float
     bearings: tuple[float, ...] | None
     why: str
+    into: tuple[float, float] | None = None
 
 
 def search_plan(predicted, seen, heading, ends, walk=None, ahead=None,
@@ -82,7 +95,9 @@ def search_plan(predicted, seen, heading, ends, walk=None, ahead=None,
     default: the straight line); `ahead` is the point SEARCH_AHEAD on along her trail where
     the robot fits (None: no such point); `course` the direction of her trail as a whole (a
     unit vector or None), which breaks ties between places as far off her heading. See the
-    module's docstring for the order."""
+    module's docstring for the order. (Visiting the plan's places as a walk, each next the
+    least walk plus cost, was tried and not kept: on HOROS crowd10 seed 2 it turned the robot
+    back to aisle A5's south end 5.2 m short of her, who stood on up aisle A4.)"""
     walk = walk or (lambda x, y: math.hypot(x - seen[0], y - seen[1]))
     plan = [Lookout(predicted[0], predicted[1], _along(heading), "where she should be")]
     candidates = []
@@ -92,23 +107,60 @@ def search_plan(predicted, seen, heading, ends, walk=None, ahead=None,
     for name, x, y, th in ends:
         cost = _cost((x, y), seen, heading, walk, course)
         if cost is not None:
-            candidates.append((cost, Lookout(x, y, (th,), name)))
+            candidates.append((cost, _end(name, x, y, th)))
     return _fill(plan, candidates, MAX_LOOKOUTS)
 
 
-def further_lookouts(plan, seen, ends, walk=None) -> list[Lookout]:
+def _end(name, x, y, th) -> Lookout:
+    """An aisle end: looked at once the robot sees INTO m into the aisle (from beside its
+    mouth in the cross aisle the mouth itself is in view, the aisle is not: fast seed 2 passed
+    aisle A1's north end from 2 m off while she stood 2.5 m inside it, issue 23)."""
+    return Lookout(x, y, (th,), name, (x + INTO * math.cos(th), y + INTO * math.sin(th)))
+
+
+def further_lookouts(plan, seen, ends, walk=None, stops=(), start=None,
+                     walk_from=None) -> list[Lookout]:
     """The next places once the whole plan is seen: the aisle ends and crossings it left
-    out (too far, or beyond MAX_LOOKOUTS), expanding outwards from `seen` (walking distance,
-    any reach), at most MAX_LOOKOUTS - 1 of them; none when every one has been planned. A
-    customer faster than the robot is searched for across the store, not waited for where
-    she was last."""
+    out (too far, or beyond MAX_LOOKOUTS) and the `stops` (the map's places where shoppers
+    stand, as (name, x, y, heading)), the MAX_LOOKOUTS - 1 nearest `seen` (walking distance,
+    any reach: expanding outwards); none when every one has been planned. A customer faster
+    than the robot is searched for across the store where she may stand, not waited for where
+    she was last. Given the robot's position `start`, they are visited as a walk from there
+    (`_tour`: each next the least walk from the last plus its walk from `seen`;
+    `walk_from(point)` gives walking distances from a point): nearest `seen` first sent the
+    robot to and fro across the store (fast seed 2)."""
     walk = walk or (lambda x, y: math.hypot(x - seen[0], y - seen[1]))
     candidates = []
     for name, x, y, th in ends:
         d = walk(x, y)
         if d is not None:
+            candidates.append((d, _end(name, x, y, th)))
+    for name, x, y, th in stops:
+        d = walk(x, y)
+        if d is not None:
             candidates.append((d, Lookout(x, y, (th,), name)))
-    return _fill(list(plan), candidates, len(plan) + MAX_LOOKOUTS - 1)[len(plan):]
+    more = _fill(list(plan), candidates, len(plan) + MAX_LOOKOUTS - 1)[len(plan):]
+    if start is None:
+        return more
+    return _tour(more, start, walk_from, {lookout: d for d, lookout in candidates})
+
+
+def _tour(places, start, walk_from=None, cost=None) -> list[Lookout]:
+    """`places` in the order of a walk from `start`: each next the one whose walk from the
+    last plus its `cost` (a dict: lookout -> its cost from where she vanished; none: 0) is
+    least, so that the walk stays near where she is likely to be while it saves going to
+    and fro."""
+    left, order, here = list(places), [], start
+    cost = cost or {}
+    while left:
+        walk = walk_from(here) if walk_from is not None else None
+        walk = walk or (lambda x, y, h=here: math.hypot(x - h[0], y - h[1]))
+        far = [walk(q.x, q.y) for q in left]
+        k = min(range(len(left)), key=lambda i: math.inf if far[i] is None
+                else far[i] + cost.get(left[i], 0.0))
+        here = (left[k].x, left[k].y)
+        order.append(left.pop(k))
+    return order
 
 
 def _fill(plan, candidates, size) -> list[Lookout]:
@@ -219,10 +271,13 @@ class Searching:
         """On from the current place (looked at, or its way blocked): the plan expands when
         its last place is done."""
         if self._plan_index + 1 >= len(self._plan):
-            self._plan.extend(further_lookouts(self._plan, (self._belief.x, self._belief.y),
-                                               self._lookouts(),
-                                               self._walking_from((self._belief.x,
-                                                                   self._belief.y))))
+            seen = (self._belief.x, self._belief.y)
+            pose = self.localization.state
+            start = None if pose is None else (pose.x, pose.y)
+            self._plan.extend(further_lookouts(self._plan, seen, self._lookouts(),
+                                               self._walking_from(seen),
+                                               self._lookouts(STOP_PREFIX), start,
+                                               self._walking_from))
         self._next_lookout()
 
     def _watch(self, robot, now: float) -> None:
@@ -244,19 +299,21 @@ class Searching:
         return self._viewed.get(index, 0.0) >= LOOK_DWELL
 
     def _in_view(self, lookout, robot, people) -> bool:
-        """Near, within the detector's field, the map's line to it clear and nobody on it."""
-        dx, dy = lookout.x - robot[0], lookout.y - robot[1]
-        d = math.hypot(dx, dy)
-        if d > SEE_FROM:
+        """Near, within the detector's field, the map's line to it (to its `into` point
+        where it has one) clear and nobody on it."""
+        if math.hypot(lookout.x - robot[0], lookout.y - robot[1]) > SEE_FROM:
             return False
+        target = lookout.into or (lookout.x, lookout.y)
+        dx, dy = target[0] - robot[0], target[1] - robot[1]
+        d = math.hypot(dx, dy)
         if d > 0.3 and abs(_wrap(math.atan2(dy, dx) - robot[2])) > IN_VIEW:
             return False
-        steps = max(int(d / 0.1), 1)
-        xs = [robot[0] + dx * k / steps for k in range(1, steps)]
-        ys = [robot[1] + dy * k / steps for k in range(1, steps)]
-        if xs and (self.navigation.grid.clearance(np.array(xs), np.array(ys)) <= 0.0).any():
+        if not self._clear_line(robot, target):
             return False
-        return all(_off_segment(px, py, robot, (lookout.x, lookout.y)) > HIDDEN_BY
+        # somebody standing at the place itself is seen there, not hiding it (a shopper at a
+        # shelf held the search 9 s, fast seed 0)
+        return all(_off_segment(px, py, robot, target) > HIDDEN_BY
+                   or math.hypot(px - target[0], py - target[1]) < AT_PLACE
                    for px, py in people)
 
     def _no_way(self, goal, robot, now: float) -> bool:
@@ -379,13 +436,30 @@ class Searching:
             return b.vx / b.speed, b.vy / b.speed
         return None
 
-    def _lookouts(self) -> list[tuple[str, float, float, float]]:
-        """The map's aisle ends and crossings (its places named LOOKOUT_PREFIX…)."""
+    def _lookouts(self, prefix: str = LOOKOUT_PREFIX) -> list[tuple[str, float, float, float]]:
+        """The map's places named `prefix`… (aisle ends and crossings by default). An aisle
+        end whose heading points at a wall from inside (a dead end's closed end) is looked
+        at the other way, up the aisle."""
         nav = self.navigation
         if nav is None:
             return []
-        return [(name, x, y, th) for name, (x, y, th) in sorted(nav.grid.places.items())
-                if name.startswith(LOOKOUT_PREFIX)]
+        places = []
+        for name, (x, y, th) in sorted(nav.grid.places.items()):
+            if not name.startswith(prefix):
+                continue
+            if prefix == LOOKOUT_PREFIX and not self._clear_line(
+                    (x, y), (x + INTO * math.cos(th), y + INTO * math.sin(th))):
+                th = _wrap(th + math.pi)
+            places.append((name, x, y, th))
+        return places
+
+    def _clear_line(self, a, b) -> bool:
+        """The map's straight line from a to b is clear of walls and shelves."""
+        d = math.hypot(b[0] - a[0], b[1] - a[1])
+        steps = max(int(d / 0.1), 1)
+        xs = np.array([a[0] + (b[0] - a[0]) * k / steps for k in range(1, steps)])
+        ys = np.array([a[1] + (b[1] - a[1]) * k / steps for k in range(1, steps)])
+        return not (xs.size and (self.navigation.grid.clearance(xs, ys) <= 0.0).any())
 
     @property
     def searched(self) -> list[str]:

@@ -199,3 +199,46 @@ def test_a_place_the_robot_gets_no_nearer_is_passed_over_and_not_counted_as_sear
     now = _search_for(following, now, 1.0)
     assert following._plan_index == 1 and following._searched == []
     assert following._search_goal == (5.0, 16.5)
+
+
+def _searching_map_ends(robot, names_):
+    """A follower searching the store map's aisle ends `names_` (as the search plans them),
+    the robot at `robot` (x, y, heading)."""
+    following, perception = _searching_from(robot, [])
+    ends = {name: (name, x, y, th) for name, x, y, th in following._lookouts()}
+    following._plan = search_plan((12.0, 4.75), (12.0, 4.75), None,
+                                  [ends[n] for n in names_], walk=lambda x, y: 1.0)[1:]
+    return following
+
+
+def test_an_aisle_end_counts_as_looked_at_only_when_the_robot_sees_into_the_aisle():
+    """Fast seed 2 (issue 23): aisle A1's north end was passed from 2 m off in the back aisle
+    (the mouth in view, the aisle behind the shelf corner) while she stood 2.5 m inside it."""
+    beside = _searching_map_ends((6.9, 17.4, math.pi), ["aisle1_north", "aisle5_north"])
+    _search_for(beside, 5.0, 2.0)
+    assert beside._searched == [] and beside._plan_index == 0
+    assert beside._search_goal == (5.0, 16.5)                 # it drives to the mouth
+    above = _searching_map_ends((5.0, 18.0, -math.pi / 2), ["aisle1_north", "aisle5_north"])
+    _search_for(above, 5.0, 2.0)
+    assert above._searched == ["aisle1_north"]                # in view down the aisle
+
+
+def test_a_dead_end_is_looked_at_up_the_aisle_not_at_its_closed_end():
+    following, _ = _searching_from((11.0, 9.0, 0.0), [])
+    ends = {name: th for name, x, y, th in following._lookouts()}
+    assert abs(ends["aisle3_south"] - NORTH) < 1e-6          # the map's heading: south
+    assert abs(ends["aisle6_north"] - SOUTH) < 1e-6          # the map's heading: north
+    assert abs(ends["aisle4_south"] - NORTH) < 1e-6          # an open end keeps its heading
+
+
+def test_the_further_places_include_where_shoppers_stand_visited_as_a_walk_from_the_robot():
+    plan = search_plan((14.0, 15.5), (14.0, 14.0), (0.0, 1.0), ENDS, ahead=(14.0, 17.0))
+    stops = [("shelf_a", 5.0, 10.0, 0.0), ("shelf_b", 17.0, 10.0, 0.0)]
+    outwards = further_lookouts(plan, (14.0, 14.0), ENDS, stops=stops)
+    walk = further_lookouts(plan, (14.0, 14.0), ENDS, stops=stops, start=(5.0, 5.0))
+    assert {"shelf_a", "shelf_b"} <= set(names(walk)) and set(names(walk)) == set(names(outwards))
+
+    def length(places):
+        points = [(5.0, 5.0)] + [(q.x, q.y) for q in places]
+        return sum(math.hypot(b[0] - a[0], b[1] - a[1]) for a, b in zip(points, points[1:]))
+    assert length(walk) < 0.8 * length(outwards)      # not to and fro across the store
