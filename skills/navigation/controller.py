@@ -303,8 +303,10 @@ class LocalController:
         gap = self._wall_gap(px, py, pth)
         gap0 = float(self._wall_gap(*here)[0])
         if len(points):
-            gap = np.minimum(gap, self._points_gap(px, py, pth, points))
-            gap0 = min(gap0, float(self._points_gap(*here, points)[0]))
+            # one k-d tree of the readings for the poses and the start
+            tree = cKDTree(points) if len(points) > KD_TREE_FROM else None
+            gap = np.minimum(gap, self._points_gap(px, py, pth, points, tree))
+            gap0 = min(gap0, float(self._points_gap(*here, points, tree)[0]))
         if len(crowd):
             d = self._people_distance(poses, crowd, self._times)
             walking = np.hypot(crowd[:, 2], crowd[:, 3]) > 0.0
@@ -383,16 +385,18 @@ class LocalController:
             gap[near] = self._map_clearance(ox, oy).min(axis=-1) - self._cell_slack
         return gap
 
-    def _points_gap(self, px, py, pth, points: np.ndarray) -> np.ndarray:
-        """Gap between the footprint at poses (any shape) and the nearest range reading."""
+    def _points_gap(self, px, py, pth, points: np.ndarray, tree=None) -> np.ndarray:
+        """Gap between the footprint at poses (any shape) and the nearest range reading
+        (`tree`: a k-d tree of `points`, made here when needed and not given)."""
         if self.footprint.is_round:
-            return _nearest_distance(px, py, points) - self.radius
+            return _nearest_distance(px, py, points, tree) - self.radius
         if len(points) <= KD_TREE_FROM:
             return self.footprint.gap_to_points(px, py, pth, points)
+        tree = tree if tree is not None else cKDTree(points)
         # the readings nearest the centre: the one nearest the outline is among them for any
         # reading the outline comes near (a scan's neighbouring beams are close together)
         k = min(NEAREST_READINGS, len(points))
-        _, index = cKDTree(points).query(np.column_stack([px.ravel(), py.ravel()]), k=k)
+        _, index = tree.query(np.column_stack([px.ravel(), py.ravel()]), k=k)
         index = index.reshape(px.shape + (k,))
         return self.footprint.gap_to_points(px, py, pth, points[index])
 
@@ -515,13 +519,15 @@ def rollout(x, y, th, v0, w0, commands, times, limits: Limits) -> np.ndarray:
     return np.stack([xs, ys, th_end], axis=-1)
 
 
-def _nearest_distance(px: np.ndarray, py: np.ndarray, points: np.ndarray) -> np.ndarray:
+def _nearest_distance(px: np.ndarray, py: np.ndarray, points: np.ndarray,
+                      tree=None) -> np.ndarray:
     """Distance from every pose (px, py of one shape) to its nearest point (k, 2). A k-d tree
     beyond a few points: every sampled pose against every reading was the controller's largest
     cost with a laser scan of a crowd around (poses × readings distances per tick)."""
     if len(points) <= KD_TREE_FROM:
         return np.hypot(px[..., None] - points[:, 0], py[..., None] - points[:, 1]).min(axis=-1)
-    distance, _ = cKDTree(points).query(np.column_stack([px.ravel(), py.ravel()]))
+    tree = tree if tree is not None else cKDTree(points)
+    distance, _ = tree.query(np.column_stack([px.ravel(), py.ravel()]))
     return distance.reshape(px.shape)
 
 
