@@ -446,8 +446,12 @@ class LocalController:
             # stop it at, and scored as leaving the path, made the robot crawl the last metre
             # (0.26 m/s down to 0.09)
             window, _ = _resample(self._run_on(path, reach), 0.05, reach)
-            along, _ = _project(end[:, :2], window)
-            _, off = _project(poses[:, 1::2, :2].reshape(-1, 2), window)
+            every_other = poses[:, 1::2, :2]
+            at, off = _project(every_other.reshape(-1, 2), window)
+            if poses.shape[1] % 2 == 0:     # the last pose is among them: projected already
+                along = at.reshape(len(poses), -1)[:, -1]
+            else:
+                along, _ = _project(end[:, :2], window)
             off_path = off.reshape(len(poses), -1).max(axis=1)
             ahead = np.minimum(along + p.lookahead / 2, 0.05 * (len(window) - 1))
             index = np.rint(ahead / 0.05).astype(int)
@@ -606,8 +610,11 @@ def _point_along(path: np.ndarray, distance: float) -> np.ndarray:
 
 def _project(points: np.ndarray, samples: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(arc length, distance) of each point's nearest sample of a path resampled every 5 cm."""
-    dx = points[:, None, 0] - samples[None, :, 0]
-    dy = points[:, None, 1] - samples[None, :, 1]
-    nearest = (dx * dx + dy * dy).argmin(axis=1)      # squares order them as distances do
-    rows = np.arange(len(points))
-    return nearest * 0.05, np.hypot(dx[rows, nearest], dy[rows, nearest])
+    px, py = points[:, 0], points[:, 1]
+    square = np.subtract.outer(px, samples[:, 0])     # in place: the same products and sum
+    square *= square                                  # as dx * dx + dy * dy, fewer arrays
+    dy = np.subtract.outer(py, samples[:, 1])
+    dy *= dy
+    square += dy
+    nearest = square.argmin(axis=1)                   # squares order them as distances do
+    return nearest * 0.05, np.hypot(px - samples[nearest, 0], py - samples[nearest, 1])
