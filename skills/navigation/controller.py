@@ -30,6 +30,11 @@ from typing import Sequence
 import numpy as np
 from scipy.spatial import cKDTree
 
+try:        # the clip ufunc itself: what np.clip calls, without its ~20 µs of Python wrappers
+    from numpy._core.umath import clip as _clip
+except ImportError:     # numpy < 2
+    from numpy.core.umath import clip as _clip
+
 from robots.profile import Limits
 from skills.navigation.costmap import CostMap
 from skills.navigation.footprint import Footprint
@@ -231,7 +236,7 @@ class LocalController:
         if gaps.min() <= TIGHT:         # the old rule, the same approach and speed
             near = along <= p.narrow_lookahead
             return p.narrow_speed if gaps[near].min() < CLEAR else limits.max_speed
-        share = np.clip((gaps - TIGHT) / (OPEN - TIGHT), 0.0, 1.0)
+        share = _clip((gaps - TIGHT) / (OPEN - TIGHT), 0.0, 1.0)
         allowed = p.narrow_speed + share * (limits.max_speed - p.narrow_speed)
         room = np.maximum(along - NARROW_EARLY, 0.0)
         reach = np.sqrt(allowed ** 2 + 2 * p.brake * limits.max_accel * room)
@@ -331,13 +336,13 @@ class LocalController:
         p = self.params
         reach = self.radius + PERSON_RADIUS + p.personal_space
         d = self._people_distance(long_poses, crowd, self._long_times).min(axis=1)   # (s, m)
-        intrusion = np.clip((reach - d) / p.personal_space, 0.0, 1.0)
+        intrusion = _clip((reach - d) / p.personal_space, 0.0, 1.0)
         standing = np.hypot(crowd[:, 2], crowd[:, 3]) == 0.0
         if standing.any() and len(path) >= 2:
             window, _ = _resample(path, 0.05, self.limits.max_speed * p.people_horizon)
             on_path = np.hypot(window[:, None, 0] - crowd[None, standing, 0],
                                window[:, None, 1] - crowd[None, standing, 1]).min(axis=0)
-            needed = np.clip((reach - on_path) / p.personal_space, 0.0, 1.0)
+            needed = _clip((reach - on_path) / p.personal_space, 0.0, 1.0)
             intrusion[:, standing] = np.maximum(intrusion[:, standing] - needed[None, :], 0.0)
         return intrusion.max(axis=1)
 
@@ -481,8 +486,8 @@ class LocalController:
         # little wider than the robot needs less than CLEAR: counting that made standing
         # before it the best command)
         floor = min(CLEAR, needed)
-        closer = np.clip((floor - gap.min(axis=1)) / CLEAR, 0.0, 1.0)
-        clearance = np.maximum(closer - np.clip((floor - gap0) / CLEAR, 0.0, 1.0), 0.0)
+        closer = _clip((floor - gap.min(axis=1)) / CLEAR, 0.0, 1.0)
+        clearance = np.maximum(closer - _clip((floor - gap0) / CLEAR, 0.0, 1.0), 0.0)
         if turning:
             # turning on the spot to face the way: a rectangle's corners sweep nearer a wall
             # and back, which must not make standing still best (the safety check stays)
@@ -491,7 +496,7 @@ class LocalController:
         if len(crowd):
             intrusion = self._intrusion(long_poses, crowd, path)
         top = max(cap, 1e-3)
-        speed = np.clip((top - commands[:, 0]) / top, 0.0, 1.0)
+        speed = _clip((top - commands[:, 0]) / top, 0.0, 1.0)
         return (p.w_progress * progress + p.w_heading * heading
                 + p.w_path * np.minimum(off_path, 1.0) + p.w_clearance * clearance
                 + p.w_people * intrusion + p.w_speed * speed)
@@ -500,7 +505,7 @@ class LocalController:
 def _speeds(v0: float, commands: np.ndarray, times: np.ndarray, limits: Limits) -> np.ndarray:
     """(s, k) forward speed at the sample times: ramping from v0 to each command."""
     dv = commands[:, 0:1] - v0
-    return v0 + np.clip(dv, -limits.max_accel * times, limits.max_accel * times)
+    return v0 + _clip(dv, -limits.max_accel * times, limits.max_accel * times)
 
 
 def rollout(x, y, th, v0, w0, commands, times, limits: Limits) -> np.ndarray:
@@ -513,8 +518,8 @@ def rollout(x, y, th, v0, w0, commands, times, limits: Limits) -> np.ndarray:
     dts = np.diff(edges)
     dv = commands[:, 0:1] - v0
     dw = commands[:, 1:2] - w0
-    v = v0 + np.clip(dv, -limits.max_accel * mids, limits.max_accel * mids)
-    w = w0 + np.clip(dw, -limits.max_turn_accel * mids, limits.max_turn_accel * mids)
+    v = v0 + _clip(dv, -limits.max_accel * mids, limits.max_accel * mids)
+    w = w0 + _clip(dw, -limits.max_turn_accel * mids, limits.max_turn_accel * mids)
     dth = w * dts
     th_end = th + np.cumsum(dth, axis=1)
     th_mid = th_end - 0.5 * dth
