@@ -19,7 +19,8 @@ little wider than the robot (TIGHT either side), more in a wider one, there only
 braking needs; closeness the path itself needs (less than CLEAR) costs nothing.
 
 Commands are forward only (v >= 0): the robots' sensors look ahead; turning on the spot is
-always among the samples. The controller is stateless: the skill passes the remaining path.
+always among the samples. The controller is stateless: the skill passes the remaining path (it
+keeps only the segment lengths of the tick's path, computed once for every resampling of it).
 """
 from __future__ import annotations
 
@@ -125,6 +126,7 @@ class LocalController:
         # distance field values are between cell centres: a wall may be up to this much closer
         self._cell_slack = costmap.grid.resolution * math.sqrt(0.5)
         self._times = np.arange(1, int(round(params.horizon / params.step)) + 1) * params.step
+        self._arc = (None, None)          # (path, its _arc) of the tick under way
         self._long_times = np.arange(1, int(round(max(params.people_horizon, params.horizon)
                                                  / params.step)) + 1) * params.step
 
@@ -145,6 +147,8 @@ class LocalController:
         x, y, th = (float(v) for v in pose)
         v0, w0 = (float(v) for v in velocity)
         path = np.asarray(path, dtype=float).reshape(-1, 2)
+        # the path's segment and arc lengths, once a tick for every resampling of it
+        self._arc = (path, _arc(path))
         points = np.zeros((0, 2)) if points is None else np.asarray(points, float).reshape(-1, 2)
         crowd = _people_array(people)
         reach = self.limits.max_speed * p.horizon + self.radius + 1.0
@@ -159,7 +163,8 @@ class LocalController:
             stop_cap = math.sqrt(2 * p.brake * self.limits.max_accel * room) if room > 0.05 else 0.0
             if stop_cap < cap:
                 cap, cap_why = stop_cap, "obstruction"
-        target = _point_along(path, p.lookahead) if len(path) else np.array([x, y])
+        target = (_point_along(path, p.lookahead, self._arc[1]) if len(path)
+                  else np.array([x, y]))
         bearing = math.atan2(target[1] - y, target[0] - x)
         turning = (abs(_wrap(bearing - th)) > p.rotate_first
                    and math.hypot(target[0] - x, target[1] - y) > 0.05)
@@ -188,6 +193,11 @@ class LocalController:
 
     # -- pieces ----------------------------------------------------------------------------
 
+    def _arc_of(self, path: np.ndarray):
+        """This tick's (segment, arc) lengths when `path` is this tick's path, else None."""
+        cached_path, arc = self._arc
+        return arc if path is cached_path else None
+
     def _speed_cap(self, x, y, th, v0, path, crowd, max_speed) -> tuple[float, str]:
         """The speed limit of this tick: profile, caller, people near, the goal ahead."""
         limits, p = self.limits, self.params
@@ -207,7 +217,7 @@ class LocalController:
                     cap, why = limits.max_speed_near_people, "people near"
         # the path starts at the robot's projection onto it: a robot beside the goal (come
         # in fast, off to one side) has no path left but still its distance to go
-        left = _length(path)
+        left = _length(path, self._arc_of(path))
         if len(path):
             left = max(left, math.hypot(path[-1][0] - x, path[-1][1] - y))
         goal_cap = math.sqrt(2 * p.brake * limits.max_accel * left)
@@ -231,7 +241,7 @@ class LocalController:
         arbiter sees 2-8 cm ahead, and any faster approach there stalled it as "blocked"."""
         p, limits = self.params, self.limits
         braking = limits.max_speed ** 2 / (2 * p.brake * limits.max_accel)
-        window, along = _resample(path, 0.05, p.narrow_lookahead + braking)
+        window, along = _resample(path, 0.05, p.narrow_lookahead + braking, self._arc_of(path))
         gaps = self._path_gaps(window)
         if gaps.min() <= TIGHT:         # the old rule, the same approach and speed
             near = along <= p.narrow_lookahead
@@ -250,7 +260,7 @@ class LocalController:
         p = self.params
         if len(path) < 2:
             return None, None
-        samples, along = _resample(path, 0.05, p.block_lookahead)
+        samples, along = _resample(path, 0.05, p.block_lookahead, self._arc_of(path))
         blockers = np.zeros((0, 2))
         if len(points):
             off_map = self.costmap.grid.clearance(points[:, 0], points[:, 1]) > UNMAPPED
@@ -339,7 +349,8 @@ class LocalController:
         intrusion = _clip((reach - d) / p.personal_space, 0.0, 1.0)
         standing = np.hypot(crowd[:, 2], crowd[:, 3]) == 0.0
         if standing.any() and len(path) >= 2:
-            window, _ = _resample(path, 0.05, self.limits.max_speed * p.people_horizon)
+            window, _ = _resample(path, 0.05, self.limits.max_speed * p.people_horizon,
+                                  self._arc_of(path))
             on_path = np.hypot(window[:, None, 0] - crowd[None, standing, 0],
                                window[:, None, 1] - crowd[None, standing, 1]).min(axis=0)
             needed = _clip((reach - on_path) / p.personal_space, 0.0, 1.0)
@@ -444,7 +455,7 @@ class LocalController:
         end = poses[:, -1, :]
         if len(path) >= 2:
             reach = self.limits.max_speed * p.horizon + p.lookahead
-            window, _ = _resample(path, 0.05, reach)
+            window, _ = _resample(path, 0.05, reach, self._arc_of(path))
             needed = self._path_gap(window) if p.clearance_beyond_path else CLEAR
             # scored against the path run on straight past the goal (as far as the body fits):
             # a command held for the whole horizon overshoots a goal that the goal cap will
@@ -587,28 +598,35 @@ def _wrap(angle):
     return np.arctan2(np.sin(angle), np.cos(angle))
 
 
-def _length(path: np.ndarray) -> float:
+def _arc(path: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(segment lengths, arc length at each vertex) of a path."""
+    seg = np.hypot(*np.diff(path, axis=0).T)
+    return seg, np.concatenate([[0.0], np.cumsum(seg)])
+
+
+def _length(path: np.ndarray, arc=None) -> float:
     if len(path) < 2:
         return 0.0
-    return float(np.hypot(*np.diff(path, axis=0).T).sum())
+    seg = (arc or _arc(path))[0]
+    return float(seg.sum())
 
 
-def _resample(path: np.ndarray, spacing: float, limit: float) -> tuple[np.ndarray, np.ndarray]:
-    """Points every `spacing` m along the path up to `limit` m, and their arc lengths."""
-    seg = np.hypot(*np.diff(path, axis=0).T)
-    cum = np.concatenate([[0.0], np.cumsum(seg)])
+def _resample(path: np.ndarray, spacing: float, limit: float,
+              arc=None) -> tuple[np.ndarray, np.ndarray]:
+    """Points every `spacing` m along the path up to `limit` m, and their arc lengths
+    (`arc`: the path's `_arc`, when known)."""
+    _, cum = arc or _arc(path)
     along = np.arange(0.0, min(limit, cum[-1]) + 1e-9, spacing)
     xs = np.interp(along, cum, path[:, 0])
     ys = np.interp(along, cum, path[:, 1])
     return np.column_stack([xs, ys]), along
 
 
-def _point_along(path: np.ndarray, distance: float) -> np.ndarray:
+def _point_along(path: np.ndarray, distance: float, arc=None) -> np.ndarray:
     """The point `distance` m along the path (its end if shorter)."""
     if len(path) < 2:
         return path[-1]
-    seg = np.hypot(*np.diff(path, axis=0).T)
-    cum = np.concatenate([[0.0], np.cumsum(seg)])
+    _, cum = arc or _arc(path)
     d = min(distance, cum[-1])
     return np.array([np.interp(d, cum, path[:, 0]), np.interp(d, cum, path[:, 1])])
 
