@@ -4,7 +4,9 @@ Records the arguments of every `LocalController.step` call (and each controller'
 during whole-application runs, then replays them through the controller of one or more source
 trees, alternately, in fresh processes. Each replay prints the median and total µs per call and
 a digest of every returned command (v, w, admissible, blocked, blocker, reason, speed_cap and
-the trajectory's exact bytes; times are the thread's CPU time): two trees with the same digest answered every call identically.
+the trajectory's exact bytes; times are the thread's CPU time): two trees with the same digest
+answered every call identically. The recording prints the digest of the commands the run itself
+got, which the replay of the same tree must reproduce.
 
     python benchmarks/bench_controller.py [--compare OLD_TREE] [--rounds 3]
 
@@ -87,7 +89,8 @@ def record(runs: dict[str, list[str]]) -> dict[str, list]:
                     interbot(["run", *args, "--fast", "--quiet", "--data",
                               str(Path(folder) / name)])
                 out[name] = calls
-                print(f"recorded {name:8}: {sum(c[0] == 'step' for c in calls)} calls, in-run digest "
+                steps = sum(kind == "step" for kind, _, _ in calls)
+                print(f"recorded {name:8}: {steps:5d} calls  in-run digest "
                       f"{digests[-1].hexdigest()[:16]}", flush=True)
     finally:
         LocalController.__init__, LocalController.step = init, step
@@ -125,7 +128,7 @@ def replay(path: Path) -> dict:
                 kw["people"] = [Person(*q) for q in kw["people"]]
             pose, velocity, route = kw.pop("pose"), kw.pop("velocity"), kw.pop("path")
             controller = controllers[key]
-            start = time.thread_time()     # CPU time: steadier than the wall clock on a shared machine
+            start = time.thread_time()     # CPU time: steadier than the wall clock here
             command = controller.step(pose, velocity, route, **kw)
             times.append(time.thread_time() - start)
             digest.update(_command_bytes(command))
