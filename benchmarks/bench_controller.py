@@ -8,7 +8,11 @@ the trajectory's exact bytes; times are the thread's CPU time): two trees with t
 answered every call identically. The recording prints the digest of the commands the run itself
 got, which the replay of the same tree must reproduce.
 
-    python benchmarks/bench_controller.py [--compare OLD_TREE] [--rounds 3]
+    python benchmarks/bench_controller.py [--compare OLD_TREE] [--rounds 3] [--in-run]
+
+With --in-run each tree records afresh and reports the thread CPU its step calls took within
+the whole runs (caches and allocator shared with the rest of the tick: the saving there is
+smaller than in the replay, where the calls run back to back).
 
 The recording is made with the tree this script runs from (its commands are the inputs of the
 next ticks, so a tree that answers identically records identically). Benchmarks are not a
@@ -18,6 +22,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import gc
 import hashlib
 import io
 import json
@@ -57,6 +62,7 @@ def record(runs: dict[str, list[str]]) -> dict[str, list]:
 
     calls: list = []
     digests: list = []
+    spent: list = []        # thread CPU of the run's step calls, in the run itself
     init, step = LocalController.__init__, LocalController.step
 
     def new(self, costmap, limits, params=None, footprint=None):
@@ -74,7 +80,9 @@ def record(runs: dict[str, list[str]]) -> dict[str, list]:
         args.update({k: (_plain(v) if k in ("points", "block_points", "people") else v)
                      for k, v in kw.items()})
         calls.append(("step", id(self), pickle.dumps(args)))
+        start = time.thread_time()
         command = step(self, pose, velocity, path, **kw)
+        spent[-1] += time.thread_time() - start
         digests[-1].update(_command_bytes(command))
         return command
 
@@ -85,13 +93,14 @@ def record(runs: dict[str, list[str]]) -> dict[str, list]:
             for name, args in runs.items():
                 calls = []
                 digests.append(hashlib.sha256())
+                spent.append(0.0)
                 with contextlib.redirect_stdout(io.StringIO()):
                     interbot(["run", *args, "--fast", "--quiet", "--data",
                               str(Path(folder) / name)])
                 out[name] = calls
                 steps = sum(kind == "step" for kind, _, _ in calls)
-                print(f"recorded {name:8}: {steps:5d} calls  in-run digest "
-                      f"{digests[-1].hexdigest()[:16]}", flush=True)
+                print(f"recorded {name:8}: {steps:5d} calls  in the run "
+                      f"{spent[-1]:6.2f} s  digest {digests[-1].hexdigest()[:16]}", flush=True)
     finally:
         LocalController.__init__, LocalController.step = init, step
     return out
@@ -117,8 +126,9 @@ def replay(path: Path) -> dict:
     result = {}
     for name, calls in recordings.items():
         controllers, times, digest = {}, [], hashlib.sha256()
-        for kind, key, blob in calls:
-            data = pickle.loads(blob)
+        loaded = [(kind, key, pickle.loads(blob)) for kind, key, blob in calls]
+        gc.collect()        # unpickling between the calls put collections inside them
+        for kind, key, data in loaded:
             if kind == "new":
                 costmap, limits, params, footprint = data
                 controllers[key] = LocalController(costmap, limits, params, footprint)
@@ -137,6 +147,14 @@ def replay(path: Path) -> dict:
     return result
 
 
+def _record_in(tree: Path) -> str:
+    """Records in a fresh process on `tree`'s code: the controller's CPU within the runs."""
+    env = dict(os.environ, PYTHONPATH=str(tree))
+    out = subprocess.run([sys.executable, __file__, "--in-run-only"], env=env, cwd=str(tree),
+                         check=True, capture_output=True, text=True)
+    return out.stdout.strip()
+
+
 def _replay_in(tree: Path, recording: Path) -> dict:
     env = dict(os.environ, PYTHONPATH=str(tree))
     out = subprocess.run([sys.executable, __file__, "--replay", str(recording)], env=env,
@@ -149,12 +167,27 @@ def main() -> None:
     parser.add_argument("--compare", type=Path, help="an older source tree to measure alongside")
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--replay", type=Path, help=argparse.SUPPRESS)
+    parser.add_argument("--in-run-only", action="store_true", help=argparse.SUPPRESS)
+    parser.add_argument("--in-run", action="store_true",
+                        help="time the step calls within the whole runs instead of replaying "
+                             "(each tree records afresh: slower, and noisier)")
     parser.add_argument("--recording", type=Path, help="reuse (or keep) the recorded calls here")
     options = parser.parse_args()
     if options.replay:
         print(json.dumps(replay(options.replay)))
         return
+    if options.in_run_only:
+        record(RUNS)
+        return
     here = Path(__file__).resolve().parent.parent
+    if options.in_run:
+        trees = {"old": options.compare.resolve(), "new": here} if options.compare else {
+            "new": here}
+        for round_ in range(1, options.rounds + 1):
+            for label, tree in trees.items():
+                for line in _record_in(tree).splitlines():
+                    print(f"round {round_} {label:3} {line}", flush=True)
+        return
     with tempfile.TemporaryDirectory() as folder:
         recording = options.recording or Path(folder) / "calls.pickle"
         if not recording.exists():
