@@ -19,7 +19,8 @@ little wider than the robot (TIGHT either side), more in a wider one, there only
 braking needs; closeness the path itself needs (less than CLEAR) costs nothing.
 
 Commands are forward only (v >= 0): the robots' sensors look ahead; turning on the spot is
-always among the samples. The controller is stateless: the skill passes the remaining path.
+always among the samples. The controller is stateless: the skill passes the remaining path (it
+keeps only the segment lengths of the tick's path, computed once for every resampling of it).
 """
 from __future__ import annotations
 
@@ -29,6 +30,11 @@ from typing import Sequence
 
 import numpy as np
 from scipy.spatial import cKDTree
+
+try:        # the clip ufunc itself: what np.clip calls, without its ~20 µs of Python wrappers
+    from numpy._core.umath import clip as _clip
+except ImportError:     # numpy < 2
+    from numpy.core.umath import clip as _clip
 
 from robots.profile import Limits
 from skills.navigation.costmap import CostMap
@@ -120,6 +126,7 @@ class LocalController:
         # distance field values are between cell centres: a wall may be up to this much closer
         self._cell_slack = costmap.grid.resolution * math.sqrt(0.5)
         self._times = np.arange(1, int(round(params.horizon / params.step)) + 1) * params.step
+        self._arc = (None, None)          # (path, its _arc) of the tick under way
         self._long_times = np.arange(1, int(round(max(params.people_horizon, params.horizon)
                                                  / params.step)) + 1) * params.step
 
@@ -140,6 +147,8 @@ class LocalController:
         x, y, th = (float(v) for v in pose)
         v0, w0 = (float(v) for v in velocity)
         path = np.asarray(path, dtype=float).reshape(-1, 2)
+        # the path's segment and arc lengths, once a tick for every resampling of it
+        self._arc = (path, _arc(path))
         points = np.zeros((0, 2)) if points is None else np.asarray(points, float).reshape(-1, 2)
         crowd = _people_array(people)
         reach = self.limits.max_speed * p.horizon + self.radius + 1.0
@@ -154,7 +163,8 @@ class LocalController:
             stop_cap = math.sqrt(2 * p.brake * self.limits.max_accel * room) if room > 0.05 else 0.0
             if stop_cap < cap:
                 cap, cap_why = stop_cap, "obstruction"
-        target = _point_along(path, p.lookahead) if len(path) else np.array([x, y])
+        target = (_point_along(path, p.lookahead, self._arc[1]) if len(path)
+                  else np.array([x, y]))
         bearing = math.atan2(target[1] - y, target[0] - x)
         turning = (abs(_wrap(bearing - th)) > p.rotate_first
                    and math.hypot(target[0] - x, target[1] - y) > 0.05)
@@ -183,6 +193,11 @@ class LocalController:
 
     # -- pieces ----------------------------------------------------------------------------
 
+    def _arc_of(self, path: np.ndarray):
+        """This tick's (segment, arc) lengths when `path` is this tick's path, else None."""
+        cached_path, arc = self._arc
+        return arc if path is cached_path else None
+
     def _speed_cap(self, x, y, th, v0, path, crowd, max_speed) -> tuple[float, str]:
         """The speed limit of this tick: profile, caller, people near, the goal ahead."""
         limits, p = self.limits, self.params
@@ -202,7 +217,7 @@ class LocalController:
                     cap, why = limits.max_speed_near_people, "people near"
         # the path starts at the robot's projection onto it: a robot beside the goal (come
         # in fast, off to one side) has no path left but still its distance to go
-        left = _length(path)
+        left = _length(path, self._arc_of(path))
         if len(path):
             left = max(left, math.hypot(path[-1][0] - x, path[-1][1] - y))
         goal_cap = math.sqrt(2 * p.brake * limits.max_accel * left)
@@ -226,12 +241,12 @@ class LocalController:
         arbiter sees 2-8 cm ahead, and any faster approach there stalled it as "blocked"."""
         p, limits = self.params, self.limits
         braking = limits.max_speed ** 2 / (2 * p.brake * limits.max_accel)
-        window, along = _resample(path, 0.05, p.narrow_lookahead + braking)
+        window, along = _resample(path, 0.05, p.narrow_lookahead + braking, self._arc_of(path))
         gaps = self._path_gaps(window)
         if gaps.min() <= TIGHT:         # the old rule, the same approach and speed
             near = along <= p.narrow_lookahead
             return p.narrow_speed if gaps[near].min() < CLEAR else limits.max_speed
-        share = np.clip((gaps - TIGHT) / (OPEN - TIGHT), 0.0, 1.0)
+        share = _clip((gaps - TIGHT) / (OPEN - TIGHT), 0.0, 1.0)
         allowed = p.narrow_speed + share * (limits.max_speed - p.narrow_speed)
         room = np.maximum(along - NARROW_EARLY, 0.0)
         reach = np.sqrt(allowed ** 2 + 2 * p.brake * limits.max_accel * room)
@@ -245,7 +260,7 @@ class LocalController:
         p = self.params
         if len(path) < 2:
             return None, None
-        samples, along = _resample(path, 0.05, p.block_lookahead)
+        samples, along = _resample(path, 0.05, p.block_lookahead, self._arc_of(path))
         blockers = np.zeros((0, 2))
         if len(points):
             off_map = self.costmap.grid.clearance(points[:, 0], points[:, 1]) > UNMAPPED
@@ -303,8 +318,10 @@ class LocalController:
         gap = self._wall_gap(px, py, pth)
         gap0 = float(self._wall_gap(*here)[0])
         if len(points):
-            gap = np.minimum(gap, self._points_gap(px, py, pth, points))
-            gap0 = min(gap0, float(self._points_gap(*here, points)[0]))
+            # one k-d tree of the readings for the poses and the start
+            tree = cKDTree(points) if len(points) > KD_TREE_FROM else None
+            gap = np.minimum(gap, self._points_gap(px, py, pth, points, tree))
+            gap0 = min(gap0, float(self._points_gap(*here, points, tree)[0]))
         if len(crowd):
             d = self._people_distance(poses, crowd, self._times)
             walking = np.hypot(crowd[:, 2], crowd[:, 3]) > 0.0
@@ -329,13 +346,14 @@ class LocalController:
         p = self.params
         reach = self.radius + PERSON_RADIUS + p.personal_space
         d = self._people_distance(long_poses, crowd, self._long_times).min(axis=1)   # (s, m)
-        intrusion = np.clip((reach - d) / p.personal_space, 0.0, 1.0)
+        intrusion = _clip((reach - d) / p.personal_space, 0.0, 1.0)
         standing = np.hypot(crowd[:, 2], crowd[:, 3]) == 0.0
         if standing.any() and len(path) >= 2:
-            window, _ = _resample(path, 0.05, self.limits.max_speed * p.people_horizon)
+            window, _ = _resample(path, 0.05, self.limits.max_speed * p.people_horizon,
+                                  self._arc_of(path))
             on_path = np.hypot(window[:, None, 0] - crowd[None, standing, 0],
                                window[:, None, 1] - crowd[None, standing, 1]).min(axis=0)
-            needed = np.clip((reach - on_path) / p.personal_space, 0.0, 1.0)
+            needed = _clip((reach - on_path) / p.personal_space, 0.0, 1.0)
             intrusion[:, standing] = np.maximum(intrusion[:, standing] - needed[None, :], 0.0)
         return intrusion.max(axis=1)
 
@@ -383,16 +401,18 @@ class LocalController:
             gap[near] = self._map_clearance(ox, oy).min(axis=-1) - self._cell_slack
         return gap
 
-    def _points_gap(self, px, py, pth, points: np.ndarray) -> np.ndarray:
-        """Gap between the footprint at poses (any shape) and the nearest range reading."""
+    def _points_gap(self, px, py, pth, points: np.ndarray, tree=None) -> np.ndarray:
+        """Gap between the footprint at poses (any shape) and the nearest range reading
+        (`tree`: a k-d tree of `points`, made here when needed and not given)."""
         if self.footprint.is_round:
-            return _nearest_distance(px, py, points) - self.radius
+            return _nearest_distance(px, py, points, tree) - self.radius
         if len(points) <= KD_TREE_FROM:
             return self.footprint.gap_to_points(px, py, pth, points)
+        tree = tree if tree is not None else cKDTree(points)
         # the readings nearest the centre: the one nearest the outline is among them for any
         # reading the outline comes near (a scan's neighbouring beams are close together)
         k = min(NEAREST_READINGS, len(points))
-        _, index = cKDTree(points).query(np.column_stack([px.ravel(), py.ravel()]), k=k)
+        _, index = tree.query(np.column_stack([px.ravel(), py.ravel()]), k=k)
         index = index.reshape(px.shape + (k,))
         return self.footprint.gap_to_points(px, py, pth, points[index])
 
@@ -407,9 +427,13 @@ class LocalController:
         tx, ty = fx - c0, fy - r0
         rows, cols = field.shape
         inside = (r0 >= 0) & (c0 >= 0) & (r0 + 1 < rows) & (c0 + 1 < cols)
-        r0c, c0c = np.clip(r0, 0, rows - 2), np.clip(c0, 0, cols - 2)
-        f00, f01 = field[r0c, c0c], field[r0c, c0c + 1]          # the four cell centres
-        f10, f11 = field[r0c + 1, c0c], field[r0c + 1, c0c + 1]
+        # the four cell centres, by flat index (np.clip and 2-D fancy indexing cost more than
+        # the arithmetic on the few hundred poses of a tick)
+        at = (np.minimum(np.maximum(r0, 0), rows - 2) * cols
+              + np.minimum(np.maximum(c0, 0), cols - 2))
+        flat = field.ravel()
+        f00, f01 = flat[at], flat[at + 1]
+        f10, f11 = flat[at + cols], flat[at + (cols + 1)]
         d = ((1 - tx) * (1 - ty) * f00 + tx * (1 - ty) * f01
              + (1 - tx) * ty * f10 + tx * ty * f11)
         d = np.minimum(d, np.minimum(np.minimum(f00, f01), np.minimum(f10, f11))
@@ -431,15 +455,19 @@ class LocalController:
         end = poses[:, -1, :]
         if len(path) >= 2:
             reach = self.limits.max_speed * p.horizon + p.lookahead
-            window, _ = _resample(path, 0.05, reach)
+            window, _ = _resample(path, 0.05, reach, self._arc_of(path))
             needed = self._path_gap(window) if p.clearance_beyond_path else CLEAR
             # scored against the path run on straight past the goal (as far as the body fits):
             # a command held for the whole horizon overshoots a goal that the goal cap will
             # stop it at, and scored as leaving the path, made the robot crawl the last metre
             # (0.26 m/s down to 0.09)
             window, _ = _resample(self._run_on(path, reach), 0.05, reach)
-            along, _ = _project(end[:, :2], window)
-            _, off = _project(poses[:, 1::2, :2].reshape(-1, 2), window)
+            every_other = poses[:, 1::2, :2]
+            at, off = _project(every_other.reshape(-1, 2), window)
+            if poses.shape[1] % 2 == 0:     # the last pose is among them: projected already
+                along = at.reshape(len(poses), -1)[:, -1]
+            else:
+                along, _ = _project(end[:, :2], window)
             off_path = off.reshape(len(poses), -1).max(axis=1)
             ahead = np.minimum(along + p.lookahead / 2, 0.05 * (len(window) - 1))
             index = np.rint(ahead / 0.05).astype(int)
@@ -469,8 +497,8 @@ class LocalController:
         # little wider than the robot needs less than CLEAR: counting that made standing
         # before it the best command)
         floor = min(CLEAR, needed)
-        closer = np.clip((floor - gap.min(axis=1)) / CLEAR, 0.0, 1.0)
-        clearance = np.maximum(closer - np.clip((floor - gap0) / CLEAR, 0.0, 1.0), 0.0)
+        closer = _clip((floor - gap.min(axis=1)) / CLEAR, 0.0, 1.0)
+        clearance = np.maximum(closer - _clip((floor - gap0) / CLEAR, 0.0, 1.0), 0.0)
         if turning:
             # turning on the spot to face the way: a rectangle's corners sweep nearer a wall
             # and back, which must not make standing still best (the safety check stays)
@@ -479,7 +507,7 @@ class LocalController:
         if len(crowd):
             intrusion = self._intrusion(long_poses, crowd, path)
         top = max(cap, 1e-3)
-        speed = np.clip((top - commands[:, 0]) / top, 0.0, 1.0)
+        speed = _clip((top - commands[:, 0]) / top, 0.0, 1.0)
         return (p.w_progress * progress + p.w_heading * heading
                 + p.w_path * np.minimum(off_path, 1.0) + p.w_clearance * clearance
                 + p.w_people * intrusion + p.w_speed * speed)
@@ -488,7 +516,7 @@ class LocalController:
 def _speeds(v0: float, commands: np.ndarray, times: np.ndarray, limits: Limits) -> np.ndarray:
     """(s, k) forward speed at the sample times: ramping from v0 to each command."""
     dv = commands[:, 0:1] - v0
-    return v0 + np.clip(dv, -limits.max_accel * times, limits.max_accel * times)
+    return v0 + _clip(dv, -limits.max_accel * times, limits.max_accel * times)
 
 
 def rollout(x, y, th, v0, w0, commands, times, limits: Limits) -> np.ndarray:
@@ -501,8 +529,8 @@ def rollout(x, y, th, v0, w0, commands, times, limits: Limits) -> np.ndarray:
     dts = np.diff(edges)
     dv = commands[:, 0:1] - v0
     dw = commands[:, 1:2] - w0
-    v = v0 + np.clip(dv, -limits.max_accel * mids, limits.max_accel * mids)
-    w = w0 + np.clip(dw, -limits.max_turn_accel * mids, limits.max_turn_accel * mids)
+    v = v0 + _clip(dv, -limits.max_accel * mids, limits.max_accel * mids)
+    w = w0 + _clip(dw, -limits.max_turn_accel * mids, limits.max_turn_accel * mids)
     dth = w * dts
     th_end = th + np.cumsum(dth, axis=1)
     th_mid = th_end - 0.5 * dth
@@ -511,13 +539,15 @@ def rollout(x, y, th, v0, w0, commands, times, limits: Limits) -> np.ndarray:
     return np.stack([xs, ys, th_end], axis=-1)
 
 
-def _nearest_distance(px: np.ndarray, py: np.ndarray, points: np.ndarray) -> np.ndarray:
+def _nearest_distance(px: np.ndarray, py: np.ndarray, points: np.ndarray,
+                      tree=None) -> np.ndarray:
     """Distance from every pose (px, py of one shape) to its nearest point (k, 2). A k-d tree
     beyond a few points: every sampled pose against every reading was the controller's largest
     cost with a laser scan of a crowd around (poses × readings distances per tick)."""
     if len(points) <= KD_TREE_FROM:
         return np.hypot(px[..., None] - points[:, 0], py[..., None] - points[:, 1]).min(axis=-1)
-    distance, _ = cKDTree(points).query(np.column_stack([px.ravel(), py.ravel()]))
+    tree = tree if tree is not None else cKDTree(points)
+    distance, _ = tree.query(np.column_stack([px.ravel(), py.ravel()]))
     return distance.reshape(px.shape)
 
 
@@ -568,36 +598,46 @@ def _wrap(angle):
     return np.arctan2(np.sin(angle), np.cos(angle))
 
 
-def _length(path: np.ndarray) -> float:
+def _arc(path: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(segment lengths, arc length at each vertex) of a path."""
+    seg = np.hypot(*np.diff(path, axis=0).T)
+    return seg, np.concatenate([[0.0], np.cumsum(seg)])
+
+
+def _length(path: np.ndarray, arc=None) -> float:
     if len(path) < 2:
         return 0.0
-    return float(np.hypot(*np.diff(path, axis=0).T).sum())
+    seg = (arc or _arc(path))[0]
+    return float(seg.sum())
 
 
-def _resample(path: np.ndarray, spacing: float, limit: float) -> tuple[np.ndarray, np.ndarray]:
-    """Points every `spacing` m along the path up to `limit` m, and their arc lengths."""
-    seg = np.hypot(*np.diff(path, axis=0).T)
-    cum = np.concatenate([[0.0], np.cumsum(seg)])
+def _resample(path: np.ndarray, spacing: float, limit: float,
+              arc=None) -> tuple[np.ndarray, np.ndarray]:
+    """Points every `spacing` m along the path up to `limit` m, and their arc lengths
+    (`arc`: the path's `_arc`, when known)."""
+    _, cum = arc or _arc(path)
     along = np.arange(0.0, min(limit, cum[-1]) + 1e-9, spacing)
     xs = np.interp(along, cum, path[:, 0])
     ys = np.interp(along, cum, path[:, 1])
     return np.column_stack([xs, ys]), along
 
 
-def _point_along(path: np.ndarray, distance: float) -> np.ndarray:
+def _point_along(path: np.ndarray, distance: float, arc=None) -> np.ndarray:
     """The point `distance` m along the path (its end if shorter)."""
     if len(path) < 2:
         return path[-1]
-    seg = np.hypot(*np.diff(path, axis=0).T)
-    cum = np.concatenate([[0.0], np.cumsum(seg)])
+    _, cum = arc or _arc(path)
     d = min(distance, cum[-1])
     return np.array([np.interp(d, cum, path[:, 0]), np.interp(d, cum, path[:, 1])])
 
 
 def _project(points: np.ndarray, samples: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(arc length, distance) of each point's nearest sample of a path resampled every 5 cm."""
-    dx = points[:, None, 0] - samples[None, :, 0]
-    dy = points[:, None, 1] - samples[None, :, 1]
-    nearest = (dx * dx + dy * dy).argmin(axis=1)      # squares order them as distances do
-    rows = np.arange(len(points))
-    return nearest * 0.05, np.hypot(dx[rows, nearest], dy[rows, nearest])
+    px, py = points[:, 0], points[:, 1]
+    square = np.subtract.outer(px, samples[:, 0])     # in place: the same products and sum
+    square *= square                                  # as dx * dx + dy * dy, fewer arrays
+    dy = np.subtract.outer(py, samples[:, 1])
+    dy *= dy
+    square += dy
+    nearest = square.argmin(axis=1)                   # squares order them as distances do
+    return nearest * 0.05, np.hypot(px - samples[nearest, 0], py - samples[nearest, 1])
