@@ -19,8 +19,7 @@ little wider than the robot (TIGHT either side), more in a wider one, there only
 braking needs; closeness the path itself needs (less than CLEAR) costs nothing.
 
 Commands are forward only (v >= 0): the robots' sensors look ahead; turning on the spot is
-always among the samples. The controller is stateless: the skill passes the remaining path (it
-keeps only the segment lengths of the tick's path, computed once for every resampling of it).
+always among the samples. The controller is stateless: the skill passes the remaining path.
 """
 from __future__ import annotations
 
@@ -126,7 +125,6 @@ class LocalController:
         # distance field values are between cell centres: a wall may be up to this much closer
         self._cell_slack = costmap.grid.resolution * math.sqrt(0.5)
         self._times = np.arange(1, int(round(params.horizon / params.step)) + 1) * params.step
-        self._arc = (None, None)          # (path, its _arc) of the tick under way
         self._long_times = np.arange(1, int(round(max(params.people_horizon, params.horizon)
                                                  / params.step)) + 1) * params.step
 
@@ -148,7 +146,7 @@ class LocalController:
         v0, w0 = (float(v) for v in velocity)
         path = np.asarray(path, dtype=float).reshape(-1, 2)
         # the path's segment and arc lengths, once a tick for every resampling of it
-        self._arc = (path, _arc(path))
+        arc = _arc(path)
         points = np.zeros((0, 2)) if points is None else np.asarray(points, float).reshape(-1, 2)
         crowd = _people_array(people)
         reach = self.limits.max_speed * p.horizon + self.radius + 1.0
@@ -156,14 +154,14 @@ class LocalController:
         block_near = near if block_points is None else _within(
             np.asarray(block_points, float).reshape(-1, 2), x, y, reach)
 
-        cap, cap_why = self._speed_cap(x, y, th, v0, path, crowd, max_speed)
-        block_at, blocker = self._obstruction(path, block_near, crowd)
+        cap, cap_why = self._speed_cap(x, y, th, v0, path, crowd, max_speed, arc)
+        block_at, blocker = self._obstruction(path, block_near, crowd, arc)
         if block_at is not None:
             room = max(0.0, block_at - p.standoff - (p.resume_margin if held else 0.0))
             stop_cap = math.sqrt(2 * p.brake * self.limits.max_accel * room) if room > 0.05 else 0.0
             if stop_cap < cap:
                 cap, cap_why = stop_cap, "obstruction"
-        target = (_point_along(path, p.lookahead, self._arc[1]) if len(path)
+        target = (_point_along(path, p.lookahead, arc) if len(path)
                   else np.array([x, y]))
         bearing = math.atan2(target[1] - y, target[0] - x)
         turning = (abs(_wrap(bearing - th)) > p.rotate_first
@@ -183,7 +181,7 @@ class LocalController:
                            blocker=blocker or _nearest(x, y, near, crowd), speed_cap=cap,
                            reason="no collision-free command within the horizon")
         score = self._score(commands, poses, long_poses, gap, gap0, crowd, path, target, cap,
-                            turning, lead_off)
+                            turning, lead_off, arc)
         score[~ok] = np.inf
         best = int(np.argmin(score))
         v, w = (float(c) for c in commands[best])
@@ -193,13 +191,9 @@ class LocalController:
 
     # -- pieces ----------------------------------------------------------------------------
 
-    def _arc_of(self, path: np.ndarray):
-        """This tick's (segment, arc) lengths when `path` is this tick's path, else None."""
-        cached_path, arc = self._arc
-        return arc if path is cached_path else None
-
-    def _speed_cap(self, x, y, th, v0, path, crowd, max_speed) -> tuple[float, str]:
-        """The speed limit of this tick: profile, caller, people near, the goal ahead."""
+    def _speed_cap(self, x, y, th, v0, path, crowd, max_speed, arc=None) -> tuple[float, str]:
+        """The speed limit of this tick: profile, caller, people near, the goal ahead (`arc`:
+        the path's `_arc`, when known)."""
         limits, p = self.limits, self.params
         cap, why = limits.max_speed, ""
         if max_speed is not None and max_speed < cap:
@@ -217,19 +211,19 @@ class LocalController:
                     cap, why = limits.max_speed_near_people, "people near"
         # the path starts at the robot's projection onto it: a robot beside the goal (come
         # in fast, off to one side) has no path left but still its distance to go
-        left = _length(path, self._arc_of(path))
+        left = _length(path, arc)
         if len(path):
             left = max(left, math.hypot(path[-1][0] - x, path[-1][1] - y))
         goal_cap = math.sqrt(2 * p.brake * limits.max_accel * left)
         if goal_cap < cap:
             cap, why = goal_cap, "goal ahead"
         if p.narrow_speed < cap and len(path) >= 2:
-            narrow_cap = self._narrow_cap(path)
+            narrow_cap = self._narrow_cap(path, arc)
             if narrow_cap < cap:
                 cap, why = narrow_cap, "narrow passage"
         return cap, why
 
-    def _narrow_cap(self, path) -> float:
+    def _narrow_cap(self, path, arc=None) -> float:
         """The speed cap of the openings on the path ahead. Near an opening that leaves no
         more than TIGHT either side (a door 0.25 m wider than the robot) anything under CLEAR
         within `narrow_lookahead` caps at `narrow_speed`, as it always did; elsewhere an
@@ -241,7 +235,7 @@ class LocalController:
         arbiter sees 2-8 cm ahead, and any faster approach there stalled it as "blocked"."""
         p, limits = self.params, self.limits
         braking = limits.max_speed ** 2 / (2 * p.brake * limits.max_accel)
-        window, along = _resample(path, 0.05, p.narrow_lookahead + braking, self._arc_of(path))
+        window, along = _resample(path, 0.05, p.narrow_lookahead + braking, arc)
         gaps = self._path_gaps(window)
         if gaps.min() <= TIGHT:         # the old rule, the same approach and speed
             near = along <= p.narrow_lookahead
@@ -252,7 +246,7 @@ class LocalController:
         reach = np.sqrt(allowed ** 2 + 2 * p.brake * limits.max_accel * room)
         return float(reach.min())
 
-    def _obstruction(self, path, points, crowd):
+    def _obstruction(self, path, points, crowd, arc=None):
         """(metres along the path, (x, y)) of the first obstruction within block_lookahead.
 
         Obstructions are readings off the map's walls and people standing, not people walking
@@ -260,7 +254,7 @@ class LocalController:
         p = self.params
         if len(path) < 2:
             return None, None
-        samples, along = _resample(path, 0.05, p.block_lookahead, self._arc_of(path))
+        samples, along = _resample(path, 0.05, p.block_lookahead, arc)
         blockers = np.zeros((0, 2))
         if len(points):
             off_map = self.costmap.grid.clearance(points[:, 0], points[:, 1]) > UNMAPPED
@@ -337,7 +331,7 @@ class LocalController:
         gap = gap - p.safety_margin
         return gap, np.full(poses.shape[0], gap0 - p.safety_margin)
 
-    def _intrusion(self, long_poses, crowd, path) -> np.ndarray:
+    def _intrusion(self, long_poses, crowd, path, arc=None) -> np.ndarray:
         """(s,) worst intrusion (0 … 1) into a person's personal space over `people_horizon`.
 
         For a person standing, only the intrusion beyond what the path itself needs counts: the
@@ -349,8 +343,7 @@ class LocalController:
         intrusion = _clip((reach - d) / p.personal_space, 0.0, 1.0)
         standing = np.hypot(crowd[:, 2], crowd[:, 3]) == 0.0
         if standing.any() and len(path) >= 2:
-            window, _ = _resample(path, 0.05, self.limits.max_speed * p.people_horizon,
-                                  self._arc_of(path))
+            window, _ = _resample(path, 0.05, self.limits.max_speed * p.people_horizon, arc)
             on_path = np.hypot(window[:, None, 0] - crowd[None, standing, 0],
                                window[:, None, 1] - crowd[None, standing, 1]).min(axis=0)
             needed = _clip((reach - on_path) / p.personal_space, 0.0, 1.0)
@@ -448,14 +441,14 @@ class LocalController:
         return np.hypot(poses[..., 0, None] - fx, poses[..., 1, None] - fy)
 
     def _score(self, commands, poses, long_poses, gap, gap0, crowd, path, target,
-               cap, turning: bool = False, lead_off: bool = False) -> np.ndarray:
+               cap, turning: bool = False, lead_off: bool = False, arc=None) -> np.ndarray:
         """Lower is better: progress along the path, heading along it, distance from it,
         clearance, people's personal space, speed."""
         p = self.params
         end = poses[:, -1, :]
         if len(path) >= 2:
             reach = self.limits.max_speed * p.horizon + p.lookahead
-            window, _ = _resample(path, 0.05, reach, self._arc_of(path))
+            window, _ = _resample(path, 0.05, reach, arc)
             needed = self._path_gap(window) if p.clearance_beyond_path else CLEAR
             # scored against the path run on straight past the goal (as far as the body fits):
             # a command held for the whole horizon overshoots a goal that the goal cap will
@@ -505,7 +498,7 @@ class LocalController:
             clearance = np.zeros(len(commands))
         intrusion = 0.0
         if len(crowd):
-            intrusion = self._intrusion(long_poses, crowd, path)
+            intrusion = self._intrusion(long_poses, crowd, path, arc)
         top = max(cap, 1e-3)
         speed = _clip((top - commands[:, 0]) / top, 0.0, 1.0)
         return (p.w_progress * progress + p.w_heading * heading
