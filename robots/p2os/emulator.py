@@ -328,15 +328,11 @@ class Firmware:
             control=_i16(control / f.angle), flags=flags, sonar=sonar))
 
     def _sonar_units(self, ranges: tuple[float, ...]) -> tuple[tuple[int, int], ...]:
-        """(number, units) of every reading: `_range_units` inlined, for 16-48 sonars a SIP."""
+        """(number, units) of every reading: the nearest unit, at least 0, at most the
+        sonar's maximum, which no echo (inf, NaN) reports too. One pass for 16-48 sonars a SIP."""
         top, unit, isfinite = self.sonar_max_units, self.factors.range, math.isfinite
         return tuple((i, min(top, max(0, round(r * 1000.0 / unit))) if isfinite(r) else top)
                      for i, r in enumerate(ranges))
-
-    def _range_units(self, metres: float) -> int:
-        if not math.isfinite(metres):
-            return self.sonar_max_units
-        return min(self.sonar_max_units, max(0, round(metres * 1000.0 / self.factors.range)))
 
 
 def _i16(value: float) -> int:

@@ -126,9 +126,11 @@ def test_sip_reports_pose_sonar_bumpers_stall():
     ranges = dict(sip.sonar)
     assert ranges[0] * 0.268 == pytest.approx(1200, abs=0.2)
     assert ranges[1] * 0.268 >= 5000                   # no echo: the sonar's maximum
+    # 0.268 mm a unit: the nearest unit, none below 0, the 5 m maximum (18 657) for anything
+    # beyond it and for no echo at all
     readings = (0.0, -0.5, 0.2, 1.2, 4.99, 5.0, 7.3, math.inf, math.nan)
-    assert firmware._sonar_units(readings) == tuple(
-        (i, firmware._range_units(r)) for i, r in enumerate(readings))   # inlined, the same
+    assert firmware._sonar_units(readings) == tuple(enumerate(
+        (0, 0, 746, 4478, 18619, 18657, 18657, 18657, 18657)))
 
 
 def test_seto_resets_odometry_to_the_current_pose():
