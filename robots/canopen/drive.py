@@ -31,9 +31,6 @@ S = p.State402
 FOLLOWING_WINDOW = 0.25      # m/s between demand and actual ...
 FOLLOWING_TIME = 1.0         # ... for this long: following error
 COAST_DECEL = 0.2            # m/s²: a wheel whose drive let go rolls on, slowed by friction only
-LIVE = frozenset((p.STATUSWORD, p.MODES_DISPLAY, p.POSITION_ACTUAL, p.VELOCITY_ACTUAL,
-                  p.VELOCITY_DEMAND, p.ERROR_CODE, p.ERROR_REGISTER, p.CONTROLWORD,
-                  p.TARGET_VELOCITY))      # objects (sub 0) whose value is the drive's own state
 _UNKNOWN = object()
 
 
@@ -47,6 +44,7 @@ class Drive:
         self.node._write_callbacks.remove(self.node.nmt.on_write)     # heartbeat timing is ours
         self.node.add_write_callback(self._on_write)
         self.node.add_read_callback(self._on_read)
+        # the objects (sub 0) whose value is the drive's own state, read from it every time
         self._live = {p.STATUSWORD: self.statusword, p.MODES_DISPLAY: lambda: self.mode,
                       p.POSITION_ACTUAL: lambda: _i32(self.position),
                       p.VELOCITY_ACTUAL: lambda: _clamp32(round(self.actual)),
@@ -141,7 +139,7 @@ class Drive:
             var = self._variables[key] = self.node.object_dictionary.get_variable(index, sub)
         if var is None:
             return default
-        if sub == 0 and index in LIVE:
+        if sub == 0 and index in self._live:
             return var.decode_raw(self.node.get_data(index, sub))
         stored = self.node.data_store.get(index)
         raw = stored.get(sub) if stored is not None else None
@@ -174,7 +172,7 @@ class Drive:
 
     # -- object access (SDO and RPDO) -----------------------------------------------------------
     def _on_read(self, index: int, subindex: int, od, **_):
-        if subindex == 0 and index in LIVE:
+        if subindex == 0 and index in self._live:
             return self._live[index]()
         return None
 
