@@ -13,6 +13,8 @@ under their own steam (`walk`, `leave`, the walks of `shop`) they stand while th
 their way, as shoppers do, see `SimPerson._gives_way`. Steps whose point is the robot never give way:
 `approach` and `answer` walk up to it, `follow` and `lead` keep their distance to it by their
 own rules, `make_way` is already the stepping aside; standing steps have nothing to give.
+A person leading the robot (`lead`) who hears it ask her to wait slows down, waits or walks
+on as her drawn `heeding` says (`robots.sim.heeding`).
 """
 from __future__ import annotations
 
@@ -557,7 +559,8 @@ def _draw_places(person: SimPerson, step: Shop, world: "World") -> list[str]:
 
 def _lead(person: SimPerson, step: Lead, dt: float, world: "World") -> bool:
     """Walk the waypoints around walls at the person's pace, dwelling at each; wait while the
-    robot is farther than `wait_beyond`."""
+    robot is farther than `wait_beyond`; slow down or wait when it asks her to, as her heeding
+    says (robots.sim.heeding)."""
     state, now = person.step_state, world.t
     if "dwell_until" not in state:
         if step.after_call and not person._called(world):
