@@ -46,7 +46,7 @@ within 10 s) and longer.
 
 Whether the customer heeds the robot when it asks her to wait (`skills.following.pace`) is
 her trait (`robots.sim.heeding`), drawn per seed from the simulator's default distribution
-(the scenarios state none): a quarter never heed, the others slow to 0.4 .. 0.7 m/s for
+(the scenarios state none): a quarter never heed, the others slow to 0.4 .. 0.55 m/s for
 20 .. 60 s or stop and wait 3 .. 10 s, half each; she hears the robot within 7 m. Each seed's
 line names her answer and how often the robot asked, said it lost her and she heard it; the
 fast families print their figures apart for customers who heed and who never do.

@@ -18,10 +18,11 @@ Each new ask she hears starts her answer afresh. A person who does not lead the 
 
 The default distribution (`Distribution()`, used where a scenario states none) is a guess,
 stated here and in docs/scenarios.md, not fitted to any benchmark: a quarter of people never
-heed; of the others half slow down, half stop and wait; a slowed pace uniform in 0.4 .. 0.7
-m/s (a stroll: some still a little faster than a 0.6 m/s robot), kept 20 .. 60 s; a patience
+heed; of the others half slow down, half stop and wait; a slowed pace uniform in 0.4 .. 0.55
+m/s (the stroll of a shopper, as the customers of bench_follow's other families walk: one the
+robot can follow), kept 20 .. 60 s, then her own pace again; a patience
 of 3 .. 10 s ("a few seconds"). A scenario sets its own in `[scenario] heeding = { never =
-0.25, slow = 0.5, pace = [0.4, 0.7], slow_for = [20, 60], patience = [3, 10] }` and fixes one
+0.25, slow = 0.5, pace = [0.4, 0.55], slow_for = [20, 60], patience = [3, 10] }` and fixes one
 person's answer with `heeding = "wait"` in their `[[person]]` (the numbers are still drawn).
 
 Each person's trait is drawn from a generator of their own (the run's seed, their index and
@@ -51,7 +52,7 @@ class Distribution:
     """Where people's heeding is drawn from (see the module's docstring for the default)."""
     never: float = 0.25                          # share who never heed
     slow: float = 0.5                            # of the others, share who slow down
-    pace: tuple[float, float] = (0.4, 0.7)       # m/s, their slowed pace, uniform
+    pace: tuple[float, float] = (0.4, 0.55)      # m/s, their slowed pace, uniform
     slow_for: tuple[float, float] = (20.0, 60.0)     # s they keep it, uniform
     patience: tuple[float, float] = (3.0, 10.0)      # s the others wait at most, uniform
 

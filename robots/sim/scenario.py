@@ -289,7 +289,7 @@ class _Reader:
         value = head.get("heeding", {})
         if not isinstance(value, dict):
             raise self.fail_head("heeding", f"= {value!r} must be a table such as "
-                                 "{ never = 0.25, slow = 0.5, pace = [0.4, 0.7] }")
+                                 "{ never = 0.25, slow = 0.5, pace = [0.4, 0.55] }")
         base = Distribution()
         unknown = set(value) - set(base.__dataclass_fields__)
         if unknown:

@@ -61,7 +61,7 @@ def test_a_customer_who_slows_walks_at_her_slowed_pace_when_asked():
     walk_until(world, fiona, 3.0)
     world.say(ASK)
     pace = fiona.heeding.heed.pace
-    assert pace <= 0.7
+    assert pace <= 0.55
     assert walked(world, fiona, 5.0) == pytest.approx(5.0 * pace, abs=0.15)
 
 
