@@ -5,8 +5,10 @@ A person following somebody who walks off too fast for them says so. The robot d
 (its words are captioned on the touch screen too, `skills.speech`):
 
 - **falling behind**: she is seen, more than BEHIND m beyond the setpoint, walking at least
-  as fast as the robot's top speed (so no speed of its own closes the gap), and the gap has
-  grown by GROWING m or more over the last WINDOW s: it asks ASK. Then not again for
+  as fast as the robot's top speed (so no speed of its own closes the gap) now and as she
+  usually walks (the follower's running average of her pace: a shopper catching up after
+  being held up is not a fast walker), and the gap has grown by GROWING m or more over the
+  last WINDOW s: it asks ASK. Then not again for
   ASK_AGAIN s, however far behind it stays (it does not nag);
 - **lost her**: her track has been lost for LOST_AFTER s (not a flicker of the tracker),
   within RECENT s of her outpacing it: it says LOST as soon as it may, once per loss (the
@@ -46,8 +48,8 @@ class PaceWatch:
         self._lost_since: float | None = None
 
     def seen(self, now: float, gap: float, pace: float, top_speed: float) -> str | None:
-        """She is seen `gap` m beyond the setpoint walking at `pace` m/s; the words to ask
-        her with now, or None."""
+        """She is seen `gap` m beyond the setpoint walking at `pace` m/s (the smaller of her
+        pace now and her usual one); the words to ask her with now, or None."""
         self._lost_said = False
         self._lost_since = None
         self._gaps.append((now, gap))

@@ -54,6 +54,15 @@ def test_never_asks_a_customer_it_can_keep_up_with():
     assert speech.said == []
 
 
+def test_never_asks_a_shopper_who_catches_up_in_a_short_burst():
+    # she usually walks at 0.5 m/s; held up, she catches up at 0.65 m/s for 1.5 s (faster
+    # than PERSES's 0.6 for a moment) while the robot is held up too: she is no fast walker
+    following, perception, speech = started(0.5)
+    t, x = walk_away(following, perception, 0.5, 6.0)
+    walk_away(following, perception, 0.65, 1.5, start=t, x0=x)
+    assert speech.said == []
+
+
 def test_says_it_lost_her_once_when_she_outpaced_it_out_of_sight():
     following, perception, speech = started(1.4)
     t, _ = walk_away(following, perception, 1.4, 4.0)
