@@ -34,13 +34,22 @@ yielding drawn per person), `polite` / `rude` (every other shopper yields fully 
 `lookalike` (the stand-in is dressed exactly like her), `crowd5` / `crowd10` / `crowd20`
 (that many more shoppers cross the front aisle around her stop), `turnback` (at the stop she
 walks back at the robot), `standin2` / `standin5` / `standin8` (the stand-in stands that many
-seconds), `fast` (she walks at 1.4 m/s), `carts` (every other shopper pushes a cart). Per
+seconds), `fast` (she walks at 1.4 m/s), `fastwait` / `fastnever` (the same, and she
+stops and waits when the robot asks her to / never heeds it), `carts` (every other shopper
+pushes a cart). Per
 family it prints the pooled share within ±0.3 m and the worst seed's, the time spent
 following a track that is not hers, and losses counted from the moment her track is lost or
 sits on somebody else (nearer them and over 0.7 m from her) until the followed track is hers
 again; those losses split by how long she was out of the robot's view (beyond the detector's
 range or behind a wall or someone) from the loss on: up to 5 s (target: ≥ 90 % found again
 within 10 s) and longer.
+
+Whether the customer heeds the robot when it asks her to wait (`skills.following.pace`) is
+her trait (`robots.sim.heeding`), drawn per seed from the simulator's default distribution
+(the scenarios state none): a quarter never heed, the others slow to 0.4 .. 0.55 m/s for
+20 .. 60 s or stop and wait 3 .. 10 s, half each; she hears the robot within 7 m. Each seed's
+line names her answer and how often the robot asked, said it lost her and she heard it; the
+fast families print their figures apart for customers who heed and who never do.
 
     python benchmarks/bench_follow.py [--seeds N] [--first K] [--robot perses|horos] [--rude]
                                       [--family NAME ...] [--give-up S]
@@ -63,7 +72,7 @@ from pathlib import Path
 import numpy as np
 
 from robots.sim.raycast import point_segment_distances
-from skills.following import HIDDEN, SEARCHING
+from skills.following import HIDDEN, SEARCHING, pace
 from skills.skillset import open_skills
 
 SETPOINT = 1.2
@@ -91,6 +100,7 @@ FAMILIES = {      # name: what differs from the base scenario (see the module's 
     "lookalike": {"look_alike": True}, "crowd5": {"crowd": 5}, "crowd10": {"crowd": 10},
     "crowd20": {"crowd": 20}, "turnback": {"turn_back": True}, "standin2": {"occlusion": 2.0},
     "standin5": {"occlusion": 5.0}, "standin8": {"occlusion": 8.0}, "fast": {"speed": 1.4},
+    "fastwait": {"speed": 1.4, "heeding": "wait"}, "fastnever": {"speed": 1.4, "heeding": "never"},
     "carts": {"carts": True},
 }
 
@@ -123,6 +133,7 @@ id = "customer"
 appear = 0.0
 at = [7.8, 3.7]
 speed = {speed}
+{f'heeding = "{spec["heeding"]}"' if "heeding" in spec else ""}
 steps = [ {{ pause = 4.0 }}, {', '.join(legs)} ]
 
 [[person]]
@@ -189,6 +200,10 @@ class Result:
     pose_off: int = 0               # ticks the localization estimate is POSE_OFF m or more off
     pose_errors: list = field(default_factory=list)   # m: the estimate's position error, per tick
     reason: str = ""                # the follower's reason when it gave up
+    heed: str = ""                  # how the customer answers "wait for me" (robots.sim.heeding)
+    asked: int = 0                  # times the robot asked her to wait (pace.ASK) ...
+    said_lost: int = 0              # ... said it lost her (pace.LOST) ...
+    heard: int = 0                  # ... and she heard something it said, leading it
 
 
 def line_of_sight(world, a, b, people, customer) -> bool:
@@ -337,6 +352,7 @@ def run(seed: int, robot: str, folder: Path, give_way: bool | None = True,
                     episode[1] = now - episode[0]
                     if episode[2] is None:
                         episode[2] = episode[1]
+        _heeding(result, world)
         measures = world.measures
         result.clearance_others = min((gap for who, gap in measures.min_person_clearance.items()
                                        if who != "customer"), default=math.inf)
@@ -345,6 +361,17 @@ def run(seed: int, robot: str, folder: Path, give_way: bool | None = True,
         return result
     finally:
         skills.close()
+
+
+def _heeding(result: Result, world) -> None:
+    """How the customer answers the robot's asks, and how often it asked and she heard."""
+    customer = next(p for p in world.people if p.plan.id == "customer")
+    heed = customer.heeding.heed
+    result.heed = {"never": "never", "slow": f"slow ({heed.pace:.2f} m/s for "
+                   f"{heed.slow_for:.0f} s)", "wait": f"wait ({heed.patience:.1f} s)"}[heed.how]
+    result.asked = sum(text == pace.ASK for _, text in world.utterances)
+    result.said_lost = sum(text == pace.LOST for _, text in world.utterances)
+    result.heard = customer.heeding.heard
 
 
 def main() -> None:
@@ -386,7 +413,9 @@ def print_seed(family: str, seed: int, r: Result) -> None:
           f"wrong person {r.wrong_ticks / 10:.1f} s, misses {r.missed}/{r.visible}, clearance "
           f"to others {r.clearance_others:.2f} m, collisions {r.collisions} (robot drove in "
           f"{r.drove_into}) (walked into {r.walked_into}), own position off by "
-          f"{POSE_OFF} m or more {r.pose_off / 10:.1f} s ({pose_summary(r.pose_errors)})"
+          f"{POSE_OFF} m or more {r.pose_off / 10:.1f} s ({pose_summary(r.pose_errors)}); "
+          f"she heeds: {r.heed}, asked to wait {r.asked}, said lost {r.said_lost}, heard "
+          f"{r.heard}"
           f"{', GAVE UP: ' + r.reason if r.gave_up else ''}",
           flush=True)
 
@@ -445,11 +474,31 @@ def print_family(family: str, results: list, wall: float) -> None:
           f"{sum(r.pose_off for r in results) / 10:.1f} s; of the runs given up, "
           f"{lost_pose} with its position lost (localization), so it could not search",
           flush=True)
+    if "speed" in FAMILIES[family]:
+        print_heeding(results)
     pooled = [e for r in results for e in r.pose_errors]
     worst = min(results, key=lambda r: np.mean(np.asarray(r.pose_errors) <= 0.3)
                 if r.pose_errors else 1.0)
     print(f"   localization: pooled {pose_summary(pooled)}; worst seed "
           f"{pose_summary(worst.pose_errors)}", flush=True)
+
+
+def print_heeding(results: list) -> None:
+    """The fast families' figures apart for customers who heed the robot and who never do."""
+    for label, group in (("heeding", [r for r in results if not r.heed.startswith("never")]),
+                         ("never heeding", [r for r in results if r.heed.startswith("never")])):
+        if not group:
+            print(f"   customers {label}: none among these seeds")
+            continue
+        ticks = max(sum(r.ticks for r in group), 1)
+        short, _ = split_losses(group)
+        print(f"   customers {label} ({len(group)}): within ±0.3 m pooled "
+              f"{sum(r.in_tight_band for r in group) / ticks:.1%}, worst seed "
+              f"{min(r.in_tight_band / max(r.ticks, 1) for r in group):.1%}; gave up "
+              f"{sum(r.gave_up for r in group)}/{len(group)}; losses out of view up to "
+              f"{SHORT_LOSS:g} s found within 10 s {short[1]}/{short[0]}; asked "
+              f"{sum(r.asked for r in group)}, said lost {sum(r.said_lost for r in group)}",
+              flush=True)
 
 
 if __name__ == "__main__":

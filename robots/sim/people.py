@@ -13,6 +13,8 @@ under their own steam (`walk`, `leave`, the walks of `shop`) they stand while th
 their way, as shoppers do, see `SimPerson._gives_way`. Steps whose point is the robot never give way:
 `approach` and `answer` walk up to it, `follow` and `lead` keep their distance to it by their
 own rules, `make_way` is already the stepping aside; standing steps have nothing to give.
+A person leading the robot (`lead`) who hears it ask her to wait slows down, waits or walks
+on as her drawn `heeding` says (`robots.sim.heeding`).
 """
 from __future__ import annotations
 
@@ -83,6 +85,7 @@ class SimPerson:
                          else 1.0 if plan.give_way else 0.0)          # robots.sim.crowd
         self.blocked_for = 0.0        # s held up by others (robots.sim.crowd)
         self.wished = 0.0             # m/s the script wanted to walk in the last substep
+        self.heeding = None           # robots.sim.heeding.Listener: does she wait when asked
 
     @property
     def current_step(self):
@@ -381,9 +384,10 @@ def _leave(person: SimPerson, step: Leave, dt: float, world: "World") -> bool:
 
 
 def _walk_routed(person: SimPerson, targets: list[Point], dt: float, world: "World",
-                 give_way: bool = False) -> bool:
-    """Walk to each target in turn around walls (`world.route`); True once at the last. With
-    `give_way` the person gives way to the robot if their plan says so."""
+                 give_way: bool = False, speed: float | None = None) -> bool:
+    """Walk to each target in turn around walls (`world.route`) at `speed` (None: the
+    person's own); True once at the last. With `give_way` the person gives way to the robot
+    if their plan says so."""
     state = person.step_state
     target = state.setdefault("target", 0)
     if target >= len(targets):
@@ -393,7 +397,8 @@ def _walk_routed(person: SimPerson, targets: list[Point], dt: float, world: "Wor
         del state["path"]             # pushed off the way behind a shelf: find it again
     if "path" not in state:
         state["path"], state["next"] = person._route_to(targets[target], world), 0
-    state["next"] = person._walk_path(state["path"], state["next"], person.plan.speed * dt, dt,
+    pace = person.plan.speed if speed is None else speed
+    state["next"] = person._walk_path(state["path"], state["next"], pace * dt, dt,
                                       world if give_way else None)
     if state["next"] >= len(state["path"]):
         state["target"] = target + 1
@@ -554,7 +559,8 @@ def _draw_places(person: SimPerson, step: Shop, world: "World") -> list[str]:
 
 def _lead(person: SimPerson, step: Lead, dt: float, world: "World") -> bool:
     """Walk the waypoints around walls at the person's pace, dwelling at each; wait while the
-    robot is farther than `wait_beyond`."""
+    robot is farther than `wait_beyond`; slow down or wait when it asks her to, as her heeding
+    says (robots.sim.heeding)."""
     state, now = person.step_state, world.t
     if "dwell_until" not in state:
         if step.after_call and not person._called(world):
@@ -570,13 +576,29 @@ def _lead(person: SimPerson, step: Lead, dt: float, world: "World") -> bool:
     if person._distance_to_robot(world) > step.wait_beyond:
         person._face_robot(world)
         return False
+    pace = _heeded_pace(person, state, world)
+    if pace == 0.0:                   # asked to wait: stands for the robot
+        person._face_robot(world)
+        return False
     before = state.get("target", 0)
-    done = _walk_routed(person, list(step.waypoints), dt, world)
+    done = _walk_routed(person, list(step.waypoints), dt, world, speed=pace)
     if state["target"] > before and step.dwell > 0:
         person._face_place(step.waypoints[before], world)
         state["dwell_until"] = now + step.dwell
         return False
     return done
+
+
+def _heeded_pace(person: SimPerson, state: dict, world: "World") -> float | None:
+    """Her pace as her heeding of the robot's asks says (robots.sim.heeding): None her own,
+    0.0 standing for it. What it said before she began to lead is not said to her."""
+    listener = person.heeding
+    if listener is None:
+        return None
+    if "listening" not in state:
+        state["listening"] = True
+        listener.start(world)
+    return listener.pace(person, world)
 
 
 def _sync(person: SimPerson, step: Sync, dt: float, world: "World") -> bool:

@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Union
 
 from robots.exceptions import ScenarioError
+from robots.sim.heeding import ANSWERS, Distribution
 from robots.tomlfile import read_toml
 
 Point = Union[str, tuple[float, float]]          # a place name or (x, y) in metres
@@ -140,6 +141,8 @@ class PersonPlan:
     yielding: float | None = None # 0 .. 1 how much they yield to the robot; None: drawn
     group: str | None = None      # people of one group keep together (robots.sim.crowd)
     looks_like: str | None = None # dressed like this other person (robots.sim.appearance)
+    heeding: str | None = None    # how they answer the robot's "wait for me" when leading it
+                                  # (robots.sim.heeding); None: drawn
 
 
 @dataclass(frozen=True)
@@ -155,6 +158,7 @@ class Scenario:
     head_lines: dict[str, int] | None = None     # line of each [scenario] field, for messages
     motion: str = "social"        # "social": robots.sim.crowd; "scripted": exact paths
     yielding: tuple[float, float] = (2.0, 2.0)   # Beta(a, b) of the people's yielding trait
+    heeding: Distribution = Distribution()       # of their heeding (robots.sim.heeding)
 
     def where(self, person_index: int | None = None) -> str:
         """'file:line' of the scenario or of one person's header, for messages."""
@@ -233,7 +237,7 @@ class _Reader:
         if not isinstance(head, dict):
             raise self.fail("scenario", "must be a table")
         self.check_keys(head, "scenario", {"name", "description", "duration", "robot", "floor",
-                                           "map", "motion", "yielding"})
+                                           "map", "motion", "yielding", "heeding"})
         floor = head.get("floor")
         if floor is not None and (not isinstance(floor, str) or not floor):
             raise self.fail_head("floor", f"= {floor!r} must be a floor name such as "
@@ -261,7 +265,8 @@ class _Reader:
                         description=str(head.get("description", "")),
                         duration=duration, robot=robot, people=people, source=self.path,
                         floor=floor, map=map_path, head_lines=dict(self.head_lines),
-                        motion=self.motion(head), yielding=self.beta(head))
+                        motion=self.motion(head), yielding=self.beta(head),
+                        heeding=self.heeding(head))
 
     def motion(self, head: dict) -> str:
         """How people move: "social" (social forces, never overlapping) or "scripted"."""
@@ -278,6 +283,34 @@ class _Reader:
             raise self.fail_head("yielding", f"= {value!r} must be [a, b], the parameters of a "
                                  "Beta distribution, each 0.05 .. 100")
         return (float(value[0]), float(value[1]))
+
+    def heeding(self, head: dict) -> Distribution:
+        """The distribution people's heeding is drawn from (robots.sim.heeding)."""
+        value = head.get("heeding", {})
+        if not isinstance(value, dict):
+            raise self.fail_head("heeding", f"= {value!r} must be a table such as "
+                                 "{ never = 0.25, slow = 0.5, pace = [0.4, 0.55] }")
+        base = Distribution()
+        unknown = set(value) - set(base.__dataclass_fields__)
+        if unknown:
+            raise self.fail_head("heeding", f"unknown key {sorted(unknown)[0]!r}; allowed: "
+                                 f"{', '.join(base.__dataclass_fields__)}")
+        shares = {}
+        for key in ("never", "slow"):
+            share = value.get(key, getattr(base, key))
+            if not _is_number(share) or not 0.0 <= share <= 1.0:
+                raise self.fail_head("heeding", f"{key} = {share!r} must be a share 0 .. 1")
+            shares[key] = float(share)
+        ranges = {}
+        for key, high in (("pace", 3.0), ("slow_for", 3600.0), ("patience", 3600.0)):
+            pair = value.get(key, list(getattr(base, key)))
+            if (not isinstance(pair, list) or len(pair) != 2
+                    or not all(_is_number(v) and 0.0 < v <= high for v in pair)
+                    or pair[0] > pair[1]):
+                raise self.fail_head("heeding", f"{key} = {pair!r} must be [low, high], "
+                                     f"0 < low <= high <= {high:g}")
+            ranges[key] = (float(pair[0]), float(pair[1]))
+        return Distribution(**shares, **ranges)
 
     def map_path(self, value) -> Path | None:
         """The scenario's `map`: a map_server .yaml, relative to the scenario file's folder."""
@@ -298,7 +331,8 @@ class _Reader:
         if not isinstance(entry, dict):
             raise self.fail(label, "must be a table")
         self.check_keys(entry, label, {"id", "appear", "at", "speed", "exit", "steps", "cart",
-                                       "give_way", "yielding", "group", "looks_like"})
+                                       "give_way", "yielding", "group", "looks_like",
+                                       "heeding"})
         pid = entry.get("id")
         if not isinstance(pid, str) or not pid:
             raise self.fail(f"{label}.id", "is missing (a non-empty string)")
@@ -319,7 +353,15 @@ class _Reader:
             yielding=(self.number(entry, "yielding", f"{label}.yielding", 0.0, 1.0)
                       if "yielding" in entry else None),
             group=self.group(entry, label),
-            looks_like=self.looks_like(entry, label))
+            looks_like=self.looks_like(entry, label),
+            heeding=self.heeds(entry, label))
+
+    def heeds(self, entry: dict, label: str) -> str | None:
+        value = entry.get("heeding")
+        if value is not None and value not in ANSWERS:
+            raise self.fail(f"{label}.heeding", f"= {value!r} must be one of "
+                            f"{', '.join(repr(a) for a in ANSWERS)}")
+        return value
 
     def looks_like(self, entry: dict, label: str) -> str | None:
         value = entry.get("looks_like")

@@ -22,6 +22,7 @@ from robots.profile import RobotProfile
 from robots.sim.appearance import anyone, appearance_of, observed
 from robots.sim.body import Obstacles, UnicycleBody
 from robots.sim.outline import Rectangle
+from robots.sim import heeding
 from robots.sim.crowd import Crowd
 from robots.sim.floor import Floor
 from robots.sim.laser_errors import LaserErrors
@@ -100,6 +101,8 @@ class World:
             self.people = [SimPerson(plan, self.resolve, np.random.default_rng([seed, index]))
                            for index, plan in enumerate(scenario.people)]
         self.crowd = Crowd.for_scenario(self.people, scenario, seed)   # how people move
+        heeding.draw_for(self.people, scenario.heeding if scenario is not None
+                         else heeding.Distribution(), seed)     # do they wait when asked
         self.appearances = {p.plan.id: appearance_of(p.plan.looks_like or p.plan.id)
                             for p in self.people}     # a look-alike dresses like another
         self.screen = ScreenState()

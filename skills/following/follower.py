@@ -27,6 +27,7 @@ import numpy as np
 
 from skills.following.identity import Identity, _Belief
 from skills.following.keeping import Keeping, _approaching
+from skills.following.pace import PaceWatch
 from skills.following.room import Room
 from skills.following.searching import Searching
 from skills.localization import Localization
@@ -145,6 +146,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._matched_t = -math.inf                    # ... and its time
         self.ambiguous = False        # two candidates fit alike (skills.following.score)
         self._said_unsure = False     # said so in this loss
+        self._pace_watch = PaceWatch()   # asks her to wait when she outpaces the robot
 
     # -- the API for behaviors -------------------------------------------------------------
 
@@ -246,6 +248,8 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._looking_since = None
         d = math.hypot(track.x - robot[0], track.y - robot[1])
         speed = self._pace(track, now)
+        self._say(self._pace_watch.seen(now, d - p.distance, min(speed, self._usual_pace),
+                                        self.motion.limits.max_speed), now)
         if self.state.phase == WAITING:     # hysteresis: the tracks' velocity noise is ~0.1 m/s
             stay = d <= p.distance + 0.3 and (speed < 2 * p.standing
                                                 or _approaching(track, robot))
@@ -283,6 +287,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
             self._lost_since = self._belief.t
             self.state = replace(self.state, losses=self.state.losses + 1)
         lost_for = now - self._lost_since
+        self._say(self._pace_watch.lost(now), now)
         seen = (self._belief.x, self._belief.y)
         predicted = self._free_towards(seen, self._where_she_should_be(now)) or seen
         self.motion.followed = None            # unseen: everybody near counts for the speed cap
@@ -317,6 +322,10 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         if not self._said_unsure and self.speech is not None:
             self.speech.say(UNSURE, now)
             self._said_unsure = True
+
+    def _say(self, words: str | None, now: float) -> None:
+        if words and self.speech is not None:
+            self.speech.say(words, now)
 
     # -- the end ---------------------------------------------------------------------------
 
@@ -364,6 +373,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._matched, self._matched_t = None, -math.inf
         self.ambiguous = False
         self._said_unsure = False
+        self._pace_watch = PaceWatch()
 
     def _publish(self, now: float) -> None:
         self.write("following/state", self.state, now)

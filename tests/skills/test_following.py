@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from skills.following import FollowParams, GAVE_UP_REASON, HIDDEN, SEARCHING
+from skills.following import FollowParams, GAVE_UP_REASON, HIDDEN, SEARCHING, pace
 from skills.skillset import open_skills
 
 SCENARIOS = Path(__file__).parent / "scenarios"
@@ -138,3 +138,16 @@ def test_a_customer_hidden_behind_a_stand_in_for_6_s_is_found_again():
     assert log.wrong_person == 0
     assert log.robot_contacts == 0
     assert log.status.running
+
+
+def test_a_customer_faster_than_the_robot_who_waits_when_asked_is_kept_up_with():
+    # the same fast customer, who stops when the robot asks her to wait (store_fast.toml's
+    # never does): it asks as it falls behind, not again within ASK_AGAIN, and keeps up
+    log = follow_in_store("perses", "store_fast_waits.toml", "fiona")
+    asks = [t for t, text in log.said if text == pace.ASK]
+    assert asks, "the robot never asked her to wait"
+    assert all(later - earlier >= pace.ASK_AGAIN for earlier, later in zip(asks, asks[1:]))
+    assert log.status.running                      # not given up
+    assert log.true_distance and log.true_distance[-1] <= 1.6    # with her at the pet food
+    assert log.wrong_person == 0
+    assert log.robot_contacts == 0
