@@ -97,8 +97,10 @@ class Identity:
         gate = self._gate(now - self._belief.t)
         followed = None if self.state.lost else self.state.target
         tracks = [t for t in tracks if self._plausible(t, t.id == followed)]
+        lost = self.state.lost
         same = next((t for t in tracks if t.id == self.state.target
-                     and t.id not in self._others), None)
+                     and t.id not in self._others
+                     and (not lost or self._confirmed_since_the_loss(t))), None)
         if same is not None and same.status == CONFIRMED:      # seen within lost_after (0.35 s)
             # while she is followed the same score decides whether her track is still her
             seen_score, looks_unlike = self._followed_score(same, predicted, gate, now)
@@ -123,6 +125,7 @@ class Identity:
                       and math.hypot(t.x - predicted[0], t.y - predicted[1]) <= gate
                       and (self._look_known or self._born_where_she_could_be(t))
                       and t.id not in self._strangers
+                      and (not lost or self._confirmed_since_the_loss(t))
                       and (t.id not in self._others or self._seen_as_her_since_the_loss(t))]
         velocity = ((self._belief.vx, self._belief.vy)
                     if now - self._belief.t < p.predict_for else (0.0, 0.0))
@@ -130,6 +133,14 @@ class Identity:
         choice, self.ambiguous = score.decide(
             [(score.identity_score(t, predicted, velocity, gate, look), t) for t in candidates])
         return choice                    # None when two fit alike: wait, do not guess
+
+    def _confirmed_since_the_loss(self, track) -> bool:
+        """While she is lost, a track is taken for her only once a sensor that can tell a
+        person (the camera; `Track.confirmed_seen`) has seen it since she was last seen: the
+        tracker re-attaches her coasting track to any detection inside its grown gate, and the
+        laser took the wheels of a cart pushed behind another shopper for her legs, 1 m short
+        of her, for 5 s (HOROS, bench_follow standin8 seed 2, issue 23)."""
+        return track.confirmed_seen is not None and track.confirmed_seen > self._belief.t
 
     @property
     def _look_known(self) -> bool:
