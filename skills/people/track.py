@@ -31,6 +31,10 @@ class Track:
     # histogram, robots.devices.Detection.appearance) and when; None without a camera
     appearance: tuple[float, ...] | None = None
     appearance_t: float | None = None
+    # when a detection from a source that may confirm a person (the camera; every source on a
+    # robot without one) was last assigned to it: laser legs alone (a cart's wheels, a chair)
+    # keep a track alive but say less about who it is
+    confirmed_seen: float | None = None
 
     @property
     def speed(self) -> float:

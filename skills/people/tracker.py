@@ -50,7 +50,7 @@ class _TrackState:
     """A track's filter and its life-cycle counters (internal)."""
 
     __slots__ = ("id", "kf", "hits", "confirming_hits", "born", "confirmed_at", "last_seen",
-                 "status", "appearance", "appearance_t")
+                 "status", "appearance", "appearance_t", "confirmed_seen")
 
     def __init__(self, track_id: int, t: float, xy: np.ndarray, cov: np.ndarray,
                  confirming: bool, params: TrackerParams) -> None:
@@ -73,13 +73,15 @@ class _TrackState:
         self.status = TENTATIVE
         self.appearance: tuple[float, ...] | None = None
         self.appearance_t: float | None = None
+        self.confirmed_seen: float | None = t if confirming else None
 
     def snapshot(self) -> Track:
         x, y, vx, vy = self.kf.x.ravel().tolist()
         return Track(id=self.id, x=x, y=y, vx=vx, vy=vy, cov=self.kf.P[:2, :2].copy(),
                      status=self.status,
                      born=self.born, confirmed_at=self.confirmed_at, last_seen=self.last_seen,
-                     appearance=self.appearance, appearance_t=self.appearance_t)
+                     appearance=self.appearance, appearance_t=self.appearance_t,
+                     confirmed_seen=self.confirmed_seen)
 
 
 class PeopleTracker:
@@ -167,6 +169,8 @@ class PeopleTracker:
         state.hits += 1
         state.confirming_hits += confirming
         state.last_seen = t
+        if confirming:
+            state.confirmed_seen = t
         if state.status == TENTATIVE:
             if self._may_confirm(state):
                 state.status, state.confirmed_at = CONFIRMED, t

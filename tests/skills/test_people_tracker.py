@@ -161,6 +161,16 @@ def test_laser_detections_keep_a_camera_confirmed_track_alive():
     for k in range(5, 40):                                  # the camera loses them for 3.5 s
         tracks = tracker.update(k * 0.1, [(1.0, 0.0, laser, "laser")])
     assert [tr.status for tr in tracks] == [CONFIRMED]
+    # ... but the track says when the camera last saw it (laser legs may be a cart's wheels)
+    assert tracks[0].last_seen == pytest.approx(3.9)
+    assert tracks[0].confirmed_seen == pytest.approx(0.4)
+
+
+def test_without_a_confirming_source_every_detection_confirms_the_person():
+    tracker = PeopleTracker()
+    for k in range(5):
+        (track,) = tracker.update(k * 0.1, [(1.0, 0.0, R, "laser")])
+    assert track.confirmed_seen == track.last_seen == pytest.approx(0.4)
 
 
 def test_the_imm_knows_a_person_who_stopped_is_standing():

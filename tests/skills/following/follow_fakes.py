@@ -48,8 +48,10 @@ def limits():
     return load_profile("perses").limits
 
 
-def track(tid, x, y, t, vx=0.0, vy=0.0, status=CONFIRMED):
-    return Track(tid, x, y, vx, vy, np.eye(2) * 0.01, status, 0.0, 0.0, t)
+def track(tid, x, y, t, vx=0.0, vy=0.0, status=CONFIRMED, camera_seen=None):
+    """A track last seen at `t`, by the camera then too unless `camera_seen` says when."""
+    return Track(tid, x, y, vx, vy, np.eye(2) * 0.01, status, 0.0, 0.0, t,
+                 confirmed_seen=t if camera_seen is None else camera_seen)
 
 
 def follower(speech=None):

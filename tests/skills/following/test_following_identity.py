@@ -273,3 +273,45 @@ def test_a_new_track_where_a_stranger_vanished_long_ago_is_not_ruled_out():
     following.sense(t)
     assert 12 not in following._strangers
     assert not following.state.lost and following.state.target == 12
+
+
+def _lost_for(following, perception, seconds: float) -> float:
+    """Follow track 1 walking at 0.5 m/s along x, then see nobody for `seconds`."""
+    perception.believed = (track(1, 2.0, 0.0, 0.0, vx=0.5),)
+    following.follow(0.0, target=1)
+    following.sense(0.0)
+    t = 0.0
+    while t < seconds - 1e-9:
+        t = round(t + 0.1, 6)
+        perception.believed = ()
+        following.sense(t)
+    assert following.state.lost
+    return t
+
+
+def test_her_lost_track_kept_alive_by_the_laser_alone_is_not_her_until_the_camera_sees_it():
+    # she walks on behind another shopper; after 1.5 s unseen the tracker re-attaches her
+    # coasting track to laser legs near her prediction (a cart's wheels, 1 m short of her): not
+    # her until the camera has seen that track since she was lost (HOROS standin8 seed 2)
+    following, perception = follower()
+    t = _lost_for(following, perception, 1.5)
+    for _ in range(6):                 # legs only: the camera last saw the track before the loss
+        t = round(t + 0.1, 6)
+        perception.believed = (track(1, 2.0 + 0.5 * t - 1.0, 0.0, t, vx=0.5, camera_seen=0.0),)
+        following.sense(t)
+        assert following.state.lost and following.state.phase == HIDDEN
+    t = round(t + 0.1, 6)
+    perception.believed = (track(1, 2.0 + 0.5 * t - 1.0, 0.0, t, vx=0.5),)  # the camera sees it
+    following.sense(t)
+    assert not following.state.lost and following.state.target == 1
+
+
+def test_legs_alone_find_her_again_after_a_short_loss():
+    # in a crowd the camera often cannot see her between the others: within LEGS_TRUSTED_FOR of
+    # the loss her track kept alive by the laser is still her (PERSES crowd10 seed 2)
+    following, perception = follower()
+    t = _lost_for(following, perception, 0.5)
+    t = round(t + 0.1, 6)
+    perception.believed = (track(1, 2.0 + 0.5 * t, 0.0, t, vx=0.5, camera_seen=0.0),)
+    following.sense(t)
+    assert not following.state.lost and following.state.target == 1
