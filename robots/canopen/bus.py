@@ -198,8 +198,10 @@ class LockStepReceiver:
     `receive` reads every frame waiting on the bus (`recv` with timeout 0) and hands each to
     `listeners` in order, as python-can's Notifier would (canopen's MessageListener, `Counted`,
     ...; a listener's or the bus's exception goes to the listeners' `on_error`, and is raised
-    if none has one). `DriverBus` calls it after each frame the emulator took, so an SDO
-    request finds its response queued when `send` returns; the driver's drain calls `drain`.
+    if none has one). `DriverBus` calls it before each frame the driver sends (what is on the
+    bus before ours is handled, and logged, first: the session log is in bus order) and after
+    the emulator took the frame (an SDO request finds its response queued when `send`
+    returns); the driver's `poll` calls `drain`.
 
     One thread reads at a time, and never waits for another to finish: a thread that finds
     the reader busy (another thread, or a listener that sent a frame) leaves its frames to it,
@@ -235,8 +237,8 @@ class LockStepReceiver:
             if self.counter is None or self.counter.backlog() <= 0:
                 return True
             remaining = deadline - time.monotonic()
-            if remaining <= 0:
-                return False
+            if remaining <= 0 or getattr(self.bus, "lost", None) is not None:
+                return False                 # (a bus found lost brings nothing more: no wait)
             self.counter.wait_drained(min(remaining, 0.01))
 
     def _read_waiting(self) -> None:

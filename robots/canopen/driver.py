@@ -30,8 +30,9 @@ Safety:
 On a simulated clock (`for_simulation`) no driver thread runs: `poll()` sends the heartbeat and
 the SYNC in sim time and handles (frames counted by `LockStep`) every frame the emulator sent,
 so a `--fast` run is deterministic; nor does a receiving thread: the frames are read on the
-caller's thread after each send and in `poll()` (`robots.canopen.bus.LockStepReceiver`). In real time a cycle thread sends
-SYNC and the heartbeat, the RPDOs follow each cycle's TPDOs, and the watchdog has its thread.
+caller's thread around each send and in `poll()` (`robots.canopen.bus.LockStepReceiver`). In
+real time a cycle thread sends SYNC and the heartbeat, the RPDOs follow each cycle's TPDOs,
+and the watchdog has its thread.
 """
 from __future__ import annotations
 

@@ -444,3 +444,19 @@ def test_a_lock_step_session_log_is_in_bus_order_and_the_same_every_run(tmp_path
     assert stamps == sorted(stamps)
     assert [row[2] for row in first] == [row[2] for row in second]
     assert len(first) > 300 and any(row[2].startswith("181#") for row in first)
+
+
+def test_in_lock_step_a_bus_gone_is_a_link_fault_and_the_drives_stop_by_themselves(fast):
+    """Read on the driver's thread, a bus that fails (an adapter unplugged) still reaches the
+    listeners' on_error: a link fault, not an exception out of poll(); the drives, no longer
+    hearing the host, quick-stop by themselves."""
+    base, simulation, clock, tick = fast
+    for _ in range(5):
+        base.command(0.3, 0.0)
+        tick()
+    base.network.bus.bus.shutdown()
+    base.command(0.3, 0.0)
+    tick(0.4)                                     # longer than the drives' host heartbeat time-out
+    state = base.read_state()
+    assert not state.link_up and state.extra["fault_device"].startswith("CAN link"), state.extra
+    assert all(d.state is S.QUICK_STOP_ACTIVE for d in base.emulator.drives.values())

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import itertools
 import threading
+import time
 
 import can
 import pytest
@@ -138,3 +139,6 @@ def test_drain_waits_for_the_frames_counted_as_sent(pair):
     assert receiver.drain(1.0) and counter.backlog() == 0
     counter.wrote(1)                                 # counted as sent, never on the bus
     assert not receiver.drain(0.05)
+    bus.lost = can.CanOperationError("adapter gone")  # a bus found lost brings nothing more
+    t0 = time.monotonic()
+    assert not receiver.drain(5.0) and time.monotonic() - t0 < 1.0
