@@ -9,6 +9,11 @@ Why a wrapper: on a simulated clock the driver and the in-process emulator run i
 (`robots.link.LockStep`, counting frames instead of bytes): every frame the driver sends is
 acted on by the emulator before `send` returns. The same wrapper tees every frame sent into
 the session log (python-can buses do not see their own frames).
+
+Why `LockStepReceiver`: in lock-step on the in-process bus the emulator's answers are already
+queued on our bus when `send` returns, so the driver reads them itself, on its own thread,
+instead of a Notifier thread that each frame would have to wake (a hand-over per frame, and a
+wait for the interpreter lock, about a dozen a tick).
 """
 from __future__ import annotations
 
@@ -116,6 +121,8 @@ class DriverBus:
                  log: CandumpLog | None = None, drain_timeout: float = 2.0, wait: bool = True,
                  deliver: Callable[[float], bool] | None = None) -> None:
         self.bus = bus
+        # lock-step on the in-process bus: reads the frames waiting here (LockStepReceiver)
+        self.receive: Callable[[], None] | None = None
         self.counter = counter
         self.wait = wait
         self.deliver = deliver or (counter.wait_drained if counter is not None else None)
@@ -126,6 +133,8 @@ class DriverBus:
         self.lost: Exception | None = None     # set when receiving found the link gone
 
     def send(self, msg: can.Message, timeout: float | None = None) -> None:
+        if self.receive is not None:
+            self.receive()                    # the frames sent before ours first: in bus order
         if self.counter is not None:
             self.counter.wrote(1)
         try:
@@ -146,6 +155,8 @@ class DriverBus:
         if self.wait and self.counter is not None and not self.deliver(self.drain_timeout):
             raise can.CanOperationError("in-process emulator did not take the frame within "
                                         f"{self.drain_timeout} s")
+        if self.receive is not None:
+            self.receive()                    # the emulator's answers: an SDO finds its response
 
     def recv(self, timeout: float | None = None) -> can.Message | None:
         """A lost link (a socketcand peer reset, an adapter gone) raises CanOperationError once,
@@ -179,3 +190,77 @@ class Counted(can.Listener):
 
     def on_message_received(self, msg: can.Message) -> None:
         self.counter.got(1)
+
+
+class LockStepReceiver:
+    """The host side of lock-step on the in-process bus, read on the driver's own thread.
+
+    `receive` reads every frame waiting on the bus (`recv` with timeout 0) and hands each to
+    `listeners` in order, as python-can's Notifier would (canopen's MessageListener, `Counted`,
+    ...; a listener's or the bus's exception goes to the listeners' `on_error`, and is raised
+    if none has one). `DriverBus` calls it before each frame the driver sends (what is on the
+    bus before ours is handled, and logged, first: the session log is in bus order) and after
+    the emulator took the frame (an SDO request finds its response queued when `send`
+    returns); the driver's `poll` calls `drain`.
+
+    One thread reads at a time, and never waits for another to finish: a thread that finds
+    the reader busy (another thread, or a listener that sent a frame) leaves its frames to it,
+    and the reader reads once more before it lets go (`_wanted`). So nothing waits on a lock
+    the reader's listeners may need, and the frames are handled in the order they came."""
+
+    def __init__(self, bus: can.BusABC, listeners: list, counter: ByteCounter | None = None) -> None:
+        self.bus = bus
+        self.listeners = listeners          # the network's list, in the Notifier's order
+        self.counter = counter              # the emulator's frames sent and handled, for `drain`
+        self.handled = 0
+        self._reading = threading.Lock()
+        self._wanted = False
+
+    def receive(self) -> None:
+        """Handle every frame waiting now (or leave them to the thread reading already)."""
+        self._wanted = True
+        while self._wanted:
+            if not self._reading.acquire(blocking=False):
+                return                       # the reader reads again before it lets go
+            try:
+                self._wanted = False
+                self._read_waiting()
+            finally:
+                self._reading.release()
+
+    def drain(self, timeout: float) -> bool:
+        """Handle frames until every one the emulator counted as sent is handled (or `timeout` s
+        passed: a frame still on its way from another thread)."""
+        deadline = time.monotonic() + timeout
+        while True:
+            self.receive()
+            if self.counter is None or self.counter.backlog() <= 0:
+                return True
+            remaining = deadline - time.monotonic()
+            if remaining <= 0 or getattr(self.bus, "lost", None) is not None:
+                return False                 # (a bus found lost brings nothing more: no wait)
+            self.counter.wait_drained(min(remaining, 0.01))
+
+    def _read_waiting(self) -> None:
+        while True:
+            try:
+                msg = self.bus.recv(0.0)
+                if msg is None:
+                    return
+                for listener in self.listeners:
+                    listener.on_message_received(msg)
+                self.handled += 1
+            except Exception as exc:          # as the Notifier: the listeners' on_error, else raise
+                if not self._on_error(exc):
+                    raise
+
+    def _on_error(self, exc: Exception) -> bool:
+        handled = False
+        for listener in self.listeners:
+            if hasattr(listener, "on_error"):
+                try:
+                    listener.on_error(exc)
+                except NotImplementedError:
+                    continue
+                handled = True
+        return handled

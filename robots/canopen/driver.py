@@ -28,9 +28,11 @@ Safety:
   when the host dies (0x1016, 0x6007 = 3).
 
 On a simulated clock (`for_simulation`) no driver thread runs: `poll()` sends the heartbeat and
-the SYNC in sim time and waits (frames counted by `LockStep`) until every frame the emulator
-sent has been handled, so a `--fast` run is deterministic. In real time a cycle thread sends
-SYNC and the heartbeat, the RPDOs follow each cycle's TPDOs, and the watchdog has its thread.
+the SYNC in sim time and handles (frames counted by `LockStep`) every frame the emulator sent,
+so a `--fast` run is deterministic; nor does a receiving thread: the frames are read on the
+caller's thread around each send and in `poll()` (`robots.canopen.bus.LockStepReceiver`). In
+real time a cycle thread sends SYNC and the heartbeat, the RPDOs follow each cycle's TPDOs,
+and the watchdog has its thread.
 """
 from __future__ import annotations
 
@@ -50,7 +52,7 @@ from robots.base import Base, BaseState, clamp_velocity
 from robots.canopen import protocol as p
 from robots.canopen.startup import DriveStartUp, StartupError
 from robots.canopen.stopping import DriveStopping
-from robots.canopen.bus import CandumpLog, Counted, DriverBus, open_bus, parse_port
+from robots.canopen.bus import CandumpLog, Counted, DriverBus, LockStepReceiver, open_bus, parse_port
 from robots.canopen.od import drive_dictionary
 from robots.canopen.wheels import DriveConfig, Odometry
 from robots.link.arrival import StampedArrival
@@ -88,6 +90,7 @@ class CanOpenBase(DriveStartUp, DriveStopping, Base):
                                         name="canopen-watchdog", time_source=self._time)
         self.emulator = None
         self.network: canopen.Network | None = None
+        self.receiver: LockStepReceiver | None = None   # lock-step: the bus read on our thread
         self.remote: dict[int, canopen.RemoteNode] = {}
         self.can_log: CandumpLog | None = None
         self.odometry = Odometry(c)
@@ -329,6 +332,7 @@ class CanOpenBase(DriveStartUp, DriveStopping, Base):
             self.can_log = CandumpLog(self.can_log_path, self.spec.channel)
         if self.lockstep is not None:
             self.lockstep.reset()
+        self.receiver = None
         network = canopen.Network()
         network.NOTIFIER_CYCLE = NOTIFIER_CYCLE          # close() returns promptly
         network.bus = DriverBus(bus, self.lockstep.to_device if self.lockstep else None, self.can_log,
@@ -349,8 +353,19 @@ class CanOpenBase(DriveStartUp, DriveStopping, Base):
         if self.config.sonar_node and self.config.sonars:
             for k in range(0, self.config.sonars, 4):
                 network.subscribe(p.TPDO_BASE[k // 4] + self.config.sonar_node, self._on_sonar)
-        network.connect()
+        if self._reads_on_own_thread():
+            self.receiver = LockStepReceiver(network.bus, network.listeners, self.lockstep.to_host)
+            network.bus.receive = self.receiver.receive
+            network.send_lock = threading.RLock()   # a listener may answer within the send
+        else:
+            network.connect()                       # python-can's Notifier thread reads the bus
         self.network = network
+
+    def _reads_on_own_thread(self) -> bool:
+        """Lock-step on the in-process virtual bus: the emulator's frames are queued there by
+        the time our `send` returns, so this thread reads them (`LockStepReceiver`). Anywhere
+        else (real time, socketcand, an adapter) frames arrive on their own time: a Notifier."""
+        return self.lockstep is not None and self.simulated and self.spec.interface == "virtual"
 
     def _start_up(self) -> None:
         """Reset, configure, start, enable: §2 of the protocol notes, checked at each step."""
@@ -497,7 +512,7 @@ class CanOpenBase(DriveStartUp, DriveStopping, Base):
                 self._send_targets()
                 self.fault_log.append({"reason": "watchdog", "t_zero": time.monotonic()})
 
-    # -- receiving (canopen's notifier thread) --------------------------------------------------------
+    # -- receiving (canopen's notifier thread; in lock-step the caller's: LockStepReceiver) ------------
     def _on_heartbeat(self, can_id: int, data: bytes, timestamp: float) -> None:
         node = can_id - p.HEARTBEAT_BASE
         try:
@@ -684,7 +699,13 @@ class CanOpenBase(DriveStartUp, DriveStopping, Base):
                 self._act_on_faults()
 
     def _drain(self, deadline: float) -> None:
-        if not self.lockstep.to_host.wait_drained(max(0.0, deadline - time.monotonic())):
+        """Until every frame the emulator sent is handled: read here, or waited for."""
+        timeout = max(0.0, deadline - time.monotonic())
+        if self.receiver is not None:
+            done = self.receiver.drain(timeout)
+        else:
+            done = self.lockstep.to_host.wait_drained(timeout)
+        if not done:
             self.last_error = "emulator frames did not arrive in time"
 
     def _cycle_loop(self) -> None:

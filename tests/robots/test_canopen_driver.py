@@ -394,3 +394,69 @@ def test_in_lock_step_the_emulator_handles_frames_on_the_drivers_thread(fast):
     tick()
     assert handled and all(thread is threading.current_thread() for thread in handled)
     assert base.lockstep.to_device.backlog() == 0
+
+
+def test_in_lock_step_the_driver_reads_the_bus_on_its_own_thread():
+    """No Notifier thread on the host side either: each frame the emulator sends is handled
+    on the caller's thread, after the driver's send (an SDO finds its answer queued at once)
+    or in poll()."""
+    import threading
+    before = set(threading.enumerate())
+    clock = SimClock()
+    simulation = Simulation(ARGOS, None, 0, clock)
+    base = CanOpenBase.for_simulation(ARGOS, simulation, clock)
+    base.open()
+    try:
+        started = [t.name for t in set(threading.enumerate()) - before if t.is_alive()]
+        assert not [name for name in started if "Notifier" in name], started
+        assert base.network.notifier is None and base.receiver is not None
+        handled = []
+        base.network.subscribe(p.tpdo_id(1, 1), lambda *frame: handled.append(threading.current_thread()))
+        simulation.advance(clock.advance(0.1))
+        base.poll()
+        assert handled and all(thread is threading.current_thread() for thread in handled)
+        t0 = time.monotonic()
+        assert p.state_of(base._sdo_read(1, p.STATUSWORD, 0, "statusword")) is S.OPERATION_ENABLED
+        assert time.monotonic() - t0 < base.config.sdo_timeout       # answered, not timed out
+        assert base.lockstep.to_host.backlog() == 0
+    finally:
+        base.close()
+
+
+def test_a_lock_step_session_log_is_in_bus_order_and_the_same_every_run(tmp_path):
+    """Read on the driver's thread, the emulator's frames are logged when they are on the bus
+    (a Notifier thread logged them whenever it got to them): the log's stamps never go back,
+    and two runs log the same frames in the same order."""
+    def session(path) -> list[list[str]]:
+        clock = SimClock()
+        simulation = Simulation(ARGOS, None, 0, clock)
+        base = CanOpenBase.for_simulation(ARGOS, simulation, clock)
+        base.can_log_path = str(path)
+        base.open()
+        for i in range(20):
+            base.command(0.2 if i < 12 else 0.0, 0.1)
+            simulation.advance(clock.advance(0.1))
+            base.poll()
+        base.close()
+        return [line.split() for line in path.read_text().splitlines()]
+    first, second = session(tmp_path / "first.log"), session(tmp_path / "second.log")
+    stamps = [float(row[0].strip("()")) for row in first]
+    assert stamps == sorted(stamps)
+    assert [row[2] for row in first] == [row[2] for row in second]
+    assert len(first) > 300 and any(row[2].startswith("181#") for row in first)
+
+
+def test_in_lock_step_a_bus_gone_is_a_link_fault_and_the_drives_stop_by_themselves(fast):
+    """Read on the driver's thread, a bus that fails (an adapter unplugged) still reaches the
+    listeners' on_error: a link fault, not an exception out of poll(); the drives, no longer
+    hearing the host, quick-stop by themselves."""
+    base, simulation, clock, tick = fast
+    for _ in range(5):
+        base.command(0.3, 0.0)
+        tick()
+    base.network.bus.bus.shutdown()
+    base.command(0.3, 0.0)
+    tick(0.4)                                     # longer than the drives' host heartbeat time-out
+    state = base.read_state()
+    assert not state.link_up and state.extra["fault_device"].startswith("CAN link"), state.extra
+    assert all(d.state is S.QUICK_STOP_ACTIVE for d in base.emulator.drives.values())
