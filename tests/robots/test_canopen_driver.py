@@ -180,19 +180,24 @@ def test_the_drives_quick_stop_by_themselves_when_the_host_stops(fast):
     assert "heartbeat" in state.extra["fault"]
 
 
-def test_candump_log_of_a_session(tmp_path):
-    path = tmp_path / "session.log"
+def logged_session(path, commands) -> list[str]:
+    """The candump log of a simulated ARGOS session driven by `commands` ((v, w) per 0.1 s)."""
     clock = SimClock()
     simulation = Simulation(ARGOS, None, 0, clock)
     base = CanOpenBase.for_simulation(ARGOS, simulation, clock)
     base.can_log_path = str(path)
     base.open()
-    for _ in range(5):
-        base.command(0.2, 0.0)
+    for v, w in commands:
+        base.command(v, w)
         simulation.advance(clock.advance(0.1))
         base.poll()
     base.close()
-    lines = path.read_text().splitlines()
+    return path.read_text().splitlines()
+
+
+def test_candump_log_of_a_session(tmp_path):
+    path = tmp_path / "session.log"
+    lines = logged_session(path, [(0.2, 0.0)] * 5)
     pattern = re.compile(r"^\(\d+\.\d{6}\) \S+ [0-9A-F]{3}#[0-9A-F]*$")
     assert lines and all(pattern.match(line) for line in lines), lines[:3]
     frames = [line.split()[2] for line in lines]
@@ -428,17 +433,8 @@ def test_a_lock_step_session_log_is_in_bus_order_and_the_same_every_run(tmp_path
     (a Notifier thread logged them whenever it got to them): the log's stamps never go back,
     and two runs log the same frames in the same order."""
     def session(path) -> list[list[str]]:
-        clock = SimClock()
-        simulation = Simulation(ARGOS, None, 0, clock)
-        base = CanOpenBase.for_simulation(ARGOS, simulation, clock)
-        base.can_log_path = str(path)
-        base.open()
-        for i in range(20):
-            base.command(0.2 if i < 12 else 0.0, 0.1)
-            simulation.advance(clock.advance(0.1))
-            base.poll()
-        base.close()
-        return [line.split() for line in path.read_text().splitlines()]
+        commands = [(0.2 if i < 12 else 0.0, 0.1) for i in range(20)]
+        return [line.split() for line in logged_session(path, commands)]
     first, second = session(tmp_path / "first.log"), session(tmp_path / "second.log")
     stamps = [float(row[0].strip("()")) for row in first]
     assert stamps == sorted(stamps)
