@@ -212,7 +212,6 @@ class LockStepReceiver:
         self.bus = bus
         self.listeners = listeners          # the network's list, in the Notifier's order
         self.counter = counter              # the emulator's frames sent and handled, for `drain`
-        self.handled = 0
         self._reading = threading.Lock()
         self._wanted = False
 
@@ -249,7 +248,6 @@ class LockStepReceiver:
                     return
                 for listener in self.listeners:
                     listener.on_message_received(msg)
-                self.handled += 1
             except Exception as exc:          # as the Notifier: the listeners' on_error, else raise
                 if not self._on_error(exc):
                     raise

@@ -4,9 +4,9 @@ of each person, drawn from the scenario's distribution, as their yielding is
 
 The simulated world learns what the robot said as visitors do: every utterance is in
 `world.utterances`, and any of them counts. While a person leads the robot (a `lead` step)
-and walks on, what the robot says from farther than CALL_DISTANCE (nearer, it is talking to
-her face to face) and within HEAR (the range visitors hear a call from) she takes as "wait
-for me"; farther away she does not hear it. How she answers is her trait:
+and walks on, what the robot says from farther than `people.CALL_DISTANCE` (nearer, it is
+talking to her face to face) and within `visitors.HEAR` (the range visitors hear a call from)
+she takes as "wait for me"; farther away she does not hear it. How she answers is her trait:
 
 - ``never``: she walks on as before (she did not hear it over the store, or does not care);
 - ``slow``: she walks at her slowed `pace` for `slow_for` s, then at her own pace again;
@@ -41,8 +41,6 @@ if TYPE_CHECKING:
     from robots.sim.world import World
 
 ANSWERS = ("never", "slow", "wait")
-HEAR = 7.0              # m: farther away the robot's words are not heard (as visitors.HEAR)
-CALL_DISTANCE = 1.5     # m: nearer, the robot talks to her face to face (as people.py's)
 WAITED = 2.0            # m: a waiting person walks on once the robot is this near
 HEED_STREAM = 0x4EED    # seeds each person's heeding generator with the run's seed and index
 
@@ -100,12 +98,13 @@ class Listener:
         """She begins to lead: what the robot said before is not said to her now."""
         self._seen = len(world.utterances)
 
-    def pace(self, person: "SimPerson", world: "World") -> float | None:
-        """The speed to lead at now: None her own, 0.0 stand (waiting for the robot)."""
+    def pace(self, person: "SimPerson", world: "World", in_earshot: bool) -> float | None:
+        """The speed to lead at now: None her own, 0.0 stand (waiting for the robot).
+        `in_earshot`: what the robot says now reaches her as a call (`robots.sim.people`)."""
         distance = math.hypot(world.body.x - person.x, world.body.y - person.y)
         said = len(world.utterances) - self._seen
         self._seen = len(world.utterances)
-        if said and CALL_DISTANCE < distance <= HEAR:
+        if said and in_earshot:
             self.heard += 1
             self.asked_at = world.t
         if self.asked_at is None:

@@ -598,7 +598,8 @@ def _heeded_pace(person: SimPerson, state: dict, world: "World") -> float | None
     if "listening" not in state:
         state["listening"] = True
         listener.start(world)
-    return listener.pace(person, world)
+    distance = person._distance_to_robot(world)
+    return listener.pace(person, world, CALL_DISTANCE < distance <= visitors.HEAR)
 
 
 def _sync(person: SimPerson, step: Sync, dt: float, world: "World") -> bool:

@@ -10,7 +10,8 @@ import pytest
 from robots.exceptions import ScenarioError
 from robots.profile import load_profile
 from robots.sim.floor import load_floor
-from robots.sim.heeding import HEAR, Distribution, draw
+from robots.sim.heeding import Distribution, draw
+from robots.sim.visitors import HEAR
 from robots.sim.scenario import parse_scenario
 from robots.sim.world import World
 
