@@ -9,10 +9,11 @@ Each particle is a pose hypothesis (x, y, th) in the map frame with a weight. Pe
 2. **Measurement** (`beam_log_likelihood`): every used beam's end point is placed on the map
    from every particle; its likelihood is a Gaussian of the distance from that point to the
    nearest wall (the likelihood field, read from `GridMap.distance_field`) mixed with a
-   uniform term for people and clutter; with `BeamModel.z_short` set (off by default), once
-   converged, a laser beam that ends well before the map's wall seen from the estimate (a
-   person, a cart) is scored by a flatter field (`short_likelihood_field`), so people beside
-   shelves drag the estimate less. Beams without an echo (max range) carry no weight;
+   uniform term for people and clutter. Once converged, a laser beam that ends well before
+   the map's wall seen from the estimate (a person, a cart) weighs no particle
+   (`BeamModel.skip_short`, the laser's default), or, with `BeamModel.z_short` set instead, is
+   scored by a flatter field (`short_likelihood_field`), so people beside shelves do not drag
+   the estimate towards the shelves. Beams without an echo (max range) carry no weight;
    the laser is subsampled. The log likelihoods are summed and tempered (`BeamModel.weight`),
    because neighbouring beams are not independent and an untempered filter grows
    overconfident at 10 Hz.
@@ -76,16 +77,30 @@ class BeamModel:
                                 # unmapped is scored by the likelihood field mixed with this
                                 # density (`short_likelihood_field`), so it pulls a particle
                                 # only a little; None: it weighs as any other beam
+    skip_short: bool = False    # once converged, a beam cut short by something unmapped
+                                # weighs no particle (as ROS amcl's beam skipping)
+
+    def __post_init__(self) -> None:
+        if self.skip_short and self.z_short is not None:
+            raise ValueError(f"{self.name} model: short beams are either skipped (skip_short) "
+                             f"or weighed through a flatter field (z_short={self.z_short}), "
+                             "not both")
 
 
-def laser_model(max_range: float, beams: int = 36, z_short: float | None = None) -> BeamModel:
-    """The laser's model. `z_short` (e.g. Z_SHORT) weighs beams cut short through the flatter
-    field once converged; off by default: on PERSES it cost the quiet bench_follow families
-    3.5-16 points (base 89.4 -> 73.5 % pooled, seeds 0-2) with the position right, while the
-    corner rule (`_long_all_round`) alone kept crowd10's position (docs/shopping.md)."""
+def laser_model(max_range: float, beams: int = 36, z_short: float | None = None,
+                skip_short: bool | None = None) -> BeamModel:
+    """The laser's model. By default (`skip_short`) a converged filter leaves the beams cut
+    short by something unmapped out of the weights: weighed through the full likelihood field,
+    a dozen beams on two shoppers beside a shelf dragged PERSES's estimate 0.2 m towards the
+    shelf while it turned on the spot, the fit then fell, the recovery's re-drawn particles
+    won 2-4 m away and the follower took another track (bench_follow fastwait seed 2, issue
+    23). `z_short` (e.g. Z_SHORT) weighs them through a flatter field instead (it still pulls a
+    little; it cost the quiet bench_follow families 3.5-16 points on PERSES, docs/shopping.md);
+    `skip_short=False` with no `z_short` weighs them as any other beam."""
+    skip = z_short is None if skip_short is None else skip_short
     return BeamModel("laser", sigma=0.10, max_range=max_range, beams=beams, weight=0.3,
                      fit_distance=0.2, lost_fit=0.6, found_fit=0.8, short_margin=0.2,
-                     z_short=z_short)
+                     z_short=z_short, skip_short=skip)
 
 
 def sonar_model(max_range: float, cone: float = math.radians(30)) -> BeamModel:
@@ -370,6 +385,8 @@ class MonteCarloLocalization:
         self._track_likelihood(per_beam)
         if self._weighs_short(long):
             weighed = loglik.sum(axis=1)
+        elif self.model.skip_short:     # the short beams say nothing about the pose
+            weighed = loglik[:, mapped].sum(axis=1)
         else:                       # the short beams through their own, flatter, field
             weighed = loglik[:, mapped].sum(axis=1) + self._beam_log_likelihood(
                 self.particles, beam_poses[~mapped], ranges[~mapped],
@@ -385,9 +402,9 @@ class MonteCarloLocalization:
 
     def _weighs_short(self, long: np.ndarray) -> bool:
         """Whether beams cut short by something unmapped weigh the particles through the full
-        likelihood field. All do unless the model sets `z_short` (off by default, see
-        `laser_model`); with it, a laser's do not once the filter has converged (they go through
-        `short_likelihood_field`): a person or a cart a little in front of a shelf scores best
+        likelihood field. All do unless the model skips them (`skip_short`, the laser's default,
+        see `laser_model`) or sets `z_short`; then a laser's do not once the filter has converged
+        (they weigh nothing, or go through `short_likelihood_field`): a person or a cart a little in front of a shelf scores best
         from a pose nearer the shelf, so such beams dragged the estimate 0.3 m off beside a
         shopper and a cart and then 3 m into the next aisle (issue 23). Converging, lost, or
         with beams `long` beyond the map's walls (more than MIN_LONG_SHARE: no obstacle makes
@@ -396,7 +413,8 @@ class MonteCarloLocalization:
         beams are short and the few left fit poorly. A sonar's always count (left out, its wide
         cones converged from a wrong start in 6.7 s instead of 4.3, bench_localization
         --sonar)."""
-        return (self.model.z_short is None or self.w_slow is None or self.lost
+        leaves_out = self.model.skip_short or self.model.z_short is not None
+        return (not leaves_out or self.w_slow is None or self.lost
                 or float(long.mean()) > MIN_LONG_SHARE)
 
     def _beam_log_likelihood(self, particles, beam_poses, ranges, lookup=None) -> np.ndarray:
