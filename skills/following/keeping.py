@@ -37,9 +37,8 @@ class Keeping:
     def _give_way(self, robot, now: float) -> None:
         """Anybody (the customer too) walking at the robot inside `min_distance` makes it
         back off, facing them (`skills.giving_way`); whatever the phase wanted waits. Only
-        those whose course meets the robot count: among twenty crossing shoppers, backing off
-        from each one walking past it obliquely dropped its way every second or two, and it
-        stood among them until it gave her up (crowd20, issue 23)."""
+        those whose course meets the robot count: a crosser walking past it inside the
+        minimum, partly towards it, made it back off and drop its way (crowd20, issue 23)."""
         seen = [t for t in self.perception.believed
                 if t.status == CONFIRMED and _walking_at(t, robot)]
         intruder = giving_way.closing_in(seen, robot, self.params.min_distance)
