@@ -294,8 +294,8 @@ class Searching:
         she can have walked since she vanished (her usual pace) and a straight line the
         robot fits on runs, along the direction within WALK_ON_SPREAD of her heading that runs
         furthest (up an aisle she walked into: the detector sees 5 m of a 10 m aisle, and the
-        robot looked from its mouth while she walked on beyond, crowd20 seeds 0 and 2). None
-        when she stood, or when it would not reach MERGE beyond the place."""
+        robot looked from its mouth while she walked on beyond, crowd20 seeds 0 and 2). No
+        place is added when she stood, or when it would not lie MERGE beyond this one."""
         heading = self._heading()
         if self.navigation is None or heading is None or self._lost_since is None \
                 or self._belief.speed < self.params.standing:
