@@ -6,7 +6,8 @@ stands, and give way to anybody who walks at the robot.
   matches hers plus a correction for the distance error; walking, it keeps half its stopping
   distance beyond `distance`. Never closer than `min_distance`: the safety arbiter refuses to
   drive at anybody inside it while following, and anybody (the customer too) walking at the
-  robot inside it makes it back off (`skills.giving_way`).
+  robot inside it makes it back off (`skills.giving_way`); somebody whose course passes the
+  robot's body by (`_walking_at`) is passing, not walking at it.
 - **waiting**: she stands (or comes closer) within reach: the robot faces her and closes in
   slowly to half its stopping distance inside `distance` (backing off to it, where it can see
   behind, when a search left it closer).
@@ -25,6 +26,9 @@ from skills.people.track import CONFIRMED
 BRAKE = 0.8               # share of the base's max_accel counted on for stopping
 LATENCY_MARGIN = 0.1      # m covered before a stop command takes effect (a tick or two)
 CREEP = 0.2               # m/s at most, closing in on a customer who stands
+PASS_HORIZON = 1.5        # s a person's course is run on to see whether it meets the robot
+PASS_CLEAR = 0.6          # m, centre to centre: a course that stays this far off passes the
+                          # robot by (its 0.26 m radius, a person's 0.25 m and 0.1 m)
 
 
 class Keeping:
@@ -32,8 +36,11 @@ class Keeping:
 
     def _give_way(self, robot, now: float) -> None:
         """Anybody (the customer too) walking at the robot inside `min_distance` makes it
-        back off, facing them (`skills.giving_way`); whatever the phase wanted waits."""
-        seen = [t for t in self.perception.believed if t.status == CONFIRMED]
+        back off, facing them (`skills.giving_way`); whatever the phase wanted waits. Only
+        those whose course meets the robot count: a crosser walking past it inside the
+        minimum, partly towards it, made it back off and drop its way (crowd20, issue 23)."""
+        seen = [t for t in self.perception.believed
+                if t.status == CONFIRMED and _walking_at(t, robot)]
         intruder = giving_way.closing_in(seen, robot, self.params.min_distance)
         if intruder is None:
             return
@@ -136,6 +143,16 @@ class Keeping:
                                                                                 "failed"):
             self.navigation.cancel(now)
         self._goal = None
+
+
+def _walking_at(track, robot) -> bool:
+    """Whether the track's straight course over the next PASS_HORIZON s comes within
+    PASS_CLEAR of the robot's centre (a passer-by's stays off it, however much of their
+    velocity points at the robot on the way)."""
+    rx, ry = track.x - robot[0], track.y - robot[1]
+    v2 = track.vx * track.vx + track.vy * track.vy
+    t = 0.0 if v2 == 0.0 else min(max(-(rx * track.vx + ry * track.vy) / v2, 0.0), PASS_HORIZON)
+    return math.hypot(rx + track.vx * t, ry + track.vy * t) < PASS_CLEAR
 
 
 def _approaching(track, robot) -> bool:

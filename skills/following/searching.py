@@ -71,6 +71,12 @@ HIDDEN_BY = 0.35          # m: a tracked person this near the line of sight hide
 AT_PLACE = 0.6            # m: ... unless standing this near the place itself
 SEARCH_BLOCKED = 5.0      # s without getting WAY_PROGRESS nearer a place before the search
 WAY_PROGRESS = 0.3        # m   goes on (a blocked way, backing off from someone, a crowd)
+PREDICTED = "where she should be"
+AHEAD = f"{SEARCH_AHEAD:.0f} m on along her way"
+FURTHER = "further along her way"
+WALK_ON_SPREAD = math.radians(30)   # directions tried either side of her heading (a trail's
+WALK_ON_STEP = math.radians(5)      # heading runs some degrees off the aisle she walked up)
+WALK_ON_MAX = 10.0        # m at most beyond the place looked at
 
 
 @dataclass(frozen=True)
@@ -99,11 +105,11 @@ def search_plan(predicted, seen, heading, ends, walk=None, ahead=None,
     least walk plus cost, was tried and not kept: on HOROS crowd10 seed 2 it turned the robot
     back to aisle A5's south end 5.2 m short of her, who stood on up aisle A4.)"""
     walk = walk or (lambda x, y: math.hypot(x - seen[0], y - seen[1]))
-    plan = [Lookout(predicted[0], predicted[1], _along(heading), "where she should be")]
+    plan = [Lookout(predicted[0], predicted[1], _along(heading), PREDICTED)]
     candidates = []
     if ahead is not None:
         candidates.append((_cost(ahead, seen, heading, walk, course), Lookout(
-            ahead[0], ahead[1], _along(heading), f"{SEARCH_AHEAD:.0f} m on along her way")))
+            ahead[0], ahead[1], _along(heading), AHEAD)))
     for name, x, y, th in ends:
         cost = _cost((x, y), seen, heading, walk, course)
         if cost is not None:
@@ -255,7 +261,7 @@ class Searching:
             return
         if not self._arrived(goal, lookout, robot, now):
             if self._no_way(goal, robot, now):
-                self._done_with(lookout)
+                self._done_with(lookout, looked=False)
                 return
             self._drive_to(goal, self.navigation.limits.max_speed if self.navigation else 0.4,
                            now)
@@ -267,9 +273,12 @@ class Searching:
         self._viewed[self._plan_index] = LOOK_DWELL
         self._done_with(lookout)
 
-    def _done_with(self, lookout) -> None:
+    def _done_with(self, lookout, looked: bool = True) -> None:
         """On from the current place (looked at, or its way blocked): the plan expands when
-        its last place is done."""
+        its last place is done. A place on her way looked at without her leads on along it
+        first (`_walk_on`)."""
+        if looked and lookout.why in (PREDICTED, AHEAD, FURTHER):
+            self._walk_on(lookout)
         if self._plan_index + 1 >= len(self._plan):
             seen = (self._belief.x, self._belief.y)
             pose = self.localization.state
@@ -279,6 +288,50 @@ class Searching:
                                                self._lookouts(STOP_PREFIX), start,
                                                self._walking_from))
         self._next_lookout()
+
+    def _walk_on(self, lookout) -> None:
+        """She walked on: the next place is further along her way from `lookout`, as far as
+        she can have walked since she vanished (her usual pace) and a straight line the
+        robot fits on runs, along the direction within WALK_ON_SPREAD of her heading that runs
+        furthest (up an aisle she walked into: the detector sees 5 m of a 10 m aisle, and the
+        robot looked from its mouth while she walked on beyond, crowd20 seeds 0 and 2). No
+        place is added when she stood, or when it would not lie MERGE beyond this one."""
+        heading = self._heading()
+        if self.navigation is None or heading is None or self._lost_since is None \
+                or self._belief.speed < self.params.standing:
+            return
+        seen = (self._belief.x, self._belief.y)
+        now = self._view_t if self._view_t is not None else self._lost_since
+        reach = self._usual_pace * max(now - self._lost_since, 0.0) \
+            - math.hypot(lookout.x - seen[0], lookout.y - seen[1])
+        reach = min(reach, WALK_ON_MAX)
+        if reach < MERGE:
+            return
+        base = math.atan2(heading[1], heading[0])
+        best = None
+        for k in range(int(round(WALK_ON_SPREAD / WALK_ON_STEP)) + 1):
+            for sign in ((1,) if k == 0 else (1, -1)):
+                th = base + sign * k * WALK_ON_STEP
+                end = self._clear_run((lookout.x, lookout.y), th, reach)
+                if end is not None and (best is None or end[0] > best[0] + 1e-9):
+                    best = (end[0], end[1], th)
+        if best is None or best[0] < MERGE:
+            return
+        (x, y), th = best[1], best[2]
+        at = self._plan_index + 1
+        self._plan.insert(at, Lookout(x, y, (th,), FURTHER))
+        self._viewed = {k if k < at else k + 1: v for k, v in self._viewed.items()}
+
+    def _clear_run(self, start, th: float, reach: float):
+        """(metres, (x, y)): how far from `start` along `th`, up to `reach`, the robot fits
+        and the map's line stays clear, in 0.25 m steps; None when not a step."""
+        last = None
+        for k in range(1, int(reach / 0.25) + 1):
+            x, y = start[0] + k * 0.25 * math.cos(th), start[1] + k * 0.25 * math.sin(th)
+            if not self._free(x, y) or not self._clear_line(start, (x, y)):
+                break
+            last = (k * 0.25, (x, y))
+        return last
 
     def _watch(self, robot, now: float) -> None:
         """Count the time each place of the plan is in view (with a map only: see the

@@ -44,6 +44,26 @@ def test_anybody_walking_at_the_robot_inside_the_minimum_makes_it_back_off_facin
     assert following.motion.min_person_distance < 0.8             # the default again
 
 
+def test_a_shopper_walking_past_inside_the_minimum_is_passing_not_walking_at_the_robot():
+    """crowd20 (issue 23): backing off from every crosser walking obliquely past it (their
+    velocity partly towards the robot, their course 0.7 m off its centre) dropped its way
+    every second or two among twenty crossers. Somebody whose course meets it still counts."""
+    following, perception = follower()
+    perception.believed = (track(1, 1.2, 0.0, 0.0),)             # she waits 1.2 m ahead
+    following.follow(0.0, target=1)
+    following.sense(0.0)
+    passing = track(2, 0.7, -0.35, 0.1, vy=1.0)                  # 0.78 m off, closing 0.45 m/s
+    perception.believed = (track(1, 1.2, 0.0, 0.1), passing)
+    following.sense(0.1)
+    goal = following.motion.goal
+    assert goal is None or goal.kind != "back_off"                # it keeps what it did
+    coming = track(2, 0.5, -0.5, 0.2, vx=-0.5, vy=0.5)           # the same distance, at it
+    perception.believed = (track(1, 1.2, 0.0, 0.2), coming)
+    following.sense(0.2)
+    goal = following.motion.goal
+    assert goal.kind == "back_off" and goal.bearing == pytest.approx(-math.pi / 4)
+
+
 class Navigation:
     """Records goals and speeds; `phase` is what the test says navigation is doing."""
     def __init__(self):

@@ -242,3 +242,31 @@ def test_the_further_places_include_where_shoppers_stand_visited_as_a_walk_from_
         points = [(5.0, 5.0)] + [(q.x, q.y) for q in places]
         return sum(math.hypot(b[0] - a[0], b[1] - a[1]) for a, b in zip(points, points[1:]))
     assert length(walk) < 0.8 * length(outwards)      # not to and fro across the store
+
+
+def test_a_place_on_her_way_looked_at_without_her_leads_on_up_the_aisle_she_walked_into():
+    """crowd20 seed 2 (issue 23): held in a crowd, the robot reached where she should be, at
+    the south end of aisle A4, 15 s after she vanished walking up it; the detector sees 5 m
+    of the 10 m aisle, she stood 7 m further up, and the plan turned back to the aisle's
+    south end behind her. A place on her way looked at without her leads on along it, as far
+    as she can have walked, up the aisle though her trail ran 11 degrees off its axis."""
+    following, perception = follower(Speech())
+    following.navigation = Navigation()
+    following.localization.state = Pose(14.0, 4.75, NORTH)     # in the front aisle
+    for k in range(21):                    # she walks up aisle A4, a little east of north
+        t = 0.1 * k
+        perception.believed = (track(1, 14.0 + 0.1 * t, 7.0 + 0.5 * t, t, vx=0.1, vy=0.5),)
+        if k == 0:
+            following.follow(0.0, target=1, give_up_after=60.0)
+        following.sense(t)
+    perception.believed = ()
+    now = _search_for(following, 2.0, 4.5)
+    assert following.state.phase == SEARCHING and following._plan_index == 0
+    following._lost_since -= 12.0                              # as if held 12 s longer
+    following.localization.state = Pose(14.2, 8.5, NORTH)      # at last where she should be
+    _search_for(following, now, 2.0)
+    lookout = following._plan[following._plan_index]
+    assert lookout.why == "further along her way"
+    assert abs(lookout.x - 14.2) < 0.5 and lookout.y > 15.0     # up the aisle, not into a shelf
+    assert abs(lookout.bearings[0] - NORTH) < 0.1
+    assert following._search_goal == (lookout.x, lookout.y)
