@@ -23,8 +23,9 @@ Against the simulator's ground truth it reports:
 - the minimum clearance (gap between outlines) to the other shoppers, and collisions (contacts
   with the robot moving; contacts of a person walking into a standing robot apart). A contact
   with the robot moving is further split by who closed in: the robot drove into the person (or
-  cart) if its speed towards them was the larger, else the person walked into the robot while
-  it turned or crept (simulated shoppers do not give way, docs/scenarios.md);
+  cart) if it closed the gap between their outlines (HOROS's rectangle, not its centre) the
+  faster, else the person walked into the robot while it turned or crept (simulated shoppers
+  do not give way, docs/scenarios.md);
 - the time the robot's own position estimate (localization) is 0.5 m or more off the truth,
   and the follower's reason when it gave up: a run given up with the robot's position lost
   ("localization lost, standing still") is localization's failure, not the search's.
@@ -71,6 +72,7 @@ from pathlib import Path
 
 import numpy as np
 
+from robots.sim.people import BODY_RADIUS
 from robots.sim.raycast import point_segment_distances
 from skills.following import HIDDEN, SEARCHING, pace
 from skills.skillset import open_skills
@@ -223,36 +225,49 @@ def _circles(person) -> list:
 
 
 def _positions(world) -> dict:
-    """Where the robot and each person (body and cart circles) stand now (for velocities over
-    the next tick)."""
+    """Where the robot (its pose) and each person (body and cart circles) stand now (for
+    velocities over the next tick)."""
     where = {p.plan.id: _circles(p) for p in world.present_people()}
-    where["robot"] = (world.body.x, world.body.y)
+    where["robot"] = (world.body.x, world.body.y, world.body.th)
     return where
 
 
+def _gap(body, pose, centre, radius: float) -> float:
+    """Gap between the robot's outline at `pose` and a circle: its rectangle for a box-shaped
+    robot (HOROS), else its bounding circle (for a round robot, the centres' distance less
+    both radii)."""
+    if body.rectangle is not None:
+        return float(body.rectangle.gap_to_circles(*pose, np.array([(*centre, radius)]))[0])
+    return math.hypot(centre[0] - pose[0], centre[1] - pose[1]) - body.radius - radius
+
+
 def _robot_closed_in(contact, world, before: dict, dt: float = 0.1) -> bool:
-    """Whether the robot's speed towards the thing it touched (the person, or their cart) was
-    larger than that thing's speed towards the robot, over the tick the contact began in. A
-    cart's speed is its circle's, so a cart the person swings round into the robot (the
-    simulated cart turns with the walker at once) is theirs: the person's centre barely moves
-    (crowd20 seed 1, issue 23: two such swings were counted as driven into)."""
+    """Whether the robot closed the gap to the thing it touched (the person, or their cart)
+    faster than that thing closed it, over the tick the contact began in. Gaps are between
+    outlines (`_gap`): a box-shaped robot driving along a cart pressed to its side does not
+    close in on it, though its centre nears the cart's (HOROS rude seed 2, issue 23), and its
+    corner sweeping round into someone does, though its centre stays put. For a round robot
+    this is the centres' approach. A cart's speed is its circle's, so a cart the person swings
+    round into the robot (the simulated cart turns with the walker at once) is theirs: the
+    person's centre barely moves (crowd20 seed 1, issue 23: two such swings were counted as
+    driven into)."""
     person = next((p for p in world.present_people() if p.plan.id == contact.who), None)
     if person is None or "robot" not in before or contact.who not in before:
         return True                          # cannot tell: count it against the robot
     body = world.body
+    pose, was_at = (body.x, body.y, body.th), before["robot"]
     circles = _circles(person)
-    k = min(range(len(circles)), key=lambda i: math.hypot(circles[i][0] - body.x,
-                                                          circles[i][1] - body.y))
-    px, py = circles[k]
-    rx, ry = before["robot"]
+    radii = [BODY_RADIUS] + [r for _, _, r in person.cart_circles()]
+    k = min(range(len(circles)), key=lambda i: _gap(body, pose, circles[i], radii[i]))
     earlier = before[contact.who]
-    qx, qy = earlier[k] if k < len(earlier) else earlier[0]
+    then = earlier[k] if k < len(earlier) else earlier[0]
     # the gap's change over the tick, split into the thing's part (seen from where the robot
     # was) and the robot's (towards where the thing is now); a swinging cart is not a
     # straight-line motion, so the gap is compared, not a velocity along one line
-    was = math.hypot(qx - rx, qy - ry)
-    robot_closing = (math.hypot(px - rx, py - ry) - math.hypot(px - body.x, py - body.y)) / dt
-    person_closing = (was - math.hypot(px - rx, py - ry)) / dt
+    robot_closing = (_gap(body, was_at, circles[k], radii[k])
+                     - _gap(body, pose, circles[k], radii[k])) / dt
+    person_closing = (_gap(body, was_at, then, radii[k])
+                      - _gap(body, was_at, circles[k], radii[k])) / dt
     return robot_closing > 0.02 and robot_closing >= person_closing
 
 

@@ -1,0 +1,83 @@
+"""The follow benchmark's judgement of who closed in on a contact (benchmarks/bench_follow.py,
+`_robot_closed_in`): by the gap between outlines, so a box-shaped robot (HOROS) driving along
+a cart pressed to its side has not driven into it, and its corner sweeping into someone has
+(issue 23, HOROS rude seed 2)."""
+from __future__ import annotations
+
+import importlib.util
+import math
+import sys
+from pathlib import Path
+from types import SimpleNamespace
+
+import pytest
+
+from robots.sim.outline import Rectangle
+from robots.sim.people import CART_RADIUS
+
+BENCH = Path(__file__).resolve().parents[2] / "benchmarks" / "bench_follow.py"
+
+
+@pytest.fixture(scope="module")
+def bench():
+    spec = importlib.util.spec_from_file_location("bench_follow", BENCH)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["bench_follow"] = module          # its dataclasses look their module up
+    try:
+        spec.loader.exec_module(module)
+        yield module
+    finally:
+        sys.modules.pop("bench_follow", None)
+
+
+def shopper(x, y, cart=()):
+    return SimpleNamespace(plan=SimpleNamespace(id="shopper0"), x=x, y=y,
+                           cart_circles=lambda: [(cx, cy, CART_RADIUS) for cx, cy in cart])
+
+
+def world(body, person):
+    return SimpleNamespace(body=body, present_people=lambda: [person])
+
+
+def horos(x, y, th):
+    return SimpleNamespace(x=x, y=y, th=th, radius=0.26, rectangle=Rectangle(0.445, 0.393))
+
+
+def perses(x, y, th):
+    return SimpleNamespace(x=x, y=y, th=th, radius=0.26, rectangle=None)
+
+
+CONTACT = SimpleNamespace(who="shopper0")
+
+
+def test_driving_along_a_cart_pressed_to_the_side_is_not_driving_into_it(bench):
+    # HOROS drives north at 0.2 m/s; the cart's near circle sits 0.09 m ahead of its centre,
+    # touching its left side; the shopper pushing it does not move (seed 2 at 69.05 s): the
+    # centres near each other (0.03 m/s), the outlines do not
+    cart = [(14.13 - 0.49 - 0.45, 16.22), (14.13 - 0.49, 16.22)]
+    person = shopper(14.13 - 0.49 - 0.95, 16.22, cart)
+    before = {"robot": (14.13, 16.11, math.pi / 2), "shopper0": bench._circles(person)}
+    body = horos(14.13, 16.13, math.pi / 2)
+    assert not bench._robot_closed_in(CONTACT, world(body, person), before)
+
+
+def test_a_corner_swept_round_into_someone_standing_is_driven_into(bench):
+    # HOROS turns on the spot (its centre stays put) and its front-left corner swings into a
+    # person standing beside it
+    # (2° in the tick: the corner moves 0.1 m/s, at right angles to the line from the centre)
+    hl, hw = 0.445 / 2, 0.393 / 2
+    corner = math.hypot(hl, hw)
+    th_now = math.radians(10)
+    at = math.atan2(hw, hl) + th_now
+    cx, cy = corner * math.cos(at), corner * math.sin(at)
+    person = shopper(cx - 0.2 * math.sin(at), cy + 0.2 * math.cos(at))
+    before = {"robot": (0.0, 0.0, th_now - math.radians(2)), "shopper0": bench._circles(person)}
+    assert bench._robot_closed_in(CONTACT, world(horos(0.0, 0.0, th_now), person), before)
+
+
+def test_a_round_robot_is_judged_by_its_centre_as_before(bench):
+    person = shopper(0.46, 0.0)
+    before = {"robot": (-0.02, 0.0, 0.0), "shopper0": bench._circles(person)}
+    assert bench._robot_closed_in(CONTACT, world(perses(0.0, 0.0, 0.0), person), before)
+    walked = {"robot": (0.0, 0.0, 0.0), "shopper0": [(0.50, 0.0)]}
+    assert not bench._robot_closed_in(CONTACT, world(perses(0.0, 0.0, 0.0), person), walked)
