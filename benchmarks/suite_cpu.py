@@ -70,7 +70,7 @@ def run_suite(pytest_args: list[str], folder: Path) -> int:
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT / "benchmarks"),
                                                       env.get("PYTHONPATH", "")]))
     command = [sys.executable, "-m", "pytest", "-p", "no:cacheprovider", "-p", "suite_cpu",
-               "-n", "auto", "--dist", "worksteal", "-q"] + pytest_args
+               "-n", "auto", "--dist", "worksteal"] + pytest_args
     return subprocess.run(command, cwd=ROOT, env=env).returncode
 
 
