@@ -4,30 +4,20 @@ a cart pressed to its side has not driven into it, and its corner sweeping into 
 (issue 23, HOROS rude seed 2)."""
 from __future__ import annotations
 
-import importlib.util
 import math
-import sys
-from pathlib import Path
 from types import SimpleNamespace
 
 import pytest
 
 from robots.sim.outline import Rectangle
 from robots.sim.people import CART_RADIUS
-
-BENCH = Path(__file__).resolve().parents[2] / "benchmarks" / "bench_follow.py"
+from tests.benchmarks import benchmark_script
 
 
 @pytest.fixture(scope="module")
 def bench():
-    spec = importlib.util.spec_from_file_location("bench_follow", BENCH)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules["bench_follow"] = module          # its dataclasses look their module up
-    try:
-        spec.loader.exec_module(module)
+    with benchmark_script("bench_follow.py", "bench_follow") as module:
         yield module
-    finally:
-        sys.modules.pop("bench_follow", None)
 
 
 def shopper(x, y, cart=()):

@@ -3,23 +3,16 @@ counts recognised and rejected utterances under a rule, and which rule its calib
 The recognizer itself is tested in tests/robots/test_audio.py."""
 from __future__ import annotations
 
-import importlib.util
-import sys
-from pathlib import Path
-
 import pytest
 
 from robots.audio.confidence import Judgement
-
-BENCH = Path(__file__).resolve().parents[2] / "benchmarks" / "bench_voice.py"
+from tests.benchmarks import benchmark_script
 
 
 @pytest.fixture(scope="module")
 def bench():
-    spec = importlib.util.spec_from_file_location("bench_voice", BENCH)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    with benchmark_script("bench_voice.py", "bench_voice") as module:
+        yield module
 
 
 def answer(app, right, fit, margin):

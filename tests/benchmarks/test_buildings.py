@@ -2,10 +2,7 @@
 by the planner for HOROS, doors have the widths asked, rooms are reached through rooms."""
 from __future__ import annotations
 
-import importlib.util
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,18 +12,13 @@ from robots.sim.floor import load_floor
 from skills.navigation.costmap import cost_map
 from skills.navigation.gridmap import load_map
 from skills.navigation.planner import GlobalPlanner
-
-GENERATOR = Path(__file__).resolve().parents[2] / "benchmarks" / "buildings.py"
+from tests.benchmarks import benchmark_script
 
 
 @pytest.fixture(scope="module")
 def buildings():
-    spec = importlib.util.spec_from_file_location("buildings", GENERATOR)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules["buildings"] = module             # its dataclasses look themselves up there
-    spec.loader.exec_module(module)
-    yield module
-    sys.modules.pop("buildings", None)
+    with benchmark_script("buildings.py", "buildings") as module:
+        yield module
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])

@@ -2,26 +2,29 @@
 report adds them up per file and names the share of the shared whole-application runs."""
 from __future__ import annotations
 
-import importlib.util
 import os
 import subprocess
 import sys
-from pathlib import Path
 
-SCRIPT = Path(__file__).resolve().parents[2] / "benchmarks" / "suite_cpu.py"
-spec = importlib.util.spec_from_file_location("suite_cpu", SCRIPT)
-suite_cpu = importlib.util.module_from_spec(spec)
-spec.loader.exec_module(suite_cpu)
+import pytest
+
+from tests.benchmarks import BENCHMARKS, benchmark_script
 
 
-def test_the_plugin_writes_one_line_per_test_with_its_cpu(tmp_path):
+@pytest.fixture(scope="module")
+def suite_cpu():
+    with benchmark_script("suite_cpu.py", "suite_cpu") as module:
+        yield module
+
+
+def test_the_plugin_writes_one_line_per_test_with_its_cpu(suite_cpu, tmp_path):
     tests = tmp_path / "test_sample.py"
     tests.write_text("def test_busy():\n    sum(i * i for i in range(300_000))\n\n"
                      "def test_idle():\n    pass\n")
     out = tmp_path / "out"
     out.mkdir()
     env = dict(os.environ, **{suite_cpu.OUT_VARIABLE: str(out)},
-               PYTHONPATH=os.pathsep.join([str(SCRIPT.parent), os.environ.get("PYTHONPATH", "")]))
+               PYTHONPATH=os.pathsep.join([str(BENCHMARKS), os.environ.get("PYTHONPATH", "")]))
     done = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
                            "-p", "suite_cpu", "-p", "no:xdist", str(tests)],
                           cwd=tmp_path, env=env, capture_output=True, text=True)
@@ -32,7 +35,7 @@ def test_the_plugin_writes_one_line_per_test_with_its_cpu(tmp_path):
     assert all(row[2] == 0.0 and row[3] >= 0.0 for row in rows.values())
 
 
-def test_the_report_adds_up_per_file_and_names_the_shared_runs(capsys):
+def test_the_report_adds_up_per_file_and_names_the_shared_runs(suite_cpu, capsys):
     rows = [("tests/applications/test_bundled_states.py::test_a", 6.0, 0.0, 7.0),
             ("tests/applications/test_bundled_states.py::test_b", 2.0, 0.0, 2.5),
             ("tests/test_docs.py::test_c", 0.5, 1.5, 3.0)]

@@ -4,26 +4,18 @@ every strategy's episodes; first and random are valued alike; the regret and the
 the shift are counted in episodes."""
 from __future__ import annotations
 
-import importlib.util
 import sqlite3
-import sys
-from pathlib import Path
 
 import pytest
 
 from applications.campaign.results import SCHEMA
-
-REPORT = Path(__file__).resolve().parents[2] / "benchmarks" / "campaigns" / "week" / "report.py"
+from tests.benchmarks import benchmark_script
 
 
 @pytest.fixture(scope="module")
 def report():
-    spec = importlib.util.spec_from_file_location("week_report", REPORT)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules["week_report"] = module
-    spec.loader.exec_module(module)
-    yield module
-    sys.modules.pop("week_report", None)
+    with benchmark_script("campaigns/week/report.py", "week_report") as module:
+        yield module
 
 
 def episodes(session, context, alternative, successes, failures):

@@ -1,23 +1,14 @@
 """The tracker in the simulated world, scored by benchmarks/eval_tracker.py (one seed each)."""
 from __future__ import annotations
 
-import importlib.util
-import sys
-from pathlib import Path
-
 import pytest
-
-EVAL = Path(__file__).resolve().parents[2] / "benchmarks" / "eval_tracker.py"
+from tests.benchmarks import benchmark_script
 
 
 @pytest.fixture(scope="module")
 def evaluation():
-    spec = importlib.util.spec_from_file_location("eval_tracker", EVAL)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules["eval_tracker"] = module          # its dataclasses look themselves up there
-    spec.loader.exec_module(module)
-    yield module
-    sys.modules.pop("eval_tracker", None)
+    with benchmark_script("eval_tracker.py", "eval_tracker") as module:
+        yield module
 
 
 def test_ten_people_crossing_meet_the_targets_and_the_hidden_one_keeps_the_id(evaluation):
