@@ -233,12 +233,9 @@ def _positions(world) -> dict:
 
 
 def _gap(body, pose, centre, radius: float) -> float:
-    """Gap between the robot's outline at `pose` and a circle: its rectangle for a box-shaped
-    robot (HOROS), else its bounding circle (for a round robot, the centres' distance less
-    both radii)."""
-    if body.rectangle is not None:
-        return float(body.rectangle.gap_to_circles(*pose, np.array([(*centre, radius)]))[0])
-    return math.hypot(centre[0] - pose[0], centre[1] - pose[1]) - body.radius - radius
+    """Gap between the robot's outline at `pose` and a circle (its rectangle for a box-shaped
+    robot, HOROS; its bounding circle for a round one)."""
+    return body.gap_to_circles(np.array([(*centre, radius)]), *pose)
 
 
 def _robot_closed_in(contact, world, before: dict, dt: float = 0.1) -> bool:

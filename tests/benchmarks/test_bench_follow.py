@@ -9,9 +9,13 @@ from types import SimpleNamespace
 
 import pytest
 
+from robots.profile import load_profile
+from robots.sim.body import UnicycleBody
 from robots.sim.outline import Rectangle
 from robots.sim.people import CART_RADIUS
 from tests.benchmarks import benchmark_script
+
+HOROS, PERSES = load_profile("horos"), load_profile("perses")
 
 
 @pytest.fixture(scope="module")
@@ -30,11 +34,12 @@ def world(body, person):
 
 
 def horos(x, y, th):
-    return SimpleNamespace(x=x, y=y, th=th, radius=0.26, rectangle=Rectangle(0.445, 0.393))
+    """The simulator's own body of HOROS (its rectangle), where the benchmark reads it."""
+    return UnicycleBody(x, y, th, HOROS.limits, HOROS.radius, Rectangle(0.445, 0.393))
 
 
 def perses(x, y, th):
-    return SimpleNamespace(x=x, y=y, th=th, radius=0.26, rectangle=None)
+    return UnicycleBody(x, y, th, PERSES.limits, PERSES.radius)
 
 
 CONTACT = SimpleNamespace(who="shopper0")
