@@ -67,7 +67,6 @@ READ_QUANTUM = 0.02        # s, longest a read blocks (so close() and liveness s
 FLOOD_KEEP = 16384         # bytes of one read parsed at most (~300 SIPs): the newest of a flood
 STILL_OPEN, NO_REPLY = "still open", "no reply"
 ESTOP_FLAG = 0x20          # SIP FLAGS bit 5: e-stop (ARIA, later firmware)
-_FIRST_NUMBERS = tuple(range(256))   # sonar numbers in a SIP's order (a byte each)
 
 
 class _Port:
@@ -450,10 +449,21 @@ class P2OSBase(Base):
                 self._on_sip(sip, arrived)
 
     def _on_sip(self, sip: p.SIP, arrived: float | None = None) -> None:
+        f = self.factors
         x, y, th = self.odometry.update(sip)
         v, w = self.odometry.velocities(sip)
-        if not self._ring_in_order(sip.sonar):
-            self._each_reading(sip.sonar)
+        for number, units in sip.sonar:
+            metres = units * f.range / 1000.0
+            if number >= len(self._sonar):
+                self._drop(f"sonar number {number}: the profile has sonars 0..{len(self._sonar) - 1}")
+                continue
+            if self.sonar_max_range is not None and metres > 2 * self.sonar_max_range:
+                self._drop(f"sonar {number} range {metres:.2f} m: beyond the sensor's reach of "
+                           f"{self.sonar_max_range:g} m")
+                continue
+            if self.sonar_max_range is not None and metres >= self.sonar_max_range - 1e-9:
+                metres = math.inf
+            self._sonar[number] = metres
         bumpers = (1 if sip.front_bumpers else 0) | (2 if sip.rear_bumpers else 0)
         self._check_drive(sip)
         self._last_sip_t = self._time() if arrived is None else arrived
@@ -473,43 +483,6 @@ class P2OSBase(Base):
         with self._state_cond:
             self._state = state
             self._state_cond.notify_all()
-
-    def _ring_in_order(self, sonar: tuple[tuple[int, int], ...]) -> bool:
-        """Sonars 0, 1, ... in order, none beyond the sensor's reach (what the firmware sends
-        every SIP): all kept in one pass, as `_each_reading` would keep them; False (nothing
-        kept) otherwise."""
-        n = len(sonar)
-        if not 0 < n <= len(self._sonar):
-            return False
-        numbers, units = zip(*sonar)
-        if numbers != _FIRST_NUMBERS[:n]:
-            return False
-        scale = self.factors.range
-        metres = [u * scale / 1000.0 for u in units]
-        reach = self.sonar_max_range
-        if reach is not None:
-            if max(metres) > 2 * reach:
-                return False
-            limit = reach - 1e-9
-            metres = [math.inf if m >= limit else m for m in metres]
-        self._sonar[:n] = metres
-        return True
-
-    def _each_reading(self, sonar: tuple[tuple[int, int], ...]) -> None:
-        """Each reading to its sonar; one beyond the ring or the sensor's reach is dropped."""
-        f = self.factors
-        for number, units in sonar:
-            metres = units * f.range / 1000.0
-            if number >= len(self._sonar):
-                self._drop(f"sonar number {number}: the profile has sonars 0..{len(self._sonar) - 1}")
-                continue
-            if self.sonar_max_range is not None and metres > 2 * self.sonar_max_range:
-                self._drop(f"sonar {number} range {metres:.2f} m: beyond the sensor's reach of "
-                           f"{self.sonar_max_range:g} m")
-                continue
-            if self.sonar_max_range is not None and metres >= self.sonar_max_range - 1e-9:
-                metres = math.inf
-            self._sonar[number] = metres
 
     @property
     def link_device(self) -> str:

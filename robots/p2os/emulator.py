@@ -331,8 +331,8 @@ class Firmware:
         """(number, units) of every reading: the nearest unit, at least 0, at most the
         sonar's maximum, which no echo (inf, NaN) reports too. One pass for 16-48 sonars a SIP."""
         top, unit, isfinite = self.sonar_max_units, self.factors.range, math.isfinite
-        units = [min(top, max(0, round(r * 1000.0 / unit))) if isfinite(r) else top for r in ranges]
-        return tuple(zip(range(len(units)), units))
+        return tuple((i, min(top, max(0, round(r * 1000.0 / unit))) if isfinite(r) else top)
+                     for i, r in enumerate(ranges))
 
 
 def _i16(value: float) -> int:

@@ -10,7 +10,6 @@ turn them into SI for the driver.
 """
 from __future__ import annotations
 
-import itertools
 import math
 import struct
 from dataclasses import dataclass, field
@@ -287,7 +286,8 @@ def encode_sip(sip: SIP) -> bytes:
     body += _SIP_HEAD.pack(sip.xpos & 0x7FFF, sip.ypos & 0x7FFF, sip.thpos, sip.lvel, sip.rvel,
                            sip.battery, sip.stall_bumpers & 0xFF, sip.stall_bumpers >> 8,
                            sip.control, sip.flags, sip.compass, len(sip.sonar))
-    body += b"".join(itertools.starmap(_READING.pack, sip.sonar))
+    for number, rng in sip.sonar:
+        body += _READING.pack(number, rng)
     body += _SIP_TAIL.pack(sip.timer, sip.analog, sip.digin, sip.digout)
     for name, fmt in _OPTIONAL:
         if name in sip.optional:
