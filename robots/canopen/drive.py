@@ -488,8 +488,8 @@ class Drive:
         self.position += motor * config.position_per_metre * position_sign * dt
         actual = self.actual
         if self.state is S.OPERATION_ENABLED:
-            target = max(-self._u(p.MAX_PROFILE_VELOCITY), min(self._u(p.MAX_PROFILE_VELOCITY), self.target)) \
-                if self._u(p.MAX_PROFILE_VELOCITY) else self.target
+            limit = self._u(p.MAX_PROFILE_VELOCITY)          # read once a step, not thrice
+            target = max(-limit, min(limit, self.target)) if limit else self.target
             if self.controlword & 0x100 or self.slowing_to is not None:
                 target = 0
             speeding_up = abs(target) > abs(self.demand) and target * self.demand >= 0

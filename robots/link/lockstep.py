@@ -24,21 +24,26 @@ class ByteCounter:
     """One direction of a link: bytes written into it and bytes read out of it."""
 
     def __init__(self) -> None:
-        self._cond = threading.Condition()
+        # Counted a dozen times a tick: `with` on the lock itself (the condition's own `with`
+        # is a Python-level call), and `got` wakes only when a thread waits.
+        self._lock = threading.RLock()
+        self._cond = threading.Condition(self._lock)
+        self._waiting = 0                  # threads in wait_drained
         self.written = 0
         self.read = 0
 
     def wrote(self, n: int) -> None:
-        with self._cond:
+        with self._lock:
             self.written += n
 
     def got(self, n: int) -> None:
-        with self._cond:
+        with self._lock:
             self.read += n
-            self._cond.notify_all()
+            if self._waiting:
+                self._cond.notify_all()
 
     def backlog(self) -> int:
-        with self._cond:
+        with self._lock:
             return self.written - self.read
 
     def wait_drained(self, timeout: float) -> bool:
@@ -50,7 +55,11 @@ class ByteCounter:
                 remaining = deadline - time.monotonic()
                 if remaining <= 0:
                     return False
-                self._cond.wait(remaining)
+                self._waiting += 1
+                try:
+                    self._cond.wait(remaining)
+                finally:
+                    self._waiting -= 1
             return True
 
     def reset(self) -> None:

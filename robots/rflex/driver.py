@@ -548,13 +548,7 @@ class RFlexBase(Base):
                 self._reports += 1
                 self._report_cond.notify_all()
             elif isinstance(report, p.SonarReport):
-                for wire, raw in report.readings:
-                    index = p.SONAR_INDEX_OF_WIRE_ID.get(wire)
-                    if index is None:          # not a sonar of the B21r ring: counted, dropped
-                        self._dropped_readings += 1
-                        self._dropped_reason = f"sonar wire id {wire}: not on the B21r's ring"
-                    else:
-                        self._sonar[index] = p.sonar_metres(raw)
+                self._apply_sonar(report.readings)
             elif isinstance(report, p.DioReport):
                 self._panels[report.address] = report.data
             elif isinstance(report, p.SystemStatus):
@@ -563,6 +557,22 @@ class RFlexBase(Base):
                     self._brake_set_by_itself()
                 self._brake = bool(report.brake)
                 self._judge_reset(bool(report.brake))
+
+    def _apply_sonar(self, readings: tuple[tuple[int, int], ...]) -> None:
+        """Each reading to its sonar; the whole ring in profile order (what the controller
+        sends) in one pass."""
+        if len(readings) == p.SONAR_COUNT:
+            wires, raws = zip(*readings)
+            if wires == p.SONAR_WIRE_IDS:
+                self._sonar[:] = p.sonar_metres_of_raws(raws)
+                return
+        for wire, raw in readings:
+            index = p.SONAR_INDEX_OF_WIRE_ID.get(wire)
+            if index is None:          # not a sonar of the B21r ring: counted, dropped
+                self._dropped_readings += 1
+                self._dropped_reason = f"sonar wire id {wire}: not on the B21r's ring"
+            else:
+                self._sonar[index] = p.sonar_metres(raw)
 
     def _motor(self, report: p.MotorReport) -> None:
         """Keep each axis; integrate once both are fresh (ROS's odomReady mask)."""

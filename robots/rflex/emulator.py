@@ -31,6 +31,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
+import numpy as np
+
 from robots.exceptions import ProtocolError
 from robots.link import LockStep
 from robots.link.host import EmulatorHost
@@ -85,6 +87,8 @@ class RFlexController:
         self._seq = 0
         self._next_motor = self._next_sonar = self._next_dio = 0.0
         self._panels_reported: dict[int, int] = {}
+        self._limits_of = self._limits_key = None   # what `_limits` was built from (`_drive`)
+        self._limits = None
         self.now = 0.0
 
     # -- commands -----------------------------------------------------------------------------
@@ -172,10 +176,14 @@ class RFlexController:
             return
         translation, rotation = self.axes
         limits = self.physical_limits
-        body.limits = replace(
-            limits,
-            max_accel=_cap(limits.max_accel, translation.accel / self.conv[0]),
-            max_turn_accel=_cap(limits.max_turn_accel, rotation.accel / self.conv[1]))
+        key = (translation.accel, rotation.accel, self.conv)
+        if limits is not self._limits_of or key != self._limits_key:   # a new Limits only
+            self._limits_of, self._limits_key = limits, key              # when the ramp changes
+            self._limits = replace(
+                limits,
+                max_accel=_cap(limits.max_accel, translation.accel / self.conv[0]),
+                max_turn_accel=_cap(limits.max_turn_accel, rotation.accel / self.conv[1]))
+        body.limits = self._limits
         body.set_command(translation.target / self.conv[0], rotation.target / self.conv[1])
 
     # -- time -----------------------------------------------------------------------------------
@@ -233,11 +241,9 @@ class RFlexController:
         return out
 
     def _sonar_report(self) -> bytes:
-        ranges = self.world.sonar_ranges()
-        readings = tuple((p.SONAR_WIRE_IDS[i], p.sonar_raw(float(r)))
-                         for i, r in enumerate(ranges[:p.SONAR_COUNT]))
-        return p.encode_escaped(p.sonar_report(self._next_seq(),
-                                               p.SonarReport(0, self._timestamp(), readings)))
+        ranges = np.asarray(self.world.sonar_ranges(), dtype=float)[:p.SONAR_COUNT].tolist()
+        return p.encode_escaped(p.sonar_report_of_raws(self._next_seq(), 0, self._timestamp(),
+                                                       p.sonar_raws(ranges)))
 
     def _dio_reports(self) -> bytes:
         """Every pressed panel each period, and each release once."""

@@ -248,10 +248,23 @@ def joystick_request() -> Frame:
     return Frame(JSTK, JSTK_GET_STATE)
 
 
+_SET_DIR = struct.Struct(">BIIIB")
+
+
 def axis_set_dir(axis: int, velocity: int, accel: int, torque: int) -> Frame:
     """Drive one axis: `velocity` is signed (units/s); the frame holds |velocity| and a direction
     byte (1 when velocity >= 0). A checksum fix moves the acceleration, never the velocity, so
-    a zero command stays exactly zero."""
+    a zero command stays exactly zero.
+
+    Sent twice a tick: plain ints whose packed bytes and checksum hold no 0x1B (nearly every
+    command) are packed in one go, which is what `clean_command` would return for them; the
+    rest, and anything to refuse, take `clean_command`'s way."""
+    if (type(axis) is int and type(velocity) is int and type(accel) is int
+            and type(torque) is int and 0 <= axis <= 0xFF and -U32_MAX <= velocity <= U32_MAX
+            and 0 <= accel <= U32_MAX and 0 <= torque <= U32_MAX):
+        data = _SET_DIR.pack(axis, abs(velocity), accel, torque, 1 if velocity >= 0 else 0)
+        if ESC not in data and MOT ^ MOT_AXIS_SET_DIR ^ 14 ^ xor_bytes(data) != ESC:
+            return Frame(MOT, MOT_AXIS_SET_DIR, data)
     return clean_command(
         "MOT_AXIS_SET_DIR", MOT, MOT_AXIS_SET_DIR,
         [Field("axis", axis, "B"), Field("velocity", abs(velocity), "I"),
@@ -477,6 +490,25 @@ def sonar_report(seq: int, report: SonarReport) -> Frame:
     return Frame(SONAR, SONAR_REPORT, data, seq & 0xFF)
 
 
+_SONAR_WIRE_ID_BYTES = bytes(SONAR_WIRE_IDS)
+
+
+def sonar_report_of_raws(seq: int, rv: int, timestamp: int, raws: list[int]) -> Frame:
+    """`sonar_report` for the first len(raws) sonars of the ring in profile order (wire ids
+    SONAR_WIRE_IDS), the raw ranges 0 .. 65535: the same bytes, laid out in three slice
+    assignments instead of a pack per reading (the emulator sends 48 of them ten times a second)."""
+    n = len(raws)
+    if n > SONAR_COUNT:
+        raise CommandError(f"{n} sonar readings; the ring has {SONAR_COUNT}")
+    data = bytearray(8 + 3 * n)
+    struct.pack_into(">II", data, 0, rv, timestamp)
+    ranges = struct.pack(f">{n}H", *raws)
+    data[8::3] = _SONAR_WIRE_ID_BYTES[:n]
+    data[9::3] = ranges[0::2]
+    data[10::3] = ranges[1::2]
+    return Frame(SONAR, SONAR_REPORT, bytes(data), seq & 0xFF)
+
+
 def dio_report(seq: int, report: DioReport) -> Frame:
     return Frame(DIO, DIO_REPORT, DIO_FORMAT.pack(report.timestamp, report.address, report.data), seq & 0xFF)
 
@@ -505,6 +537,18 @@ def sonar_raw(metres: float) -> int:
     if not math.isfinite(metres) or metres < 0:
         return SONAR_NO_ECHO
     return min(SONAR_NO_ECHO, round(metres * SONAR_RAW_PER_M))
+
+
+def sonar_raws(metres: list[float]) -> list[int]:
+    """`sonar_raw` of each reading, in one pass."""
+    top, scale, isfinite = SONAR_NO_ECHO, SONAR_RAW_PER_M, math.isfinite
+    return [top if not isfinite(m) or m < 0 else min(top, round(m * scale)) for m in metres]
+
+
+def sonar_metres_of_raws(raws) -> list[float]:
+    """`sonar_metres` of each raw range, in one pass."""
+    top, scale, inf = SONAR_NO_ECHO, SONAR_RAW_PER_M, math.inf
+    return [inf if raw >= top else raw / scale for raw in raws]
 
 
 # --------------------------------------------------------------------------- byte-fed parser
