@@ -112,6 +112,8 @@ class Localization(Skill):
         self._down_since = 0.0
         self._down_device: dict = {}          # {"device": "laser"} in a laser's episode
         self._dropped = 0
+        self._poses_key: tuple | None = None   # `_beam_poses`' last scan …
+        self._poses: np.ndarray | None = None                 # … and its beam poses
 
     @property
     def lost(self) -> bool:
@@ -122,7 +124,7 @@ class Localization(Skill):
         self.odometry = state
         odometry = (state.x, state.y, state.th)
         pose = self._localize(state, odometry, now)
-        self.state = replace(state, x=pose[0], y=pose[1], th=pose[2])
+        self.state = _at_pose(state, pose)
         fresh = (state.link_up and now - state.t <= self.STALE_AFTER
                  and self._laser_link_up())
         self.write("robot/pose", pose, state.t)
@@ -314,14 +316,24 @@ class Localization(Skill):
             if scan is None or scan.t == self._last_scan_t:
                 return None
             self._last_scan_t = scan.t
-            x, y, _ = scan.origin                   # angles are in the robot frame already
-            n = len(scan.angles)
-            poses = np.column_stack((np.full(n, x), np.full(n, y), scan.angles))
-            return poses, np.asarray(scan.ranges, dtype=float)
+            return self._beam_poses(scan), np.asarray(scan.ranges, dtype=float)
         ranges = np.asarray(state.sonar, dtype=float)
         if not len(ranges):
             return None
         return self.sonar.poses[: len(ranges)], ranges
+
+    def _beam_poses(self, scan):
+        """(K, 3) beam poses in the robot frame (the angles are in the robot frame already),
+        built again only when the scan's origin or angles differ from the last scan's (a laser's
+        never do; the filter only reads them)."""
+        x, y, _ = scan.origin
+        key = (np.array((x, y), dtype=float).tobytes(), scan.angles.dtype.str,
+               scan.angles.tobytes())
+        if key != self._poses_key:
+            n = len(scan.angles)
+            self._poses_key = key
+            self._poses = np.column_stack((np.full(n, x), np.full(n, y), scan.angles))
+        return self._poses
 
     def _write_uncertainty(self, t: float) -> None:
         self.write("localization/mode", self.mode, t)
@@ -345,6 +357,20 @@ class Localization(Skill):
             why = state.extra.get("link_error") or state.extra.get("fault") if state.extra else None
             return f"base link is down: {why}" if why else "base link is down"
         return f"base state is {now - state.t:.2f} s old"
+
+
+def _at_pose(state: BaseState, pose) -> BaseState:
+    """`dataclasses.replace(state, x=, y=, th=)` for a plain BaseState, without replace's walk
+    over the fields and a second __init__ (an eighth of its cost, every tick): a frozen
+    dataclass with no __post_init__ holds its fields in its __dict__, so a copy of that with
+    the pose changed is the same object replace builds (the same `sonar`, `extra`)."""
+    if type(state) is not BaseState:
+        return replace(state, x=pose[0], y=pose[1], th=pose[2])
+    moved = object.__new__(BaseState)
+    fields = moved.__dict__
+    fields.update(state.__dict__)
+    fields["x"], fields["y"], fields["th"] = pose[0], pose[1], pose[2]
+    return moved
 
 
 def relative(origin, pose) -> tuple[float, float, float]:
