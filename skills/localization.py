@@ -113,7 +113,7 @@ class Localization(Skill):
         self._down_device: dict = {}          # {"device": "laser"} in a laser's episode
         self._dropped = 0
         self._poses_key: tuple | None = None   # `_beam_poses`' last scan …
-        self._poses: np.ndarray | None = None                 # … and its beam poses
+        self._poses: np.ndarray | None = None   # … and its beam poses
 
     @property
     def lost(self) -> bool:
@@ -124,7 +124,7 @@ class Localization(Skill):
         self.odometry = state
         odometry = (state.x, state.y, state.th)
         pose = self._localize(state, odometry, now)
-        self.state = _at_pose(state, pose)
+        self.state = replace(state, x=pose[0], y=pose[1], th=pose[2])
         fresh = (state.link_up and now - state.t <= self.STALE_AFTER
                  and self._laser_link_up())
         self.write("robot/pose", pose, state.t)
@@ -357,20 +357,6 @@ class Localization(Skill):
             why = state.extra.get("link_error") or state.extra.get("fault") if state.extra else None
             return f"base link is down: {why}" if why else "base link is down"
         return f"base state is {now - state.t:.2f} s old"
-
-
-def _at_pose(state: BaseState, pose) -> BaseState:
-    """`dataclasses.replace(state, x=, y=, th=)` for a plain BaseState, without replace's walk
-    over the fields and a second __init__ (an eighth of its cost, every tick): a frozen
-    dataclass with no __post_init__ holds its fields in its __dict__, so a copy of that with
-    the pose changed is the same object replace builds (the same `sonar`, `extra`)."""
-    if type(state) is not BaseState:
-        return replace(state, x=pose[0], y=pose[1], th=pose[2])
-    moved = object.__new__(BaseState)
-    fields = moved.__dict__
-    fields.update(state.__dict__)
-    fields["x"], fields["y"], fields["th"] = pose[0], pose[1], pose[2]
-    return moved
 
 
 def relative(origin, pose) -> tuple[float, float, float]:
