@@ -112,6 +112,8 @@ class Localization(Skill):
         self._down_since = 0.0
         self._down_device: dict = {}          # {"device": "laser"} in a laser's episode
         self._dropped = 0
+        self._poses_key: tuple | None = None   # `_beam_poses`' last scan …
+        self._poses: np.ndarray | None = None   # … and its beam poses
 
     @property
     def lost(self) -> bool:
@@ -314,14 +316,24 @@ class Localization(Skill):
             if scan is None or scan.t == self._last_scan_t:
                 return None
             self._last_scan_t = scan.t
-            x, y, _ = scan.origin                   # angles are in the robot frame already
-            n = len(scan.angles)
-            poses = np.column_stack((np.full(n, x), np.full(n, y), scan.angles))
-            return poses, np.asarray(scan.ranges, dtype=float)
+            return self._beam_poses(scan), np.asarray(scan.ranges, dtype=float)
         ranges = np.asarray(state.sonar, dtype=float)
         if not len(ranges):
             return None
         return self.sonar.poses[: len(ranges)], ranges
+
+    def _beam_poses(self, scan):
+        """(K, 3) beam poses in the robot frame (the angles are in the robot frame already),
+        built again only when the scan's origin or angles differ from the last scan's (a laser's
+        never do; the filter only reads them)."""
+        x, y, _ = scan.origin
+        key = (np.array((x, y), dtype=float).tobytes(), scan.angles.dtype.str,
+               scan.angles.tobytes())
+        if key != self._poses_key:
+            n = len(scan.angles)
+            self._poses_key = key
+            self._poses = np.column_stack((np.full(n, x), np.full(n, y), scan.angles))
+        return self._poses
 
     def _write_uncertainty(self, t: float) -> None:
         self.write("localization/mode", self.mode, t)

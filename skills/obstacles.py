@@ -23,6 +23,11 @@ from skills.localization import Localization
 from skills.navigation.footprint import Footprint, inside
 from skills.skill import Skill
 
+try:        # the clip ufunc itself: what np.clip calls, without its Python wrappers
+    from numpy._core.umath import clip as _clip
+except ImportError:     # numpy < 2
+    from numpy.core.umath import clip as _clip
+
 
 class ObstacleSensing(Skill):
     name = "obstacles"
@@ -39,12 +44,22 @@ class ObstacleSensing(Skill):
         self._sonar_poses = sonar.poses if sonar is not None else np.zeros((0, 3))
         self._sees_behind = bool(np.any(np.cos(self._sonar_poses[:, 2]) < -0.5))
         self._cone = sonar.cone if sonar is not None else 0.0
+        self._rear = (None, 0.0)    # the sonar readings' bytes and the free distance behind
+
+    def _free_behind(self, ranges: np.ndarray) -> float:
+        """`_free_behind_sonar`, computed again only when the readings changed (a standing
+        robot's sonar hears the same walls tick after tick)."""
+        key = ranges.tobytes()
+        if key != self._rear[0]:
+            self._rear = (key, self._free_behind_sonar(ranges))
+        return self._rear[1]
 
     def sense(self, now: float) -> None:
         state = self.localization.state
         sonar = state.sonar if state is not None else ()
         self.write("sensors/sonar", tuple(sonar), now)
-        self.write("obstacles/rear", self._free_behind_sonar(sonar), now)
+        readings = np.asarray(sonar, dtype=float)
+        self.write("obstacles/rear", self._free_behind(readings), now)
         laser_points = np.zeros((0, 2))
         if self.laser is not None:
             scan = self.laser.read()
@@ -56,7 +71,7 @@ class ObstacleSensing(Skill):
                                                 scan.origin[1] + ranges * np.sin(angles)])
                 # a reading within the body is the robot itself or a stray return
                 laser_points = laser_points[~inside(self.footprint, laser_points)]
-        ranges = np.asarray(sonar, dtype=float)[: len(self._sonar_poses)]
+        ranges = readings[: len(self._sonar_poses)]
         if len(laser_points) and len(ranges):
             ranges = np.where(explained_echoes(ranges, self._sonar_poses[: len(ranges)],
                                                self._cone, laser_points), np.inf, ranges)
@@ -100,7 +115,7 @@ class ObstacleSensing(Skill):
         wider than it for many seconds: the jamb 9 cm beside its corner, with the laser's 2 cm
         noise, put readings 4-5 cm beside it, "0.00 m ahead" (issue 23's measurements)."""
         side = np.abs(ys)
-        pad = np.clip((xs - self.front) * math.tan(PAD_DRIFT), 0.0, CORRIDOR_PAD)
+        pad = _clip((xs - self.front) * PAD_SLOPE, 0.0, CORRIDOR_PAD)
         ahead = np.isfinite(xs) & (xs > 0) & (side <= self.half_width + pad) & (
             (side <= self.half_width) | (xs >= self.front))
         if not ahead.any():
@@ -110,6 +125,7 @@ class ObstacleSensing(Skill):
 
 CORRIDOR_PAD = 0.05         # m beyond the half width counted as in the way ahead, at most
 PAD_DRIFT = math.radians(15)   # the pad widens as a drift of this heading would bring the body
+PAD_SLOPE = math.tan(PAD_DRIFT)
 ECHO_TOLERANCE = 0.10       # m: a laser reading this near a sonar's range explains its echo
 CONE_SLACK = math.radians(5)   # beyond the cone's half angle (the cone's edge is not sharp)
 
@@ -124,13 +140,40 @@ def explained_echoes(ranges: np.ndarray, poses: np.ndarray, cone: float,
     out = np.zeros(len(ranges), dtype=bool)
     if not len(laser_points) or not len(ranges):
         return out
+    # only a sonar with an echo can be explained: the others' rows are left out (each row is
+    # computed on its own, so the echoes' rows come out the same)
+    echo = np.flatnonzero(np.isfinite(ranges))
+    if not len(echo):
+        return out
+    heading = poses[:, 2]
+    cos, sin = np.cos(heading)[echo, None], np.sin(heading)[echo, None]
+    poses = poses[echo]
+    laser_points = _within_reach(laser_points, poses, ranges[echo])
+    if not len(laser_points):
+        return out
     dx = laser_points[None, :, 0] - poses[:, None, 0]
     dy = laser_points[None, :, 1] - poses[:, None, 1]
     distance = np.hypot(dx, dy)
     # inside the cone: the reading's direction within the half angle of the sonar's axis,
     # tested as a projection (no angle computed per reading and sonar)
-    along = dx * np.cos(poses[:, 2])[:, None] + dy * np.sin(poses[:, 2])[:, None]
+    along = dx * cos + dy * sin
     inside = along >= distance * math.cos(min(cone / 2 + CONE_SLACK, math.pi))
     nearest = np.where(inside, distance, np.inf).min(axis=1)
-    with np.errstate(invalid="ignore"):
-        return np.isfinite(ranges) & (np.abs(nearest - ranges) <= ECHO_TOLERANCE)
+    out[echo] = np.abs(nearest - ranges[echo]) <= ECHO_TOLERANCE
+    return out
+
+
+def _within_reach(laser_points: np.ndarray, poses: np.ndarray, ranges: np.ndarray) -> np.ndarray:
+    """The laser points that may decide `explained_echoes`: a point farther from the robot's
+    origin than the longest echo plus ECHO_TOLERANCE plus the farthest sonar's offset (plus
+    REACH_SLACK for rounding) is farther than that from every sonar, so it can neither be a
+    reading within the tolerance of an echo nor lie nearer than one that is: leaving it out
+    changes no answer, and saves its row of distances and projections for every sonar (a
+    third of a scan in a hallway)."""
+    reach = (float(ranges.max()) + ECHO_TOLERANCE + REACH_SLACK
+             + float(np.hypot(poses[:, 0], poses[:, 1]).max()))
+    far = np.hypot(laser_points[:, 0], laser_points[:, 1]) > reach
+    return laser_points[~far] if far.any() else laser_points
+
+
+REACH_SLACK = 0.01          # m: far more than the rounding of any distance computed here
