@@ -409,36 +409,51 @@ class Crowd:
         return np.array(rows, dtype=float), np.array(owners)
 
     def _overlaps(self, people, world):
+        """Owners, the pairs' x and y differences, distances and depths (m, m), and the
+        overlapping pairs (a, b) once each. x and y apart: the same differences, on
+        contiguous tables."""
         circles, owners = self._circles(people, world)
-        rel = circles[:, None, :2] - circles[None, :, :2]
-        distance = np.hypot(rel[..., 0], rel[..., 1])
-        depth = circles[:, None, 2] + circles[None, :, 2] - distance
+        x, y, radius = circles[:, 0], circles[:, 1], circles[:, 2]
+        dx = x[:, None] - x[None, :]
+        dy = y[:, None] - y[None, :]
+        distance = np.hypot(dx, dy)
+        depth = radius[:, None] + radius[None, :] - distance
         other = owners[:, None] != owners[None, :]
         a, b = np.nonzero(other & (depth > OVERLAP_SLACK) & _above_diagonal(len(owners)))
-        return circles, owners, rel, distance, depth, a, b
+        return owners, dx, dy, distance, depth, a, b
 
     def _push_once(self, people: list[SimPerson], world: "World") -> bool:
-        """One round of pushing apart; True when something overlapped."""
-        _, owners, rel, distance, depth, a, b = self._overlaps(people, world)
-        moves = np.zeros((len(people), 2))
-        for i, j in zip(a, b):
-            normal = (rel[i, j] / distance[i, j] if distance[i, j] > 1e-9
-                      else np.array([1.0, 0.0]))
-            push = normal * (depth[i, j] + 1e-4)
-            oi, oj = owners[i], owners[j]
-            if oi >= 0 and oj >= 0:
-                moves[oi] += push / 2
-                moves[oj] -= push / 2
-            elif oi >= 0:
-                moves[oi] += push
-            else:
-                moves[oj] -= push
+        """One round of pushing apart; True when something overlapped. The pairs' pushes
+        in plain floats (numpy's scalar indexing costs more than the work): the same
+        divisions, products and sums in the same order."""
+        owners, dx, dy, distance, depth, a, b = self._overlaps(people, world)
+        moves = [[0.0, 0.0] for _ in people]
+        if len(a):
+            pairs = zip(owners[a].tolist(), owners[b].tolist(), dx[a, b].tolist(),
+                        dy[a, b].tolist(), distance[a, b].tolist(), depth[a, b].tolist())
+            for oi, oj, rx, ry, gap, deep in pairs:
+                nx, ny = (rx / gap, ry / gap) if gap > 1e-9 else (1.0, 0.0)
+                deep = deep + 1e-4
+                px, py = nx * deep, ny * deep
+                if oi >= 0 and oj >= 0:
+                    moves[oi][0] += px / 2
+                    moves[oi][1] += py / 2
+                    moves[oj][0] -= px / 2
+                    moves[oj][1] -= py / 2
+                elif oi >= 0:
+                    moves[oi][0] += px
+                    moves[oi][1] += py
+                else:
+                    moves[oj][0] -= px
+                    moves[oj][1] -= py
         walls = self._wall_overlaps(people, world)
         for k, push in walls.items():
-            moves[k] += push
-        for person, (dx, dy) in zip(people, moves.tolist()):
-            person.x += dx
-            person.y += dy
+            px, py = push.tolist()
+            moves[k][0] += px
+            moves[k][1] += py
+        for person, (mx, my) in zip(people, moves):
+            person.x += mx
+            person.y += my
         return len(a) > 0 or bool(walls)
 
     def _wall_overlaps(self, people: list[SimPerson], world: "World") -> dict:
@@ -456,7 +471,7 @@ class Crowd:
 
     def _overlapping(self, people: list[SimPerson], world: "World") -> list[SimPerson]:
         """People whose body or cart overlaps another's or the robot's footprint."""
-        _, owners, _, _, _, a, b = self._overlaps(people, world)
+        owners, _, _, _, _, a, b = self._overlaps(people, world)
         stuck = {int(o) for o in np.concatenate([owners[a], owners[b]]) if o >= 0}
         return [people[k] for k in sorted(stuck)]
 
