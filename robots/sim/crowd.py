@@ -305,31 +305,46 @@ class Crowd:
         return self._walls
 
     def _cart_forces(self, people, positions, wish) -> np.ndarray:
-        """Other people's carts push like walls do."""
+        """Other people's carts push like walls do. Pair by pair in plain floats (numpy's
+        scalar indexing costs more than the work): the same hypot (numpy's), differences,
+        products and sums in the same order."""
         p = self.params
         out = np.zeros_like(positions)
         carts = [(k, c) for k, person in enumerate(people) for c in person.cart_circles()]
         if not carts:
             return out
-        for i, c in self._within_reach(positions, carts):
+        pairs = self._within_reach(positions, carts)
+        at, walks = positions.tolist(), wish.tolist()
+        for i, c in pairs:
             owner, (cx, cy, radius) = carts[c]
             if owner != i:
-                rel = positions[i] - (cx, cy)
-                distance = float(np.hypot(*rel))
+                rx, ry = at[i][0] - cx, at[i][1] - cy
+                distance = float(np.hypot(rx, ry))
                 gap = distance - radius - BODY_RADIUS
                 if gap < p.wall_reach and distance > 1e-9:
-                    weight = float(self._view_weight(-rel, wish[i]))
-                    out[i] += weight * p.wall_strength * math.exp(-max(gap, 0.0) / p.sigma) \
-                        * rel / distance
+                    weight = self._view_weight_of(-rx, -ry, *walks[i])
+                    size = weight * p.wall_strength * math.exp(-max(gap, 0.0) / p.sigma)
+                    out[i, 0] += size * rx / distance
+                    out[i, 1] += size * ry / distance
         return out
+
+    def _view_weight_of(self, tx: float, ty: float, wx: float, wy: float) -> float:
+        """`_view_weight` of one direction (tx, ty) for one wish (wx, wy), in plain floats
+        but numpy's hypot (math.hypot rounds differently)."""
+        speed = float(np.hypot(wx, wy))
+        distance = float(np.hypot(tx, ty))
+        cosine = (wx * tx + wy * ty) / max(speed * distance, 1e-12)
+        seen = speed > 1e-6 and cosine >= math.cos(self.params.fov / 2)
+        return 1.0 if seen else self.params.behind
 
     def _within_reach(self, positions: np.ndarray, carts: list) -> list[tuple[int, int]]:
         """(person, cart) index pairs, in the order of a loop over people then carts, that
         may be within the wall force's reach: a margin over the exact test, which the caller
         makes on these pairs alone (most carts are far from most people)."""
         circles = np.array([c for _, c in carts])
-        rel = positions[:, None, :] - circles[None, :, :2]
-        gap = np.hypot(rel[..., 0], rel[..., 1]) - circles[None, :, 2] - BODY_RADIUS
+        dx = positions[:, 0:1] - circles[None, :, 0]
+        dy = positions[:, 1:2] - circles[None, :, 1]
+        gap = np.hypot(dx, dy) - circles[None, :, 2] - BODY_RADIUS
         people, near = np.nonzero(gap < self.params.wall_reach + 1e-6)
         return list(zip(people.tolist(), near.tolist()))
 
