@@ -146,8 +146,9 @@ class Crowd:
         cap = np.maximum(np.where(wished > 1e-6, p.overspeed * scripted, 0.0), p.min_cap)
         speed = np.hypot(velocity[:, 0], velocity[:, 1])
         over = speed > cap
-        velocity[over] *= (cap[over] / speed[over])[:, None]
-        speed = np.where(over, cap, speed)
+        if over.any():          # (most substeps nobody is over: nothing to scale)
+            velocity[over] *= (cap[over] / speed[over])[:, None]
+            speed = np.where(over, cap, speed)
         moved = start + velocity * h
         swerving = ((np.hypot(u[:, 0], u[:, 1]) > 1e-6) & (speed > 0.05)).tolist()
         # plain floats for the loop: numpy's scalar indexing costs more than the work
