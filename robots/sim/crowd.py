@@ -146,8 +146,9 @@ class Crowd:
         cap = np.maximum(np.where(wished > 1e-6, p.overspeed * scripted, 0.0), p.min_cap)
         speed = np.hypot(velocity[:, 0], velocity[:, 1])
         over = speed > cap
-        velocity[over] *= (cap[over] / speed[over])[:, None]
-        speed = np.where(over, cap, speed)
+        if over.any():          # (most substeps nobody is over: nothing to scale)
+            velocity[over] *= (cap[over] / speed[over])[:, None]
+            speed = np.where(over, cap, speed)
         moved = start + velocity * h
         swerving = ((np.hypot(u[:, 0], u[:, 1]) > 1e-6) & (speed > 0.05)).tolist()
         # plain floats for the loop: numpy's scalar indexing costs more than the work
@@ -305,31 +306,46 @@ class Crowd:
         return self._walls
 
     def _cart_forces(self, people, positions, wish) -> np.ndarray:
-        """Other people's carts push like walls do."""
+        """Other people's carts push like walls do. Pair by pair in plain floats (numpy's
+        scalar indexing costs more than the work): the same hypot (numpy's), differences,
+        products and sums in the same order."""
         p = self.params
         out = np.zeros_like(positions)
         carts = [(k, c) for k, person in enumerate(people) for c in person.cart_circles()]
         if not carts:
             return out
-        for i, c in self._within_reach(positions, carts):
+        pairs = self._within_reach(positions, carts)
+        at, walks = positions.tolist(), wish.tolist()
+        for i, c in pairs:
             owner, (cx, cy, radius) = carts[c]
             if owner != i:
-                rel = positions[i] - (cx, cy)
-                distance = float(np.hypot(*rel))
+                rx, ry = at[i][0] - cx, at[i][1] - cy
+                distance = float(np.hypot(rx, ry))
                 gap = distance - radius - BODY_RADIUS
                 if gap < p.wall_reach and distance > 1e-9:
-                    weight = float(self._view_weight(-rel, wish[i]))
-                    out[i] += weight * p.wall_strength * math.exp(-max(gap, 0.0) / p.sigma) \
-                        * rel / distance
+                    weight = self._view_weight_of(-rx, -ry, *walks[i])
+                    size = weight * p.wall_strength * math.exp(-max(gap, 0.0) / p.sigma)
+                    out[i, 0] += size * rx / distance
+                    out[i, 1] += size * ry / distance
         return out
+
+    def _view_weight_of(self, tx: float, ty: float, wx: float, wy: float) -> float:
+        """`_view_weight` of one direction (tx, ty) for one wish (wx, wy), in plain floats
+        but numpy's hypot (math.hypot rounds differently)."""
+        speed = float(np.hypot(wx, wy))
+        distance = float(np.hypot(tx, ty))
+        cosine = (wx * tx + wy * ty) / max(speed * distance, 1e-12)
+        seen = speed > 1e-6 and cosine >= math.cos(self.params.fov / 2)
+        return 1.0 if seen else self.params.behind
 
     def _within_reach(self, positions: np.ndarray, carts: list) -> list[tuple[int, int]]:
         """(person, cart) index pairs, in the order of a loop over people then carts, that
         may be within the wall force's reach: a margin over the exact test, which the caller
         makes on these pairs alone (most carts are far from most people)."""
         circles = np.array([c for _, c in carts])
-        rel = positions[:, None, :] - circles[None, :, :2]
-        gap = np.hypot(rel[..., 0], rel[..., 1]) - circles[None, :, 2] - BODY_RADIUS
+        dx = positions[:, 0:1] - circles[None, :, 0]
+        dy = positions[:, 1:2] - circles[None, :, 1]
+        gap = np.hypot(dx, dy) - circles[None, :, 2] - BODY_RADIUS
         people, near = np.nonzero(gap < self.params.wall_reach + 1e-6)
         return list(zip(people.tolist(), near.tolist()))
 
@@ -409,36 +425,51 @@ class Crowd:
         return np.array(rows, dtype=float), np.array(owners)
 
     def _overlaps(self, people, world):
+        """Owners, the pairs' x and y differences, distances and depths (m, m), and the
+        overlapping pairs (a, b) once each. x and y apart: the same differences, on
+        contiguous tables."""
         circles, owners = self._circles(people, world)
-        rel = circles[:, None, :2] - circles[None, :, :2]
-        distance = np.hypot(rel[..., 0], rel[..., 1])
-        depth = circles[:, None, 2] + circles[None, :, 2] - distance
+        x, y, radius = circles[:, 0], circles[:, 1], circles[:, 2]
+        dx = x[:, None] - x[None, :]
+        dy = y[:, None] - y[None, :]
+        distance = np.hypot(dx, dy)
+        depth = radius[:, None] + radius[None, :] - distance
         other = owners[:, None] != owners[None, :]
         a, b = np.nonzero(other & (depth > OVERLAP_SLACK) & _above_diagonal(len(owners)))
-        return circles, owners, rel, distance, depth, a, b
+        return owners, dx, dy, distance, depth, a, b
 
     def _push_once(self, people: list[SimPerson], world: "World") -> bool:
-        """One round of pushing apart; True when something overlapped."""
-        _, owners, rel, distance, depth, a, b = self._overlaps(people, world)
-        moves = np.zeros((len(people), 2))
-        for i, j in zip(a, b):
-            normal = (rel[i, j] / distance[i, j] if distance[i, j] > 1e-9
-                      else np.array([1.0, 0.0]))
-            push = normal * (depth[i, j] + 1e-4)
-            oi, oj = owners[i], owners[j]
-            if oi >= 0 and oj >= 0:
-                moves[oi] += push / 2
-                moves[oj] -= push / 2
-            elif oi >= 0:
-                moves[oi] += push
-            else:
-                moves[oj] -= push
+        """One round of pushing apart; True when something overlapped. The pairs' pushes
+        in plain floats (numpy's scalar indexing costs more than the work): the same
+        divisions, products and sums in the same order."""
+        owners, dx, dy, distance, depth, a, b = self._overlaps(people, world)
+        moves = [[0.0, 0.0] for _ in people]
+        if len(a):
+            pairs = zip(owners[a].tolist(), owners[b].tolist(), dx[a, b].tolist(),
+                        dy[a, b].tolist(), distance[a, b].tolist(), depth[a, b].tolist())
+            for oi, oj, rx, ry, gap, deep in pairs:
+                nx, ny = (rx / gap, ry / gap) if gap > 1e-9 else (1.0, 0.0)
+                deep = deep + 1e-4
+                px, py = nx * deep, ny * deep
+                if oi >= 0 and oj >= 0:
+                    moves[oi][0] += px / 2
+                    moves[oi][1] += py / 2
+                    moves[oj][0] -= px / 2
+                    moves[oj][1] -= py / 2
+                elif oi >= 0:
+                    moves[oi][0] += px
+                    moves[oi][1] += py
+                else:
+                    moves[oj][0] -= px
+                    moves[oj][1] -= py
         walls = self._wall_overlaps(people, world)
         for k, push in walls.items():
-            moves[k] += push
-        for person, (dx, dy) in zip(people, moves.tolist()):
-            person.x += dx
-            person.y += dy
+            px, py = push.tolist()
+            moves[k][0] += px
+            moves[k][1] += py
+        for person, (mx, my) in zip(people, moves):
+            person.x += mx
+            person.y += my
         return len(a) > 0 or bool(walls)
 
     def _wall_overlaps(self, people: list[SimPerson], world: "World") -> dict:
@@ -456,7 +487,7 @@ class Crowd:
 
     def _overlapping(self, people: list[SimPerson], world: "World") -> list[SimPerson]:
         """People whose body or cart overlaps another's or the robot's footprint."""
-        _, owners, _, _, _, a, b = self._overlaps(people, world)
+        owners, _, _, _, _, a, b = self._overlaps(people, world)
         stuck = {int(o) for o in np.concatenate([owners[a], owners[b]]) if o >= 0}
         return [people[k] for k in sorted(stuck)]
 

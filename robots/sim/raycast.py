@@ -84,7 +84,9 @@ def _circle_hits(px, py, dx, dy, circles: np.ndarray) -> np.ndarray:
     disc = b * b - c
     with np.errstate(invalid="ignore"):
         t = b - np.sqrt(disc)
-    t = np.where(c <= 0.0, 0.0, t)    # origin inside the circle
+    inside = c <= 0.0                 # (k, 1) or (k, n): the origin inside the circle
+    if inside.any():                  # (rarely: most sensors stand clear of everyone)
+        t = np.where(inside, 0.0, t)
     hit = (disc >= 0.0) & (t >= 0.0)
     return np.where(hit, t, np.inf).min(axis=0)
 

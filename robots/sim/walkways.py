@@ -19,6 +19,7 @@ from robots.sim.floor import Floor
 CELL = 0.1                 # m
 CLEARANCE = 0.3            # m from a person's centre to any wall (body radius 0.2 + margin)
 _GOAL_CACHE = 64           # searches kept per grid
+_LINE_CACHE = 4096         # answers of `clear` kept per grid
 _PULL_BATCH = 16           # lines from one anchor tested together when pulling the string
 _GRIDS: dict[tuple, "WalkGrid"] = {}
 
@@ -44,6 +45,7 @@ class WalkGrid:
         self._graph = self._build_graph()
         self._searches: dict[int, np.ndarray] = {}
         self._fractions: dict[int, np.ndarray] = {}     # samples -> linspace(0, 1)
+        self._lines: dict[tuple, bool] = {}               # (ax, ay, bx, by) -> clear
 
     def route(self, start: tuple[float, float], goal: tuple[float, float]
               ) -> list[tuple[float, float]]:
@@ -64,7 +66,19 @@ class WalkGrid:
         return self._pull_string(start, points)
 
     def clear(self, a: tuple[float, float], b: tuple[float, float]) -> bool:
-        """True when every point of the straight line a–b lies in a free cell."""
+        """True when every point of the straight line a–b lies in a free cell. Kept per
+        line (the grid does not change): a shopper held up asks about the same line, from
+        where they stand to their path's next point, every substep."""
+        key = (a[0], a[1], b[0], b[1])
+        known = self._lines.get(key)
+        if known is None:
+            known = self._clear(a, b)
+            if len(self._lines) >= _LINE_CACHE:
+                self._lines.clear()
+            self._lines[key] = known
+        return known
+
+    def _clear(self, a: tuple[float, float], b: tuple[float, float]) -> bool:
         s = self._samples(a, b)
         rows, cols = self._cells(a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]))
         inside = (rows >= 0) & (rows < self.rows) & (cols >= 0) & (cols < self.cols)
