@@ -65,6 +65,7 @@ class Measures:
         self.max_speed_near_people = 0.0          # m/s, |v| while a gap < near_people
         self._touching: set[tuple[str, str]] = set()
         self._intruding: set[tuple[str, str]] = set()
+        self._bound: tuple | None = None     # (x, y, segments, gap bound) of the last bound
 
     # -- queries ---------------------------------------------------------------------------
 
@@ -101,11 +102,11 @@ class Measures:
         without it all walls are searched."""
         body = world.body
         if body.rectangle is not None:               # the real outline, not the circle
-            gap_wall = body.gap_to_walls(world.floor.segments if near_walls is None
-                                         else near_walls)
+            segments = world.floor.segments if near_walls is None else near_walls
             if near_walls is not None and not len(near_walls) and (
                     self.min_wall_clearance > NEAR_WALLS):
-                gap_wall = body.gap_to_walls(world.floor.segments)
+                segments = world.floor.segments      # the exact value still counts
+            gap_wall = self._outline_gap(body, segments)
         elif near_walls is None:
             gap_wall = _nearest_of_many(body.x, body.y, world.floor.segments) - body.radius
         elif len(near_walls):
@@ -145,6 +146,24 @@ class Measures:
             self.max_speed_near_people = max(self.max_speed_near_people, abs(body.v))
         if body.stalled or self._touching or gap_wall <= RELEASE or closest <= RELEASE:
             self._contacts(world.t, body, gap_wall, gaps)
+
+    def _outline_gap(self, body, segments: np.ndarray) -> float:
+        """The box-shaped footprint's gap to the walls; or, unless the body is stalled, a lower
+        bound of it that is above both the smallest gap so far and RELEASE: the exact gap would
+        change nothing then (the minimum stays, no wall contact begins or lasts), and it
+        costs dozens of array operations per substep."""
+        if not len(segments):
+            return math.inf
+        known = body.rectangle.known_gap(body.x, body.y, body.th, segments)
+        if known is not None:
+            return known
+        if not body.stalled:
+            bound = self._bound
+            if bound is None or bound[2] is not segments or bound[:2] != (body.x, body.y):
+                bound = self._bound = (body.x, body.y, segments, body.gap_bound(segments))
+            if bound[3] > self.min_wall_clearance and bound[3] > RELEASE:
+                return bound[3]
+        return body.gap_to_walls(segments)
 
     def _intrusion(self, t: float, dt: float, person: str, by: str, now: bool) -> None:
         key = (person, by)

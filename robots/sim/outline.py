@@ -23,6 +23,7 @@ class Rectangle:
     def __init__(self, length: float, width: float) -> None:
         self.half_length = float(length) / 2
         self.half_width = float(width) / 2
+        self.half_diagonal = math.hypot(self.half_length, self.half_width)   # centre to corner
         self.corners = np.array([[self.half_length, self.half_width],
                                  [self.half_length, -self.half_width],
                                  [-self.half_length, -self.half_width],
@@ -74,6 +75,14 @@ class Rectangle:
         gap = self._gap_to_segments(x, y, th, segments)
         self._last_wall_gap = (x, y, th, segments, gap)
         return gap
+
+    def known_gap(self, x: float, y: float, th: float, segments: np.ndarray) -> float | None:
+        """The gap `gap_to_segments` last found, if it was for this pose and these segments
+        (the same object), else None."""
+        last = self._last_wall_gap
+        if last is not None and last[3] is segments and last[:3] == (x, y, th):
+            return last[4]
+        return None
 
     def _gap_to_segments(self, x: float, y: float, th: float, segments: np.ndarray) -> float:
         if not len(segments):
