@@ -102,3 +102,22 @@ def test_the_measures_count_a_corner_touching_a_wall_as_a_contact():
     world.step(0.05)
     assert world.measures.min_wall_clearance < 0.0 < 0.29 - HOROS.radius
     assert world.measures.contact_count("wall") == 1
+
+
+def test_the_bound_is_below_every_exact_gap_and_the_stop_rule_is_unchanged():
+    """The cheap bound (centre distance less the half diagonal) never exceeds the exact gap
+    to walls or circles, whatever the heading, so deciding by it alone changes nothing."""
+    rng = np.random.default_rng(7)
+    body = UnicycleBody(0.0, 0.0, 0.0, HOROS.limits, HOROS.radius, BOX)
+    for _ in range(400):
+        x, y, th = rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-math.pi, math.pi)
+        segments = rng.uniform(-1.5, 1.5, (int(rng.integers(1, 6)), 4))
+        circles = np.c_[rng.uniform(-1.5, 1.5, (3, 2)), rng.uniform(0.05, 0.3, 3)]
+        exact_walls = BOX.gap_to_segments(x, y, th, segments)
+        exact_circles = float(BOX.gap_to_circles(x, y, th, circles).min())
+        assert body.gap_bound(segments, None, x, y) <= exact_walls
+        assert body.gap_bound(segments, circles, x, y) <= min(exact_walls, exact_circles)
+        obstacles = Obstacles(segments, circles)
+        after = body.clearance(x, y, obstacles, th)
+        expected = after < 0.0 and after < body.clearance(body.x, body.y, obstacles, body.th)
+        assert body._blocked(x, y, obstacles, th) == expected
