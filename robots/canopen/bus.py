@@ -27,6 +27,7 @@ from typing import Callable
 
 import can
 
+from robots.canopen.virtual_send import virtual_sender
 from robots.exceptions import LinkError
 from robots.link.lockstep import ByteCounter
 
@@ -128,6 +129,7 @@ class DriverBus:
         self.counter = counter
         self.wait = wait
         self.deliver = deliver or (counter.wait_drained if counter is not None else None)
+        self._send = virtual_sender(bus)      # python-can's own send but without its deepcopy
         self.log = log
         self.drain_timeout = drain_timeout
         self.channel_info = getattr(bus, "channel_info", "can")
@@ -141,7 +143,7 @@ class DriverBus:
         if self.counter is not None:
             self.counter.wrote(1)
         try:
-            self.bus.send(msg, timeout)
+            self._send(msg, timeout)
         except OSError as exc:                # a socketcand/TCP link gone: a CAN link fault,
             if self.counter is not None:      # never a BrokenPipeError taken for our stdout
                 self.counter.got(1)
