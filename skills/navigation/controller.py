@@ -170,17 +170,22 @@ class LocalController:
             cap, cap_why = min(cap, 0.0), cap_why or "turning"
 
         commands = self._samples(v0, w0, cap)
-        long_poses = rollout(x, y, th, v0, w0, commands, self._long_times, self.limits)
+        # the longer people horizon only with people to score (its first poses are the
+        # horizon's: the same cumulative sums), and their distances once for both uses
+        long_poses = rollout(x, y, th, v0, w0, commands,
+                             self._long_times if len(crowd) else self._times, self.limits)
         poses = long_poses[:, : len(self._times)]
+        people_d = (self._people_distance(long_poses, crowd, self._long_times) if len(crowd)
+                    else None)
         speeds = _speeds(v0, commands, self._times, self.limits)
-        gap, gap0 = self._gaps(x, y, th, v0, poses, speeds, near, crowd)
+        gap, gap0 = self._gaps(x, y, th, v0, poses, speeds, near, crowd, people_d)
         unsafe = (gap < 0.0) & (gap < gap0[:, None] - 1e-9)
         ok = ~unsafe.any(axis=1)
         if not ok.any():
             return Command(0.0, 0.0, admissible=False, blocked=True,
                            blocker=blocker or _nearest(x, y, near, crowd), speed_cap=cap,
                            reason="no collision-free command within the horizon")
-        score = self._score(commands, poses, long_poses, gap, gap0, crowd, path, target, cap,
+        score = self._score(commands, poses, people_d, gap, gap0, crowd, path, target, cap,
                             turning, lead_off, arc)
         score[~ok] = np.inf
         best = int(np.argmin(score))
@@ -300,8 +305,9 @@ class LocalController:
         grid_v, grid_w = np.meshgrid(vs, ws, indexing="ij")
         return np.column_stack([grid_v.ravel(), grid_w.ravel()])
 
-    def _gaps(self, x, y, th, v0, poses, speeds, points, crowd):
-        """Free space (m) beyond body + margin at every pose (s, k), and at the start (s,).
+    def _gaps(self, x, y, th, v0, poses, speeds, points, crowd, people_d=None):
+        """Free space (m) beyond body + margin at every pose (s, k), and at the start (s,)
+        (`people_d`: the people's `_people_distance` over the long horizon, when known).
 
         A walking person counts only where the robot is still moving then (passive safety):
         standing still is always allowed, else a person walking at a stopped robot would leave
@@ -317,7 +323,8 @@ class LocalController:
             gap = np.minimum(gap, self._points_gap(px, py, pth, points, tree))
             gap0 = min(gap0, float(self._points_gap(*here, points, tree)[0]))
         if len(crowd):
-            d = self._people_distance(poses, crowd, self._times)
+            d = (self._people_distance(poses, crowd, self._times) if people_d is None
+                 else people_d[:, : poses.shape[1]])
             walking = np.hypot(crowd[:, 2], crowd[:, 3]) > 0.0
             # the robot counts as moving at a pose when it moved at any time since the previous
             # one: it may stop between two poses, and a walker reaching it before it has stopped
@@ -331,7 +338,7 @@ class LocalController:
         gap = gap - p.safety_margin
         return gap, np.full(poses.shape[0], gap0 - p.safety_margin)
 
-    def _intrusion(self, long_poses, crowd, path, arc=None) -> np.ndarray:
+    def _intrusion(self, people_d, crowd, path, arc=None) -> np.ndarray:
         """(s,) worst intrusion (0 … 1) into a person's personal space over `people_horizon`.
 
         For a person standing, only the intrusion beyond what the path itself needs counts: the
@@ -339,7 +346,7 @@ class LocalController:
         must not make standing still the best command (the robot would never pass)."""
         p = self.params
         reach = self.radius + PERSON_RADIUS + p.personal_space
-        d = self._people_distance(long_poses, crowd, self._long_times).min(axis=1)   # (s, m)
+        d = people_d.min(axis=1)     # (s, m): the `_people_distance` over people_horizon
         intrusion = _clip((reach - d) / p.personal_space, 0.0, 1.0)
         standing = np.hypot(crowd[:, 2], crowd[:, 3]) == 0.0
         if standing.any() and len(path) >= 2:
@@ -440,7 +447,7 @@ class LocalController:
         fy = crowd[None, None, :, 1] + crowd[None, None, :, 3] * t
         return np.hypot(poses[..., 0, None] - fx, poses[..., 1, None] - fy)
 
-    def _score(self, commands, poses, long_poses, gap, gap0, crowd, path, target,
+    def _score(self, commands, poses, people_d, gap, gap0, crowd, path, target,
                cap, turning: bool = False, lead_off: bool = False, arc=None) -> np.ndarray:
         """Lower is better: progress along the path, heading along it, distance from it,
         clearance, people's personal space, speed."""
@@ -498,7 +505,7 @@ class LocalController:
             clearance = np.zeros(len(commands))
         intrusion = 0.0
         if len(crowd):
-            intrusion = self._intrusion(long_poses, crowd, path, arc)
+            intrusion = self._intrusion(people_d, crowd, path, arc)
         top = max(cap, 1e-3)
         speed = _clip((top - commands[:, 0]) / top, 0.0, 1.0)
         return (p.w_progress * progress + p.w_heading * heading
