@@ -544,6 +544,19 @@ def _nearest_distance(px: np.ndarray, py: np.ndarray, points: np.ndarray,
     """Distance from every pose (px, py of one shape) to its nearest point (k, 2). A k-d tree
     beyond a few points: every sampled pose against every reading was the controller's largest
     cost with a laser scan of a crowd around (poses × readings distances per tick)."""
+    if 0 < len(points) <= KD_TREE_FROM:
+        # one reading at a time: the same distances and minima as the (poses, readings)
+        # array's, without it and its reduction over a short last axis
+        dx, dy = np.empty_like(px, dtype=float), np.empty_like(py, dtype=float)
+        nearest = None
+        for rx, ry in points.tolist():
+            np.subtract(px, rx, out=dx)
+            np.subtract(py, ry, out=dy)
+            if nearest is None:
+                nearest = np.hypot(dx, dy)
+            else:
+                np.minimum(nearest, np.hypot(dx, dy, out=dx), out=nearest)
+        return nearest
     if len(points) <= KD_TREE_FROM:
         return np.hypot(px[..., None] - points[:, 0], py[..., None] - points[:, 1]).min(axis=-1)
     tree = tree if tree is not None else cKDTree(points)
