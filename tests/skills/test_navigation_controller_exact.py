@@ -55,3 +55,11 @@ def test_projection_and_resampling_are_bit_identical():
     points = rng.normal(0.0, 1.0, (200, 2))
     for new, old in zip(_project(points, window), old_project(points, window)):
         assert new.tobytes() == old.tobytes()
+
+
+def test_map_clearance_keeps_the_shape_of_a_single_point_and_a_row():
+    for x, y in [(1.0, 1.0), (np.array([1.0]), np.array([1.0])), (-3.0, 1.0),
+                 (np.array([0.4, 1.3, -2.0]), np.array([[0.7], [1.1]]))]:
+        new, old = CONTROLLER._map_clearance(x, y), old_map_clearance(CONTROLLER, x, y)
+        assert new.shape == old.shape
+        assert new.tobytes() == old.tobytes()
