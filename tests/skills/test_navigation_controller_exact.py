@@ -3,9 +3,13 @@ replaced (kept here verbatim), on poses inside, at the edge of and off the map."
 from __future__ import annotations
 
 import numpy as np
+from scipy.spatial import cKDTree
 
-from skills.navigation.controller import _arc, _project, _resample
-from tests.skills.test_navigation_controller import CONTROLLER, ROOM
+from skills.navigation.controller import (KD_TREE_FROM, NEAREST_READINGS, SQUARES_UP_TO,
+                                          LocalController, _arc, _nearest_distance, _project,
+                                          _resample)
+from skills.navigation.footprint import Footprint
+from tests.skills.test_navigation_controller import CONTROLLER, COSTMAP, LIMITS, ROOM
 
 
 def old_map_clearance(controller, x, y):
@@ -63,3 +67,41 @@ def test_map_clearance_keeps_the_shape_of_a_single_point_and_a_row():
         new, old = CONTROLLER._map_clearance(x, y), old_map_clearance(CONTROLLER, x, y)
         assert new.shape == old.shape
         assert new.tobytes() == old.tobytes()
+
+
+def test_nearest_distance_without_the_tree_is_the_trees_to_the_bit():
+    """Beyond KD_TREE_FROM readings the distances are the k-d tree's (sqrt of dx*dx + dy*dy,
+    not np.hypot's), with or without the tree."""
+    rng = np.random.default_rng(11)
+    for count in range(KD_TREE_FROM + 1, SQUARES_UP_TO + 1, 5):
+        points = rng.uniform(0.0, 3.0, (count, 2))
+        for shape in [(1,), (7,), (120, 20)]:
+            px, py = rng.uniform(-0.5, 3.5, shape), rng.uniform(-0.5, 3.5, shape)
+            px.flat[0], py.flat[0] = points[0]                   # on a reading
+            old, _ = cKDTree(points).query(np.column_stack([px.ravel(), py.ravel()]))
+            new = _nearest_distance(px, py, points)
+            assert new.shape == shape
+            assert new.tobytes() == old.reshape(shape).tobytes()
+
+
+def test_a_few_readings_give_the_plain_distances_for_any_number_of_poses():
+    rng = np.random.default_rng(12)
+    for count in range(1, KD_TREE_FROM + 1):
+        points = rng.uniform(0.0, 3.0, (count, 2))
+        for shape in [(1,), (40,), (120, 20)]:
+            px, py = rng.uniform(-0.5, 3.5, shape), rng.uniform(-0.5, 3.5, shape)
+            old = np.hypot(px[..., None] - points[:, 0], py[..., None] - points[:, 1]).min(-1)
+            assert _nearest_distance(px, py, points).tobytes() == old.tobytes()
+
+
+def test_a_rectangle_against_up_to_nearest_readings_needs_no_tree():
+    """The tree preselected all of them (k = their number): the same least gap."""
+    box = LocalController(COSTMAP, LIMITS, footprint=Footprint("rectangle", 0.3, 0.45, 0.39))
+    rng = np.random.default_rng(13)
+    for count in range(KD_TREE_FROM + 1, NEAREST_READINGS + 1):
+        points = rng.uniform(0.0, 3.0, (count, 2))
+        px, py = rng.uniform(0.0, 3.0, (60, 20)), rng.uniform(0.0, 3.0, (60, 20))
+        pth = rng.uniform(-np.pi, np.pi, (60, 20))
+        _, index = cKDTree(points).query(np.column_stack([px.ravel(), py.ravel()]), k=count)
+        old = box.footprint.gap_to_points(px, py, pth, points[index.reshape(60, 20, count)])
+        assert box._points_gap(px, py, pth, points).tobytes() == old.tobytes()
