@@ -171,15 +171,16 @@ class LocalController:
         if turning:
             cap, cap_why = min(cap, 0.0), cap_why or "turning"
 
-        commands = self._samples(v0, w0, cap)
+        vs, ws = self._sample_speeds(v0, w0, cap)
+        commands = np.column_stack([np.repeat(vs, len(ws)), np.tile(ws, len(vs))])
         # the longer people horizon only with people to score (its first poses are the
         # horizon's: the same cumulative sums), and their distances once for both uses
-        long_poses = rollout(x, y, th, v0, w0, commands,
-                             self._long_times if len(crowd) else self._times, self.limits)
+        long_poses = _rollout_grid(x, y, th, v0, w0, vs, ws,
+                                   self._long_times if len(crowd) else self._times, self.limits)
         poses = long_poses[:, : len(self._times)]
         people_d = (self._people_distance(long_poses, crowd, self._long_times) if len(crowd)
                     else None)
-        speeds = _speeds(v0, commands, self._times, self.limits)
+        speeds = np.repeat(_speeds(v0, vs[:, None], self._times, self.limits), len(ws), axis=0)
         gap, gap0 = self._gaps(x, y, th, v0, poses, speeds, near, crowd, people_d)
         unsafe = (gap < 0.0) & (gap < gap0[:, None] - 1e-9)
         ok = ~unsafe.any(axis=1)
@@ -290,22 +291,23 @@ class LocalController:
         which = int(np.argmin(np.where(hit[first], d[first], np.inf)))
         return float(along[first]), (float(blockers[which, 0]), float(blockers[which, 1]))
 
-    def _samples(self, v0, w0, cap) -> np.ndarray:
-        """(s, 2) commands reachable in one tick, within the caps, plus stopping and turning."""
+    def _sample_speeds(self, v0, w0, cap) -> tuple[np.ndarray, np.ndarray]:
+        """The speeds and turn rates whose every pair is a command sampled: reachable in one
+        tick, within the caps, plus stopping and turning (np.linspace's and np.unique's
+        values, in plain floats: these few dozen numbers cost more in numpy calls)."""
         limits, p = self.limits, self.params
         dv, dw = limits.max_accel * p.tick, limits.max_turn_accel * p.tick
         v_hi = min(cap, v0 + dv, limits.max_speed)
         v_lo = min(max(0.0, v0 - dv), v_hi)
-        vs = np.unique(np.concatenate([np.linspace(v_lo, v_hi, p.v_samples), [0.0]]))
+        vs = sorted(set(_linspace(v_lo, v_hi, p.v_samples) + [0.0]))
         w_lo = max(-limits.max_turn_rate, w0 - dw)
         w_hi = min(limits.max_turn_rate, w0 + dw)
         if w_lo > w_hi:                     # spinning faster than allowed: slow the turn
             w_lo = w_hi = math.copysign(limits.max_turn_rate, w0)
-        ws = np.linspace(w_lo, w_hi, p.w_samples)
+        ws = _linspace(w_lo, w_hi, p.w_samples)
         if w_lo < 0.0 < w_hi:
-            ws = np.unique(np.concatenate([ws, [0.0]]))
-        grid_v, grid_w = np.meshgrid(vs, ws, indexing="ij")
-        return np.column_stack([grid_v.ravel(), grid_w.ravel()])
+            ws = sorted(set(ws + [0.0]))
+        return np.array(vs, dtype=float), np.array(ws, dtype=float)
 
     def _gaps(self, x, y, th, v0, poses, speeds, points, crowd, people_d=None):
         """Free space (m) beyond body + margin at every pose (s, k), and at the start (s,)
@@ -555,6 +557,44 @@ def _speeds(v0: float, commands: np.ndarray, times: np.ndarray, limits: Limits) 
     """(s, k) forward speed at the sample times: ramping from v0 to each command."""
     dv = commands[:, 0:1] - v0
     return v0 + _clip(dv, -limits.max_accel * times, limits.max_accel * times)
+
+
+def _linspace(start: float, stop: float, num: int) -> list[float]:
+    """np.linspace(start, stop, num) (num >= 2) as a list of floats, computed as numpy does:
+    i * step + start, the last exactly `stop` (i / div * delta + start for a zero step)."""
+    div = num - 1
+    delta = stop - start
+    step = delta / div
+    if step == 0:
+        values = [i / div * delta + start for i in range(num)]
+    else:
+        values = [i * step + start for i in range(num)]
+    values[-1] = stop
+    return values
+
+
+def _rollout_grid(x, y, th, v0, w0, vs: np.ndarray, ws: np.ndarray, times: np.ndarray,
+                  limits: Limits) -> np.ndarray:
+    """`rollout` of every speed in `vs` with every turn rate in `ws` (the commands of
+    `_samples`, speed-major): the same poses, with each speed's and each turn rate's ramp,
+    headings and their cosines and sines computed once for all the commands sharing it."""
+    edges = np.concatenate([[0.0], times])
+    mids = 0.5 * (edges[1:] + edges[:-1])
+    dts = np.diff(edges)
+    v = v0 + _clip(vs[:, None] - v0, -limits.max_accel * mids, limits.max_accel * mids)
+    w = w0 + _clip(ws[:, None] - w0, -limits.max_turn_accel * mids,
+                   limits.max_turn_accel * mids)
+    dth = w * dts
+    th_end = th + np.cumsum(dth, axis=1)
+    th_mid = th_end - 0.5 * dth
+    step = (v * dts)[:, None, :]                 # (speeds, 1, k) against (turn rates, k)
+    poses = np.empty((len(vs), len(ws), len(times), 3))
+    np.cumsum(step * np.cos(th_mid), axis=2, out=poses[..., 0])
+    poses[..., 0] += x
+    np.cumsum(step * np.sin(th_mid), axis=2, out=poses[..., 1])
+    poses[..., 1] += y
+    poses[..., 2] = th_end
+    return poses.reshape(len(vs) * len(ws), len(times), 3)
 
 
 def rollout(x, y, th, v0, w0, commands, times, limits: Limits) -> np.ndarray:

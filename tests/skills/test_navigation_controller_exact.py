@@ -6,8 +6,8 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from skills.navigation.controller import (KD_TREE_FROM, NEAREST_READINGS, SQUARES_UP_TO,
-                                          LocalController, _arc, _nearest_distance, _project,
-                                          _resample)
+                                          LocalController, _arc, _linspace, _nearest_distance,
+                                          _project, _resample, _rollout_grid, _speeds, rollout)
 from skills.navigation.footprint import Footprint
 from tests.skills.test_navigation_controller import CONTROLLER, COSTMAP, LIMITS, ROOM
 
@@ -105,3 +105,55 @@ def test_a_rectangle_against_up_to_nearest_readings_needs_no_tree():
         _, index = cKDTree(points).query(np.column_stack([px.ravel(), py.ravel()]), k=count)
         old = box.footprint.gap_to_points(px, py, pth, points[index.reshape(60, 20, count)])
         assert box._points_gap(px, py, pth, points).tobytes() == old.tobytes()
+
+
+def old_samples(controller, v0, w0, cap):
+    """`LocalController._samples` before the cut (numpy's linspace, unique and meshgrid)."""
+    limits, p = controller.limits, controller.params
+    dv, dw = limits.max_accel * p.tick, limits.max_turn_accel * p.tick
+    v_hi = min(cap, v0 + dv, limits.max_speed)
+    v_lo = min(max(0.0, v0 - dv), v_hi)
+    vs = np.unique(np.concatenate([np.linspace(v_lo, v_hi, p.v_samples), [0.0]]))
+    w_lo = max(-limits.max_turn_rate, w0 - dw)
+    w_hi = min(limits.max_turn_rate, w0 + dw)
+    if w_lo > w_hi:
+        w_lo = w_hi = np.copysign(limits.max_turn_rate, w0)
+    ws = np.linspace(w_lo, w_hi, p.w_samples)
+    if w_lo < 0.0 < w_hi:
+        ws = np.unique(np.concatenate([ws, [0.0]]))
+    grid_v, grid_w = np.meshgrid(vs, ws, indexing="ij")
+    return np.column_stack([grid_v.ravel(), grid_w.ravel()])
+
+
+def samples_and_rollout(v0, w0, cap):
+    vs, ws = CONTROLLER._sample_speeds(v0, w0, cap)
+    commands = np.column_stack([np.repeat(vs, len(ws)), np.tile(ws, len(vs))])
+    return vs, ws, commands
+
+
+def test_linspace_in_floats_is_numpys():
+    rng = np.random.default_rng(14)
+    cases = [(0.0, 0.0), (0.3, 0.3), (-1.5, 1.5), (0.0, 0.6), (1e-310, 2e-310), (-0.2, -0.2)]
+    cases += [tuple(rng.uniform(-2.0, 2.0, 2)) for _ in range(300)]
+    for start, stop in cases:
+        for num in (2, 7, 15):
+            assert np.array(_linspace(start, stop, num)).tobytes() == \
+                np.linspace(start, stop, num).tobytes()
+
+
+def test_the_sampled_commands_speeds_and_rollouts_are_as_before():
+    rng = np.random.default_rng(15)
+    limits = CONTROLLER.limits
+    times = CONTROLLER._long_times
+    cases = [(0.0, 0.0, 0.6), (0.6, 0.0, 0.0), (0.3, 3.0, 0.6), (0.3, -3.0, 0.2), (-0.1, 0.0, 0.6)]
+    cases += [(float(rng.uniform(-0.1, 0.7)), float(rng.uniform(-2.0, 2.0)),
+               float(rng.choice([0.0, 0.05, 0.3, 0.6, np.inf]))) for _ in range(60)]
+    for v0, w0, cap in cases:
+        vs, ws, commands = samples_and_rollout(v0, w0, cap)
+        old = old_samples(CONTROLLER, v0, w0, cap)
+        assert commands.tobytes() == old.tobytes()
+        x, y, th = (float(v) for v in rng.uniform(-3.0, 3.0, 3))
+        new = _rollout_grid(x, y, th, v0, w0, vs, ws, times, limits)
+        assert new.tobytes() == rollout(x, y, th, v0, w0, old, times, limits).tobytes()
+        speeds = np.repeat(_speeds(v0, vs[:, None], times, limits), len(ws), axis=0)
+        assert speeds.tobytes() == _speeds(v0, old, times, limits).tobytes()
