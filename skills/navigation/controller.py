@@ -125,6 +125,11 @@ class LocalController:
         # distance field values are between cell centres: a wall may be up to this much closer
         self._cell_slack = costmap.grid.resolution * math.sqrt(0.5)
         self._times = np.arange(1, int(round(params.horizon / params.step)) + 1) * params.step
+        braking = limits.max_speed ** 2 / (2 * params.brake * limits.max_accel)
+        # m of path any piece looks at (`_PathAhead`)
+        self._farthest = max(params.narrow_lookahead + braking, params.block_lookahead,
+                             limits.max_speed * params.horizon + params.lookahead,
+                             limits.max_speed * params.people_horizon)
         self._corners_of: CostMap | None = None      # the cost map of _corner_table
         self._corner_table = np.zeros((0, 5))
         self._long_times = np.arange(1, int(round(max(params.people_horizon, params.horizon)
@@ -156,8 +161,9 @@ class LocalController:
         block_near = near if block_points is None else _within(
             np.asarray(block_points, float).reshape(-1, 2), x, y, reach)
 
-        cap, cap_why = self._speed_cap(x, y, th, v0, path, crowd, max_speed, arc)
-        block_at, blocker = self._obstruction(path, block_near, crowd, arc)
+        stretch = _PathAhead(self, path, arc)
+        cap, cap_why = self._speed_cap(x, y, th, v0, path, crowd, max_speed, arc, stretch)
+        block_at, blocker = self._obstruction(path, block_near, crowd, arc, stretch)
         if block_at is not None:
             room = max(0.0, block_at - p.standoff - (p.resume_margin if held else 0.0))
             stop_cap = math.sqrt(2 * p.brake * self.limits.max_accel * room) if room > 0.05 else 0.0
@@ -189,7 +195,7 @@ class LocalController:
                            blocker=blocker or _nearest(x, y, near, crowd), speed_cap=cap,
                            reason="no collision-free command within the horizon")
         score = self._score(commands, poses, people_d, gap, gap0, crowd, path, target, cap,
-                            turning, lead_off, arc)
+                            turning, lead_off, arc, stretch)
         score[~ok] = np.inf
         best = int(np.argmin(score))
         v, w = (float(c) for c in commands[best])
@@ -199,9 +205,10 @@ class LocalController:
 
     # -- pieces ----------------------------------------------------------------------------
 
-    def _speed_cap(self, x, y, th, v0, path, crowd, max_speed, arc=None) -> tuple[float, str]:
+    def _speed_cap(self, x, y, th, v0, path, crowd, max_speed, arc=None,
+                   stretch=None) -> tuple[float, str]:
         """The speed limit of this tick: profile, caller, people near, the goal ahead (`arc`:
-        the path's `_arc`, when known)."""
+        the path's `_arc`, and `stretch` its `_PathAhead`, when known)."""
         limits, p = self.limits, self.params
         cap, why = limits.max_speed, ""
         if max_speed is not None and max_speed < cap:
@@ -226,12 +233,12 @@ class LocalController:
         if goal_cap < cap:
             cap, why = goal_cap, "goal ahead"
         if p.narrow_speed < cap and len(path) >= 2:
-            narrow_cap = self._narrow_cap(path, arc)
+            narrow_cap = self._narrow_cap(path, arc, stretch)
             if narrow_cap < cap:
                 cap, why = narrow_cap, "narrow passage"
         return cap, why
 
-    def _narrow_cap(self, path, arc=None) -> float:
+    def _narrow_cap(self, path, arc=None, stretch=None) -> float:
         """The speed cap of the openings on the path ahead. Near an opening that leaves no
         more than TIGHT either side (a door 0.25 m wider than the robot) anything under CLEAR
         within `narrow_lookahead` caps at `narrow_speed`, as it always did; elsewhere an
@@ -243,8 +250,9 @@ class LocalController:
         arbiter sees 2-8 cm ahead, and any faster approach there stalled it as "blocked"."""
         p, limits = self.params, self.limits
         braking = limits.max_speed ** 2 / (2 * p.brake * limits.max_accel)
-        window, along = _resample(path, 0.05, p.narrow_lookahead + braking, arc)
-        gaps = self._path_gaps(window)
+        stretch = stretch or _PathAhead(self, path, arc)
+        _, along = stretch.window(p.narrow_lookahead + braking)
+        gaps = stretch.gaps(p.narrow_lookahead + braking)
         if gaps.min() <= TIGHT:         # the old rule, the same approach and speed
             near = along <= p.narrow_lookahead
             return p.narrow_speed if gaps[near].min() < CLEAR else limits.max_speed
@@ -254,7 +262,7 @@ class LocalController:
         reach = np.sqrt(allowed ** 2 + 2 * p.brake * limits.max_accel * room)
         return float(reach.min())
 
-    def _obstruction(self, path, points, crowd, arc=None):
+    def _obstruction(self, path, points, crowd, arc=None, stretch=None):
         """(metres along the path, (x, y)) of the first obstruction within block_lookahead.
 
         Obstructions are readings off the map's walls and people standing, not people walking
@@ -262,7 +270,6 @@ class LocalController:
         p = self.params
         if len(path) < 2:
             return None, None
-        samples, along = _resample(path, 0.05, p.block_lookahead, arc)
         blockers = np.zeros((0, 2))
         if len(points):
             off_map = self.costmap.grid.clearance(points[:, 0], points[:, 1]) > UNMAPPED
@@ -281,6 +288,7 @@ class LocalController:
                                                    + PERSON_RADIUS + p.block_margin)])
         if not len(blockers):
             return None, None
+        samples, along = (stretch or _PathAhead(self, path, arc)).window(p.block_lookahead)
         d = np.hypot(samples[:, None, 0] - blockers[None, :, 0],
                      samples[:, None, 1] - blockers[None, :, 1])
         hit = d < limit[None, :]
@@ -342,7 +350,7 @@ class LocalController:
         gap = gap - p.safety_margin
         return gap, np.full(poses.shape[0], gap0 - p.safety_margin)
 
-    def _intrusion(self, people_d, crowd, path, arc=None) -> np.ndarray:
+    def _intrusion(self, people_d, crowd, path, arc=None, stretch=None) -> np.ndarray:
         """(s,) worst intrusion (0 … 1) into a person's personal space over `people_horizon`.
 
         For a person standing, only the intrusion beyond what the path itself needs counts: the
@@ -354,7 +362,8 @@ class LocalController:
         intrusion = _clip((reach - d) / p.personal_space, 0.0, 1.0)
         standing = np.hypot(crowd[:, 2], crowd[:, 3]) == 0.0
         if standing.any() and len(path) >= 2:
-            window, _ = _resample(path, 0.05, self.limits.max_speed * p.people_horizon, arc)
+            window, _ = (stretch or _PathAhead(self, path, arc)).window(
+                self.limits.max_speed * p.people_horizon)
             on_path = np.hypot(window[:, None, 0] - crowd[None, standing, 0],
                                window[:, None, 1] - crowd[None, standing, 1]).min(axis=0)
             needed = _clip((reach - on_path) / p.personal_space, 0.0, 1.0)
@@ -375,12 +384,6 @@ class LocalController:
         free = self._map_clearance(piece[:, 0], piece[:, 1]) - self._cell_slack > self.radius
         n = len(free) if free.all() else int(np.argmin(free))
         return path if n == 0 else np.vstack([path, piece[n - 1]])
-
-    def _path_gap(self, window: np.ndarray) -> float:
-        """The least free space (beyond body and margin, walls of the map only) the body has
-        anywhere on this stretch of the planned path, turned along it: what following the path
-        needs."""
-        return float(self._path_gaps(window).min())
 
     def _path_gaps(self, window: np.ndarray) -> np.ndarray:
         """The free space (beyond body and margin, walls of the map only) at each point of
@@ -488,20 +491,25 @@ class LocalController:
         return np.hypot(poses[..., 0, None] - fx, poses[..., 1, None] - fy)
 
     def _score(self, commands, poses, people_d, gap, gap0, crowd, path, target,
-               cap, turning: bool = False, lead_off: bool = False, arc=None) -> np.ndarray:
+               cap, turning: bool = False, lead_off: bool = False, arc=None,
+               stretch=None) -> np.ndarray:
         """Lower is better: progress along the path, heading along it, distance from it,
         clearance, people's personal space, speed."""
         p = self.params
+        stretch = stretch or _PathAhead(self, path, arc)
         end = poses[:, -1, :]
         if len(path) >= 2:
             reach = self.limits.max_speed * p.horizon + p.lookahead
-            window, _ = _resample(path, 0.05, reach, arc)
-            needed = self._path_gap(window) if p.clearance_beyond_path else CLEAR
+            needed = (float(stretch.gaps(reach).min()) if p.clearance_beyond_path
+                      else CLEAR)
             # scored against the path run on straight past the goal (as far as the body fits):
             # a command held for the whole horizon overshoots a goal that the goal cap will
             # stop it at, and scored as leaving the path, made the robot crawl the last metre
             # (0.26 m/s down to 0.09)
-            window, _ = _resample(self._run_on(path, reach), 0.05, reach)
+            if stretch.length > reach + 1e-9:       # every sample on the path itself
+                window, _ = stretch.window(reach)
+            else:
+                window, _ = _resample(self._run_on(path, reach), 0.05, reach)
             every_other = poses[:, 1::2, :2]
             at, off = _project(every_other.reshape(-1, 2), window)
             if poses.shape[1] % 2 == 0:     # the last pose is among them: projected already
@@ -545,12 +553,49 @@ class LocalController:
             clearance = np.zeros(len(commands))
         intrusion = 0.0
         if len(crowd):
-            intrusion = self._intrusion(people_d, crowd, path, arc)
+            intrusion = self._intrusion(people_d, crowd, path, arc, stretch)
         top = max(cap, 1e-3)
         speed = _clip((top - commands[:, 0]) / top, 0.0, 1.0)
         return (p.w_progress * progress + p.w_heading * heading
                 + p.w_path * np.minimum(off_path, 1.0) + p.w_clearance * clearance
                 + p.w_people * intrusion + p.w_speed * speed)
+
+
+class _PathAhead:
+    """The path ahead resampled every 5 cm once a tick, up to the farthest any piece of the
+    controller looks (the goal and narrow caps, the obstruction check, the score, the
+    people's intrusion), and the body's room along it. A shorter stretch is its first samples:
+    np.arange's values are i * 0.05 whatever the stop, and np.interp's each point's own."""
+
+    def __init__(self, controller: "LocalController", path: np.ndarray, arc=None) -> None:
+        self.controller = controller
+        self.path = path
+        self.arc = arc or _arc(path)
+        self.length = float(self.arc[1][-1])        # m along the path
+        self._samples = self._along = self._gaps = None
+
+    def window(self, limit: float) -> tuple[np.ndarray, np.ndarray]:
+        """`_resample(path, 0.05, limit)`: (samples, arc lengths)."""
+        if self._samples is None:
+            self._samples, self._along = _resample(self.path, 0.05, self.controller._farthest,
+                                                   self.arc)
+        count = len(np.arange(0.0, min(limit, self.length) + 1e-9, 0.05))
+        return self._samples[:count], self._along[:count]
+
+    def gaps(self, limit: float) -> np.ndarray:
+        """`_path_gaps` of `window(limit)`: the room at each sample, computed once. A
+        rectangle faces along the path, and at a stretch's last sample along its last step."""
+        window, _ = self.window(limit)
+        controller = self.controller
+        if len(window) < 2:
+            return controller._path_gaps(window)
+        if self._gaps is None:
+            self._gaps = controller._path_gaps(self._samples)
+        count = len(window)
+        if count == len(self._samples) or controller.footprint.is_round:
+            return self._gaps[:count]
+        last = controller._path_gaps(window[-2:])[-1]
+        return np.concatenate([self._gaps[: count - 1], [last]])
 
 
 def _speeds(v0: float, commands: np.ndarray, times: np.ndarray, limits: Limits) -> np.ndarray:

@@ -7,7 +7,8 @@ from scipy.spatial import cKDTree
 
 from skills.navigation.controller import (KD_TREE_FROM, NEAREST_READINGS, SQUARES_UP_TO,
                                           LocalController, _arc, _linspace, _nearest_distance,
-                                          _project, _resample, _rollout_grid, _speeds, rollout)
+                                          _PathAhead, _project, _resample, _rollout_grid, _speeds,
+                                          rollout)
 from skills.navigation.footprint import Footprint
 from tests.skills.test_navigation_controller import CONTROLLER, COSTMAP, LIMITS, ROOM
 
@@ -157,3 +158,27 @@ def test_the_sampled_commands_speeds_and_rollouts_are_as_before():
         assert new.tobytes() == rollout(x, y, th, v0, w0, old, times, limits).tobytes()
         speeds = np.repeat(_speeds(v0, vs[:, None], times, limits), len(ws), axis=0)
         assert speeds.tobytes() == _speeds(v0, old, times, limits).tobytes()
+
+
+def test_a_shorter_stretch_of_the_path_ahead_is_the_first_samples_of_the_longest():
+    """`_PathAhead` resamples once, to the farthest any piece looks: each piece's window and
+    the room along it are what resampling to its own limit gave, round body and rectangle,
+    paths longer and shorter than the limits, a path ending on a sample."""
+    box = LocalController(COSTMAP, LIMITS, footprint=Footprint("rectangle", 0.3, 0.45, 0.39))
+    rng = np.random.default_rng(16)
+    paths = [np.array([[1.0, 1.0], [1.0, 1.0]]), np.array([[1.0, 1.0], [2.2, 1.0]]),
+             np.array([[0.5, 0.5], [0.5, 0.5], [2.0, 0.5], [2.0, 2.5]])]
+    paths += [np.cumsum(np.vstack([[1.5, 1.5], rng.normal(0.0, 0.3, (int(n), 2))]), axis=0)
+              for n in rng.integers(1, 12, 40)]
+    for controller in (CONTROLLER, box):
+        for path in paths:
+            stretch = _PathAhead(controller, path)
+            for limit in (0.0, 0.3, 1.0, 1.45, 2.0, 2.2, 2.4, controller._farthest):
+                window, along = _resample(path, 0.05, limit)
+                mine, mine_along = stretch.window(limit)
+                assert mine.tobytes() == window.tobytes()
+                assert mine_along.tobytes() == along.tobytes()
+                assert stretch.gaps(limit).tobytes() == controller._path_gaps(window).tobytes()
+                if stretch.length > limit + 1e-9:      # the score's path run on past its end
+                    run_on, _ = _resample(controller._run_on(path, limit), 0.05, limit)
+                    assert run_on.tobytes() == window.tobytes()
