@@ -125,6 +125,13 @@ class LocalController:
         # distance field values are between cell centres: a wall may be up to this much closer
         self._cell_slack = costmap.grid.resolution * math.sqrt(0.5)
         self._times = np.arange(1, int(round(params.horizon / params.step)) + 1) * params.step
+        braking = limits.max_speed ** 2 / (2 * params.brake * limits.max_accel)
+        # m of path any piece looks at (`_PathAhead`)
+        self._farthest = max(params.narrow_lookahead + braking, params.block_lookahead,
+                             limits.max_speed * params.horizon + params.lookahead,
+                             limits.max_speed * params.people_horizon)
+        self._corners_of: CostMap | None = None      # the cost map of _corner_table
+        self._corner_table = np.zeros((0, 5))
         self._long_times = np.arange(1, int(round(max(params.people_horizon, params.horizon)
                                                  / params.step)) + 1) * params.step
 
@@ -154,8 +161,9 @@ class LocalController:
         block_near = near if block_points is None else _within(
             np.asarray(block_points, float).reshape(-1, 2), x, y, reach)
 
-        cap, cap_why = self._speed_cap(x, y, th, v0, path, crowd, max_speed, arc)
-        block_at, blocker = self._obstruction(path, block_near, crowd, arc)
+        stretch = _PathAhead(self, path, arc)
+        cap, cap_why = self._speed_cap(x, y, th, v0, path, crowd, max_speed, arc, stretch)
+        block_at, blocker = self._obstruction(path, block_near, crowd, arc, stretch)
         if block_at is not None:
             room = max(0.0, block_at - p.standoff - (p.resume_margin if held else 0.0))
             stop_cap = math.sqrt(2 * p.brake * self.limits.max_accel * room) if room > 0.05 else 0.0
@@ -169,19 +177,25 @@ class LocalController:
         if turning:
             cap, cap_why = min(cap, 0.0), cap_why or "turning"
 
-        commands = self._samples(v0, w0, cap)
-        long_poses = rollout(x, y, th, v0, w0, commands, self._long_times, self.limits)
+        vs, ws = self._sample_speeds(v0, w0, cap)
+        commands = np.column_stack([np.repeat(vs, len(ws)), np.tile(ws, len(vs))])
+        # the longer people horizon only with people to score (its first poses are the
+        # horizon's: the same cumulative sums), and their distances once for both uses
+        long_poses = _rollout_grid(x, y, th, v0, w0, vs, ws,
+                                   self._long_times if len(crowd) else self._times, self.limits)
         poses = long_poses[:, : len(self._times)]
-        speeds = _speeds(v0, commands, self._times, self.limits)
-        gap, gap0 = self._gaps(x, y, th, v0, poses, speeds, near, crowd)
+        people_d = (self._people_distance(long_poses, crowd, self._long_times) if len(crowd)
+                    else None)
+        speeds = np.repeat(_speeds(v0, vs[:, None], self._times, self.limits), len(ws), axis=0)
+        gap, gap0 = self._gaps(x, y, th, v0, poses, speeds, near, crowd, people_d)
         unsafe = (gap < 0.0) & (gap < gap0[:, None] - 1e-9)
         ok = ~unsafe.any(axis=1)
         if not ok.any():
             return Command(0.0, 0.0, admissible=False, blocked=True,
                            blocker=blocker or _nearest(x, y, near, crowd), speed_cap=cap,
                            reason="no collision-free command within the horizon")
-        score = self._score(commands, poses, long_poses, gap, gap0, crowd, path, target, cap,
-                            turning, lead_off, arc)
+        score = self._score(commands, poses, people_d, gap, gap0, crowd, path, target, cap,
+                            turning, lead_off, arc, stretch)
         score[~ok] = np.inf
         best = int(np.argmin(score))
         v, w = (float(c) for c in commands[best])
@@ -191,9 +205,10 @@ class LocalController:
 
     # -- pieces ----------------------------------------------------------------------------
 
-    def _speed_cap(self, x, y, th, v0, path, crowd, max_speed, arc=None) -> tuple[float, str]:
+    def _speed_cap(self, x, y, th, v0, path, crowd, max_speed, arc=None,
+                   stretch=None) -> tuple[float, str]:
         """The speed limit of this tick: profile, caller, people near, the goal ahead (`arc`:
-        the path's `_arc`, when known)."""
+        the path's `_arc`, and `stretch` its `_PathAhead`, when known)."""
         limits, p = self.limits, self.params
         cap, why = limits.max_speed, ""
         if max_speed is not None and max_speed < cap:
@@ -218,12 +233,12 @@ class LocalController:
         if goal_cap < cap:
             cap, why = goal_cap, "goal ahead"
         if p.narrow_speed < cap and len(path) >= 2:
-            narrow_cap = self._narrow_cap(path, arc)
+            narrow_cap = self._narrow_cap(path, arc, stretch)
             if narrow_cap < cap:
                 cap, why = narrow_cap, "narrow passage"
         return cap, why
 
-    def _narrow_cap(self, path, arc=None) -> float:
+    def _narrow_cap(self, path, arc=None, stretch=None) -> float:
         """The speed cap of the openings on the path ahead. Near an opening that leaves no
         more than TIGHT either side (a door 0.25 m wider than the robot) anything under CLEAR
         within `narrow_lookahead` caps at `narrow_speed`, as it always did; elsewhere an
@@ -235,8 +250,9 @@ class LocalController:
         arbiter sees 2-8 cm ahead, and any faster approach there stalled it as "blocked"."""
         p, limits = self.params, self.limits
         braking = limits.max_speed ** 2 / (2 * p.brake * limits.max_accel)
-        window, along = _resample(path, 0.05, p.narrow_lookahead + braking, arc)
-        gaps = self._path_gaps(window)
+        stretch = stretch or _PathAhead(self, path, arc)
+        _, along = stretch.window(p.narrow_lookahead + braking)
+        gaps = stretch.gaps(p.narrow_lookahead + braking)
         if gaps.min() <= TIGHT:         # the old rule, the same approach and speed
             near = along <= p.narrow_lookahead
             return p.narrow_speed if gaps[near].min() < CLEAR else limits.max_speed
@@ -246,7 +262,7 @@ class LocalController:
         reach = np.sqrt(allowed ** 2 + 2 * p.brake * limits.max_accel * room)
         return float(reach.min())
 
-    def _obstruction(self, path, points, crowd, arc=None):
+    def _obstruction(self, path, points, crowd, arc=None, stretch=None):
         """(metres along the path, (x, y)) of the first obstruction within block_lookahead.
 
         Obstructions are readings off the map's walls and people standing, not people walking
@@ -254,7 +270,6 @@ class LocalController:
         p = self.params
         if len(path) < 2:
             return None, None
-        samples, along = _resample(path, 0.05, p.block_lookahead, arc)
         blockers = np.zeros((0, 2))
         if len(points):
             off_map = self.costmap.grid.clearance(points[:, 0], points[:, 1]) > UNMAPPED
@@ -273,6 +288,7 @@ class LocalController:
                                                    + PERSON_RADIUS + p.block_margin)])
         if not len(blockers):
             return None, None
+        samples, along = (stretch or _PathAhead(self, path, arc)).window(p.block_lookahead)
         d = np.hypot(samples[:, None, 0] - blockers[None, :, 0],
                      samples[:, None, 1] - blockers[None, :, 1])
         hit = d < limit[None, :]
@@ -283,25 +299,27 @@ class LocalController:
         which = int(np.argmin(np.where(hit[first], d[first], np.inf)))
         return float(along[first]), (float(blockers[which, 0]), float(blockers[which, 1]))
 
-    def _samples(self, v0, w0, cap) -> np.ndarray:
-        """(s, 2) commands reachable in one tick, within the caps, plus stopping and turning."""
+    def _sample_speeds(self, v0, w0, cap) -> tuple[np.ndarray, np.ndarray]:
+        """The speeds and turn rates whose every pair is a command sampled: reachable in one
+        tick, within the caps, plus stopping and turning (np.linspace's and np.unique's
+        values, in plain floats: these few dozen numbers cost more in numpy calls)."""
         limits, p = self.limits, self.params
         dv, dw = limits.max_accel * p.tick, limits.max_turn_accel * p.tick
         v_hi = min(cap, v0 + dv, limits.max_speed)
         v_lo = min(max(0.0, v0 - dv), v_hi)
-        vs = np.unique(np.concatenate([np.linspace(v_lo, v_hi, p.v_samples), [0.0]]))
+        vs = sorted(set(_linspace(v_lo, v_hi, p.v_samples) + [0.0]))
         w_lo = max(-limits.max_turn_rate, w0 - dw)
         w_hi = min(limits.max_turn_rate, w0 + dw)
         if w_lo > w_hi:                     # spinning faster than allowed: slow the turn
             w_lo = w_hi = math.copysign(limits.max_turn_rate, w0)
-        ws = np.linspace(w_lo, w_hi, p.w_samples)
+        ws = _linspace(w_lo, w_hi, p.w_samples)
         if w_lo < 0.0 < w_hi:
-            ws = np.unique(np.concatenate([ws, [0.0]]))
-        grid_v, grid_w = np.meshgrid(vs, ws, indexing="ij")
-        return np.column_stack([grid_v.ravel(), grid_w.ravel()])
+            ws = sorted(set(ws + [0.0]))
+        return np.array(vs, dtype=float), np.array(ws, dtype=float)
 
-    def _gaps(self, x, y, th, v0, poses, speeds, points, crowd):
-        """Free space (m) beyond body + margin at every pose (s, k), and at the start (s,).
+    def _gaps(self, x, y, th, v0, poses, speeds, points, crowd, people_d=None):
+        """Free space (m) beyond body + margin at every pose (s, k), and at the start (s,)
+        (`people_d`: the people's `_people_distance` over the long horizon, when known).
 
         A walking person counts only where the robot is still moving then (passive safety):
         standing still is always allowed, else a person walking at a stopped robot would leave
@@ -313,11 +331,12 @@ class LocalController:
         gap0 = float(self._wall_gap(*here)[0])
         if len(points):
             # one k-d tree of the readings for the poses and the start
-            tree = cKDTree(points) if len(points) > KD_TREE_FROM else None
+            tree = cKDTree(points) if self._tree_needed(len(points)) else None
             gap = np.minimum(gap, self._points_gap(px, py, pth, points, tree))
             gap0 = min(gap0, float(self._points_gap(*here, points, tree)[0]))
         if len(crowd):
-            d = self._people_distance(poses, crowd, self._times)
+            d = (self._people_distance(poses, crowd, self._times) if people_d is None
+                 else people_d[:, : poses.shape[1]])
             walking = np.hypot(crowd[:, 2], crowd[:, 3]) > 0.0
             # the robot counts as moving at a pose when it moved at any time since the previous
             # one: it may stop between two poses, and a walker reaching it before it has stopped
@@ -331,7 +350,7 @@ class LocalController:
         gap = gap - p.safety_margin
         return gap, np.full(poses.shape[0], gap0 - p.safety_margin)
 
-    def _intrusion(self, long_poses, crowd, path, arc=None) -> np.ndarray:
+    def _intrusion(self, people_d, crowd, path, arc=None, stretch=None) -> np.ndarray:
         """(s,) worst intrusion (0 … 1) into a person's personal space over `people_horizon`.
 
         For a person standing, only the intrusion beyond what the path itself needs counts: the
@@ -339,11 +358,12 @@ class LocalController:
         must not make standing still the best command (the robot would never pass)."""
         p = self.params
         reach = self.radius + PERSON_RADIUS + p.personal_space
-        d = self._people_distance(long_poses, crowd, self._long_times).min(axis=1)   # (s, m)
+        d = people_d.min(axis=1)     # (s, m): the `_people_distance` over people_horizon
         intrusion = _clip((reach - d) / p.personal_space, 0.0, 1.0)
         standing = np.hypot(crowd[:, 2], crowd[:, 3]) == 0.0
         if standing.any() and len(path) >= 2:
-            window, _ = _resample(path, 0.05, self.limits.max_speed * p.people_horizon, arc)
+            window, _ = (stretch or _PathAhead(self, path, arc)).window(
+                self.limits.max_speed * p.people_horizon)
             on_path = np.hypot(window[:, None, 0] - crowd[None, standing, 0],
                                window[:, None, 1] - crowd[None, standing, 1]).min(axis=0)
             needed = _clip((reach - on_path) / p.personal_space, 0.0, 1.0)
@@ -364,12 +384,6 @@ class LocalController:
         free = self._map_clearance(piece[:, 0], piece[:, 1]) - self._cell_slack > self.radius
         n = len(free) if free.all() else int(np.argmin(free))
         return path if n == 0 else np.vstack([path, piece[n - 1]])
-
-    def _path_gap(self, window: np.ndarray) -> float:
-        """The least free space (beyond body and margin, walls of the map only) the body has
-        anywhere on this stretch of the planned path, turned along it: what following the path
-        needs."""
-        return float(self._path_gaps(window).min())
 
     def _path_gaps(self, window: np.ndarray) -> np.ndarray:
         """The free space (beyond body and margin, walls of the map only) at each point of
@@ -399,7 +413,9 @@ class LocalController:
         (`tree`: a k-d tree of `points`, made here when needed and not given)."""
         if self.footprint.is_round:
             return _nearest_distance(px, py, points, tree) - self.radius
-        if len(points) <= KD_TREE_FROM:
+        if len(points) <= NEAREST_READINGS:
+            # the tree would preselect them all (the same readings, another order): the gap is
+            # their least, in any order
             return self.footprint.gap_to_points(px, py, pth, points)
         tree = tree if tree is not None else cKDTree(points)
         # the readings nearest the centre: the one nearest the outline is among them for any
@@ -409,29 +425,63 @@ class LocalController:
         index = index.reshape(px.shape + (k,))
         return self.footprint.gap_to_points(px, py, pth, points[index])
 
+    def _tree_needed(self, readings: int) -> bool:
+        """Whether `_points_gap` queries a k-d tree of this many readings."""
+        return readings > (SQUARES_UP_TO if self.footprint.is_round else NEAREST_READINGS)
+
     def _map_clearance(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
         """Distance to the walls, interpolated between cell centres (0 off the map): smooth,
         so a move of a centimetre never looks like a step towards a wall."""
         grid = self.costmap.grid
+        x, y = np.asarray(x, float), np.asarray(y, float)
+        if x.ndim == 0 and y.ndim == 0:
+            return self._map_clearance(x[None], y[None]).reshape(())
+        fx = (x - grid.origin[0]) / grid.resolution - 0.5
+        fy = (y - grid.origin[1]) / grid.resolution - 0.5
+        floor_x, floor_y = np.floor(fx), np.floor(fy)
+        c0, r0 = floor_x.astype(int), floor_y.astype(int)
+        tx, ty = fx - floor_x, fy - floor_y          # fx - c0: the int converts back exactly
+        rows, cols = self.costmap.clearance.shape
+        # the cell's corners by flat index (np.clip and 2-D fancy indexing cost more than the
+        # arithmetic on the few hundred poses of a tick); a corner left unclamped is on the map
+        r, c = np.minimum(np.maximum(r0, 0), rows - 2), np.minimum(np.maximum(c0, 0), cols - 2)
+        inside = (r == r0) & (c == c0)
+        corners = np.take(self._corners(), r * cols + c, axis=0)
+        f00, f01, f10, f11, lowest = (corners[..., k] for k in range(5))
+        # in place: the same products and sums, in the same order, as (1 - tx) * (1 - ty) *
+        # f00 + tx * (1 - ty) * f01 + (1 - tx) * ty * f10 + tx * ty * f11
+        ux, uy = 1 - tx, 1 - ty
+        d = ux * uy
+        d *= f00
+        term = tx * uy
+        term *= f01
+        d += term
+        np.multiply(ux, ty, out=term)
+        term *= f10
+        d += term
+        np.multiply(tx, ty, out=term)
+        term *= f11
+        d += term
+        np.minimum(d, lowest, out=d)
+        return d if inside.all() else np.where(inside, d, 0.0)
+
+    def _corners(self) -> np.ndarray:
+        """(cells, 5) for the square of cell centres whose lower left corner is each cell:
+        the field at its four corners (f00, f01, f10, f11) and the least of them plus a cell,
+        which caps the interpolated distance; one gather per pose instead of four and their
+        minima. Made once per cost map."""
+        if self._corners_of is self.costmap:
+            return self._corner_table
         field = self.costmap.clearance
-        fx = (np.asarray(x, float) - grid.origin[0]) / grid.resolution - 0.5
-        fy = (np.asarray(y, float) - grid.origin[1]) / grid.resolution - 0.5
-        c0, r0 = np.floor(fx).astype(int), np.floor(fy).astype(int)
-        tx, ty = fx - c0, fy - r0
         rows, cols = field.shape
-        inside = (r0 >= 0) & (c0 >= 0) & (r0 + 1 < rows) & (c0 + 1 < cols)
-        # the four cell centres, by flat index (np.clip and 2-D fancy indexing cost more than
-        # the arithmetic on the few hundred poses of a tick)
-        at = (np.minimum(np.maximum(r0, 0), rows - 2) * cols
-              + np.minimum(np.maximum(c0, 0), cols - 2))
         flat = field.ravel()
-        f00, f01 = flat[at], flat[at + 1]
-        f10, f11 = flat[at + cols], flat[at + (cols + 1)]
-        d = ((1 - tx) * (1 - ty) * f00 + tx * (1 - ty) * f01
-             + (1 - tx) * ty * f10 + tx * ty * f11)
-        d = np.minimum(d, np.minimum(np.minimum(f00, f01), np.minimum(f10, f11))
-                       + grid.resolution)
-        return np.where(inside, d, 0.0)
+        at = np.arange((rows - 2) * cols + cols - 1)
+        f00, f01, f10, f11 = flat[at], flat[at + 1], flat[at + cols], flat[at + (cols + 1)]
+        lowest = np.minimum(np.minimum(f00, f01), np.minimum(f10, f11)) + \
+            self.costmap.grid.resolution
+        self._corner_table = np.column_stack([f00, f01, f10, f11, lowest])
+        self._corners_of = self.costmap
+        return self._corner_table
 
     def _people_distance(self, poses, crowd, times) -> np.ndarray:
         """(s, k, m) distance from each pose to each person where they will be then."""
@@ -440,21 +490,26 @@ class LocalController:
         fy = crowd[None, None, :, 1] + crowd[None, None, :, 3] * t
         return np.hypot(poses[..., 0, None] - fx, poses[..., 1, None] - fy)
 
-    def _score(self, commands, poses, long_poses, gap, gap0, crowd, path, target,
-               cap, turning: bool = False, lead_off: bool = False, arc=None) -> np.ndarray:
+    def _score(self, commands, poses, people_d, gap, gap0, crowd, path, target,
+               cap, turning: bool = False, lead_off: bool = False, arc=None,
+               stretch=None) -> np.ndarray:
         """Lower is better: progress along the path, heading along it, distance from it,
         clearance, people's personal space, speed."""
         p = self.params
+        stretch = stretch or _PathAhead(self, path, arc)
         end = poses[:, -1, :]
         if len(path) >= 2:
             reach = self.limits.max_speed * p.horizon + p.lookahead
-            window, _ = _resample(path, 0.05, reach, arc)
-            needed = self._path_gap(window) if p.clearance_beyond_path else CLEAR
+            needed = (float(stretch.gaps(reach).min()) if p.clearance_beyond_path
+                      else CLEAR)
             # scored against the path run on straight past the goal (as far as the body fits):
             # a command held for the whole horizon overshoots a goal that the goal cap will
             # stop it at, and scored as leaving the path, made the robot crawl the last metre
             # (0.26 m/s down to 0.09)
-            window, _ = _resample(self._run_on(path, reach), 0.05, reach)
+            if stretch.length > reach + 1e-9:       # every sample on the path itself
+                window, _ = stretch.window(reach)
+            else:
+                window, _ = _resample(self._run_on(path, reach), 0.05, reach)
             every_other = poses[:, 1::2, :2]
             at, off = _project(every_other.reshape(-1, 2), window)
             if poses.shape[1] % 2 == 0:     # the last pose is among them: projected already
@@ -498,7 +553,7 @@ class LocalController:
             clearance = np.zeros(len(commands))
         intrusion = 0.0
         if len(crowd):
-            intrusion = self._intrusion(long_poses, crowd, path, arc)
+            intrusion = self._intrusion(people_d, crowd, path, arc, stretch)
         top = max(cap, 1e-3)
         speed = _clip((top - commands[:, 0]) / top, 0.0, 1.0)
         return (p.w_progress * progress + p.w_heading * heading
@@ -506,10 +561,85 @@ class LocalController:
                 + p.w_people * intrusion + p.w_speed * speed)
 
 
+class _PathAhead:
+    """The path ahead resampled every 5 cm once a tick, up to the farthest any piece of the
+    controller looks (the goal and narrow caps, the obstruction check, the score, the
+    people's intrusion), and the body's room along it. A shorter stretch is its first samples:
+    np.arange's values are i * 0.05 whatever the stop, and np.interp's each point's own."""
+
+    def __init__(self, controller: "LocalController", path: np.ndarray, arc=None) -> None:
+        self.controller = controller
+        self.path = path
+        self.arc = arc or _arc(path)
+        self.length = float(self.arc[1][-1])        # m along the path
+        self._samples = self._along = self._gaps = None
+
+    def window(self, limit: float) -> tuple[np.ndarray, np.ndarray]:
+        """`_resample(path, 0.05, limit)`: (samples, arc lengths)."""
+        if self._samples is None:
+            self._samples, self._along = _resample(self.path, 0.05, self.controller._farthest,
+                                                   self.arc)
+        count = len(np.arange(0.0, min(limit, self.length) + 1e-9, 0.05))
+        return self._samples[:count], self._along[:count]
+
+    def gaps(self, limit: float) -> np.ndarray:
+        """`_path_gaps` of `window(limit)`: the room at each sample, computed once. A
+        rectangle faces along the path, and at a stretch's last sample along its last step."""
+        window, _ = self.window(limit)
+        controller = self.controller
+        if len(window) < 2:
+            return controller._path_gaps(window)
+        if self._gaps is None:
+            self._gaps = controller._path_gaps(self._samples)
+        count = len(window)
+        if count == len(self._samples) or controller.footprint.is_round:
+            return self._gaps[:count]
+        last = controller._path_gaps(window[-2:])[-1]
+        return np.concatenate([self._gaps[: count - 1], [last]])
+
+
 def _speeds(v0: float, commands: np.ndarray, times: np.ndarray, limits: Limits) -> np.ndarray:
     """(s, k) forward speed at the sample times: ramping from v0 to each command."""
     dv = commands[:, 0:1] - v0
     return v0 + _clip(dv, -limits.max_accel * times, limits.max_accel * times)
+
+
+def _linspace(start: float, stop: float, num: int) -> list[float]:
+    """np.linspace(start, stop, num) (num >= 2) as a list of floats, computed as numpy does:
+    i * step + start, the last exactly `stop` (i / div * delta + start for a zero step)."""
+    div = num - 1
+    delta = stop - start
+    step = delta / div
+    if step == 0:
+        values = [i / div * delta + start for i in range(num)]
+    else:
+        values = [i * step + start for i in range(num)]
+    values[-1] = stop
+    return values
+
+
+def _rollout_grid(x, y, th, v0, w0, vs: np.ndarray, ws: np.ndarray, times: np.ndarray,
+                  limits: Limits) -> np.ndarray:
+    """`rollout` of every speed in `vs` with every turn rate in `ws` (the commands of
+    `_samples`, speed-major): the same poses, with each speed's and each turn rate's ramp,
+    headings and their cosines and sines computed once for all the commands sharing it."""
+    edges = np.concatenate([[0.0], times])
+    mids = 0.5 * (edges[1:] + edges[:-1])
+    dts = np.diff(edges)
+    v = v0 + _clip(vs[:, None] - v0, -limits.max_accel * mids, limits.max_accel * mids)
+    w = w0 + _clip(ws[:, None] - w0, -limits.max_turn_accel * mids,
+                   limits.max_turn_accel * mids)
+    dth = w * dts
+    th_end = th + np.cumsum(dth, axis=1)
+    th_mid = th_end - 0.5 * dth
+    step = (v * dts)[:, None, :]                 # (speeds, 1, k) against (turn rates, k)
+    poses = np.empty((len(vs), len(ws), len(times), 3))
+    np.cumsum(step * np.cos(th_mid), axis=2, out=poses[..., 0])
+    poses[..., 0] += x
+    np.cumsum(step * np.sin(th_mid), axis=2, out=poses[..., 1])
+    poses[..., 1] += y
+    poses[..., 2] = th_end
+    return poses.reshape(len(vs) * len(ws), len(times), 3)
 
 
 def rollout(x, y, th, v0, w0, commands, times, limits: Limits) -> np.ndarray:
@@ -534,17 +664,59 @@ def rollout(x, y, th, v0, w0, commands, times, limits: Limits) -> np.ndarray:
 
 def _nearest_distance(px: np.ndarray, py: np.ndarray, points: np.ndarray,
                       tree=None) -> np.ndarray:
-    """Distance from every pose (px, py of one shape) to its nearest point (k, 2). A k-d tree
-    beyond a few points: every sampled pose against every reading was the controller's largest
-    cost with a laser scan of a crowd around (poses × readings distances per tick)."""
+    """Distance from every pose (px, py of one shape) to its nearest point (k, 2): np.hypot up
+    to KD_TREE_FROM points, beyond that the k-d tree's distances (`tree`, or without one up to
+    SQUARES_UP_TO points, `_least_square_distance`). Every sampled pose against every reading
+    in one array was the controller's largest cost with a laser scan of a crowd around."""
     if len(points) <= KD_TREE_FROM:
-        return np.hypot(px[..., None] - points[:, 0], py[..., None] - points[:, 1]).min(axis=-1)
+        if not len(points) or np.size(px) <= FEW_POSES:
+            return np.hypot(px[..., None] - points[:, 0],
+                            py[..., None] - points[:, 1]).min(axis=-1)
+        # one reading at a time: the same distances and minima as the (poses, readings)
+        # array's, without it and its reduction over a short last axis
+        dx, dy = np.empty_like(px, dtype=float), np.empty_like(py, dtype=float)
+        nearest = None
+        for rx, ry in points.tolist():
+            np.subtract(px, rx, out=dx)
+            np.subtract(py, ry, out=dy)
+            if nearest is None:
+                nearest = np.hypot(dx, dy)
+            else:
+                np.minimum(nearest, np.hypot(dx, dy, out=dx), out=nearest)
+        return nearest
+    if tree is None and len(points) <= SQUARES_UP_TO:
+        return np.sqrt(_least_square_distance(px, py, points))
     tree = tree if tree is not None else cKDTree(points)
     distance, _ = tree.query(np.column_stack([px.ravel(), py.ravel()]))
     return distance.reshape(px.shape)
 
 
+def _least_square_distance(px: np.ndarray, py: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """The least dx * dx + dy * dy from every pose to the points, summed as scipy's k-d tree
+    sums them (its query returns the square root of the nearest's), one point at a time: the
+    same distances as the tree's, without its ~0.3 µs per pose (~0.8 ms a tick for the
+    controller's few thousand poses)."""
+    if np.size(px) <= FEW_POSES:          # (poses, points) arrays: fewer calls
+        dx = px[..., None] - points[:, 0]
+        dy = py[..., None] - points[:, 1]
+        return (dx * dx + dy * dy).min(axis=-1)
+    least = dx = dy = None
+    for rx, ry in points.tolist():
+        dx = np.subtract(px, rx, out=dx)
+        dx *= dx
+        dy = np.subtract(py, ry, out=dy)
+        dy *= dy
+        dx += dy
+        if least is None:
+            least, dx = dx, None
+        else:
+            np.minimum(least, dx, out=least)
+    return least
+
+
 KD_TREE_FROM = 8     # points: below, the plain distances are as fast
+SQUARES_UP_TO = 64   # points: up to here, the k-d tree's distances without the tree
+FEW_POSES = 16       # poses: up to here, distances to points in one (poses, points) array
 NEAREST_READINGS = 16   # readings per pose checked against a rectangle's outline
 
 

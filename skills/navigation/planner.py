@@ -16,6 +16,7 @@ place drawn close to one) is snapped to the nearest free cell within `snap_dista
 """
 from __future__ import annotations
 
+import functools
 import math
 import weakref
 from dataclasses import dataclass, field
@@ -84,13 +85,13 @@ class GlobalPlanner:
         if source == target:
             cells = np.array([s])
         else:
-            dist, pred = _astar(graph, source, target, grid.shape, grid.resolution)
+            dist, route = _astar(graph, source, target, grid.shape, grid.resolution)
             if not math.isfinite(dist):
                 return _no_path(f"{UNREACHABLE}: no way from ({start[0]:.2f}, {start[1]:.2f}) to "
                                 f"({goal[0]:.2f}, {goal[1]:.2f}) on map '{grid.name}' for a "
                                 f"robot of radius {costmap.radius:.2f} m (walls or obstacles "
                                 "close it off)")
-            cells = _trace(pred, source, target, cols)
+            cells = np.column_stack([route // cols, route % cols])
         keep = _shortcut(costmap, cells, self.cost_weight)
         xs, ys = grid.to_world(cells[keep, 0], cells[keep, 1])
         points = np.column_stack([xs, ys])
@@ -143,10 +144,9 @@ class GlobalPlanner:
 
 @dataclass(frozen=True)
 class _Graph:
-    """The search graph in CSR form, with each edge's start node (for re-weighting) and each
-    node's connected component (a goal in another one is unreachable without a search)."""
+    """The search graph in CSR form, with each node's connected component (a goal in another
+    one is unreachable without a search)."""
     matrix: csr_matrix
-    starts: np.ndarray
     components: np.ndarray
 
 
@@ -156,7 +156,8 @@ def _astar(graph: _Graph, source: int, target: int, shape: tuple[int, int],
     target (consistent: no edge is cheaper than its length). scipy's Dijkstra cannot stop at the
     target, but with a distance `limit` it only settles the nodes whose reduced distance is
     below it, which is the A* search region; the limit doubles until the target is inside.
-    Returns the true cost to the target (inf when unreachable) and the predecessors.
+    Returns the true cost to the target (inf when unreachable) and the nodes from source to
+    target (None when unreachable).
 
     Each bounded search runs on the window of the grid that holds every node it can reach
     (`_search_window`), not on the whole map: re-weighting a store's 1.7 million edges cost ten
@@ -172,32 +173,38 @@ def _astar(graph: _Graph, source: int, target: int, shape: tuple[int, int],
         window = _search_window((sr, sc), (tr, tc), (limit + h_source) / resolution, shape)
         if _size(window) > rows * cols / 4:      # cutting it out would cost more than it saves
             window = None
-        dist, pred = _reduced_dijkstra(graph, window, source, target, shape, resolution, limit)
+        dist, route = _reduced_dijkstra(graph, window, source, target, shape, resolution, limit)
         if math.isfinite(dist):
-            return dist, pred
+            return dist, route
         limit *= 2.0
     return _reduced_dijkstra(graph, None, source, target, shape, resolution, np.inf)
 
 
 def _window_graph(matrix: csr_matrix, window, nodes: np.ndarray, cols: int):
-    """The edges among the window's nodes, renumbered row-major within it, in CSR order
-    (a rectangle of a row-major grid: its rows' edges are taken whole and those leaving the
-    window dropped, which scipy's general column indexing does many times slower)."""
-    rows_slice, cols_slice = window
-    width = cols_slice.stop - cols_slice.start
-    begin, end = matrix.indptr[nodes], matrix.indptr[nodes + 1]
-    counts = end - begin
-    edge = np.repeat(begin - np.cumsum(np.concatenate(([0], counts[:-1]))), counts) \
-        + np.arange(counts.sum())
-    heads = np.repeat(np.arange(len(nodes)), counts)
-    er, ec = np.divmod(matrix.indices[edge], cols)
-    inside = ((er >= rows_slice.start) & (er < rows_slice.stop)
-              & (ec >= cols_slice.start) & (ec < cols_slice.stop))
-    edge, heads = edge[inside], heads[inside]
-    local = (er[inside] - rows_slice.start) * width + (ec[inside] - cols_slice.start)
-    indptr = np.concatenate(([0], np.cumsum(np.bincount(heads, minlength=len(nodes)))))
-    sub = csr_matrix((matrix.data[edge], local, indptr), shape=(len(nodes), len(nodes)))
-    return sub, heads
+    """The edges among the window's nodes, renumbered row-major within it, in CSR order, as
+    (data, indices, indptr). A rectangle of a row-major grid: each of its rows is a run of
+    consecutive nodes, whose edges are a run too (one slice per row, not a gather per edge),
+    and those leaving the window are dropped, which scipy's general column indexing does many
+    times slower. An edge ends at most a row and a column beyond its start, so a table of the
+    local numbers over the window's rows and one more each side renumbers their ends (-1:
+    outside the window)."""
+    indptr = matrix.indptr
+    width = window[1].stop - window[1].start
+    first = nodes[::width]
+    runs = list(zip(indptr[first].tolist(), indptr[first + width].tolist()))
+    data = np.concatenate([matrix.data[a:b] for a, b in runs])
+    ends = np.concatenate([matrix.indices[a:b] for a, b in runs])
+    base = max(0, int(first[0]) - cols - 1)
+    table = np.full(min(int(nodes[-1]) + cols + 2, len(indptr) - 1) - base, -1,
+                    dtype=matrix.indices.dtype)
+    table[nodes - base] = np.arange(len(nodes))
+    ends -= base
+    local = table[ends]
+    inside = local >= 0
+    # edges kept before each node's first: the count of kept edges up to its offset
+    kept = np.concatenate(([0], np.cumsum(inside)))
+    offsets = np.concatenate(([0], np.cumsum(indptr[nodes + 1] - indptr[nodes])))
+    return data[inside], local[inside], kept[offsets]
 
 
 def _size(window: tuple[slice, slice]) -> int:
@@ -223,37 +230,40 @@ def _search_window(source, target, reach: float, shape) -> tuple[slice, slice]:
 
 
 def _reduced_dijkstra(graph: _Graph, window, source: int, target: int, shape,
-                      resolution: float, limit: float) -> tuple[float, np.ndarray]:
+                      resolution: float, limit: float) -> tuple[float, np.ndarray | None]:
     """One bounded Dijkstra on reduced costs, on the window's nodes (None: the whole map).
 
     The window's nodes keep their order (row-major in both), every edge among them keeps its
     weight, and no node outside it can be reached within the limit: so the search visits the
-    same nodes in the same order as on the whole map and returns the same predecessors,
-    translated back to the map's node numbers."""
+    same nodes in the same order as on the whole map and finds the same predecessors. Returns
+    the cost and the nodes (the map's numbers) from source to target; None beyond the limit."""
     rows, cols = shape
     tr, tc = divmod(target, cols)
     if window is None:
         nodes = None
-        matrix, starts = graph.matrix, graph.starts
+        matrix = graph.matrix
+        data, indices, indptr = matrix.data, matrix.indices, matrix.indptr
         r, c = np.divmod(np.arange(rows * cols), cols)
     else:
-        r, c = np.mgrid[window[0], window[1]]
-        r, c = r.ravel(), c.ravel()
+        rows_range = np.arange(window[0].start, window[0].stop)
+        cols_range = np.arange(window[1].start, window[1].stop)
+        r, c = np.repeat(rows_range, len(cols_range)), np.tile(cols_range, len(rows_range))
         nodes = r * cols + c
-        matrix, starts = _window_graph(graph.matrix, window, nodes, cols)
+        data, indices, indptr = _window_graph(graph.matrix, window, nodes, cols)
+    size = len(indptr) - 1
     h = resolution * _octile(np.abs(r - tr), np.abs(c - tc))
-    reduced = np.maximum(matrix.data - h[starts] + h[matrix.indices], 1e-12)
-    weighted = csr_matrix((reduced, matrix.indices, matrix.indptr), shape=matrix.shape, copy=False)
+    # each edge's start's h: h repeated over the node's edges (h[start] of every edge)
+    reduced = np.maximum(data - np.repeat(h, np.diff(indptr)) + h[indices], 1e-12)
+    weighted = csr_matrix((reduced, indices, indptr), shape=(size, size), copy=False)
     local_source = source if nodes is None else int(np.searchsorted(nodes, source))
     local_target = target if nodes is None else int(np.searchsorted(nodes, target))
     dist, pred = dijkstra(weighted, indices=local_source, return_predecessors=True,
                           limit=limit)
     cost = float(dist[local_target] + h[local_source])
-    if nodes is None or not math.isfinite(cost):
-        return cost, pred
-    full = np.full(rows * cols, -9999, dtype=pred.dtype)
-    full[nodes] = np.where(pred >= 0, nodes[np.maximum(pred, 0)], -9999)
-    return cost, full
+    if not math.isfinite(cost):
+        return cost, None
+    route = _trace(pred, local_source, local_target)
+    return cost, route if nodes is None else nodes[route]
 
 
 def _build_graph(costmap: CostMap, cost_weight: float) -> _Graph:
@@ -277,18 +287,17 @@ def _build_graph(costmap: CostMap, cost_weight: float) -> _Graph:
                         shape=(rows * cols, rows * cols))
     matrix.sort_indices()
     _, components = connected_components(matrix, directed=False)
-    return _Graph(matrix, np.repeat(np.arange(rows * cols), np.diff(matrix.indptr)), components)
+    return _Graph(matrix, components)
 
 
-def _trace(pred: np.ndarray, source: int, target: int, cols: int) -> np.ndarray:
-    """The cells from source to target by following the predecessors back."""
+def _trace(pred: np.ndarray, source: int, target: int) -> np.ndarray:
+    """The nodes from source to target by following the predecessors back."""
     chain = [target]
     node = target
     while node != source:
         node = int(pred[node])
         chain.append(node)
-    flat = np.array(chain[::-1])
-    return np.column_stack([flat // cols, flat % cols])
+    return np.array(chain[::-1])
 
 
 def _shortcut(costmap: CostMap, cells: np.ndarray, cost_weight: float) -> list[int]:
@@ -341,15 +350,25 @@ def _cheap_line(costmap: CostMap, a: np.ndarray, b: np.ndarray, budget: float,
     """The straight line between two cells crosses no lethal cell, costs at most `budget` and
     keeps at least `least` m of `_room` everywhere."""
     span = max(abs(int(b[0]) - int(a[0])), abs(int(b[1]) - int(a[1])))
-    t = np.linspace(0.0, 1.0, 2 * span + 1)
+    t = _unit_steps(2 * span + 1)
     r = np.rint(a[0] + t * (b[0] - a[0])).astype(int)
     c = np.rint(a[1] + t * (b[1] - a[1])).astype(int)
-    if costmap.lethal[r, c].any():
+    cells = r * costmap.lethal.shape[1] + c         # flat: cheaper than 2-D fancy indexing
+    if costmap.lethal.ravel()[cells].any():
         return False
-    if _room(costmap, r, c).min() < least:
+    # _room's least: the least clearance, capped as _room caps each cell
+    if min(costmap.clearance.ravel()[cells].min(), costmap.radius + TIGHT) < least:
         return False
     length = costmap.grid.resolution * math.hypot(int(b[0]) - int(a[0]), int(b[1]) - int(a[1]))
-    return length * (1.0 + cost_weight * float(costmap.cost[r, c].mean())) <= budget
+    return length * (1.0 + cost_weight * float(costmap.cost.ravel()[cells].mean())) <= budget
+
+
+@functools.lru_cache(maxsize=512)
+def _unit_steps(count: int) -> np.ndarray:
+    """np.linspace(0, 1, count), made once per count (read-only)."""
+    steps = np.linspace(0.0, 1.0, count)
+    steps.flags.writeable = False
+    return steps
 
 
 def path_length(points: np.ndarray) -> float:
