@@ -564,7 +564,7 @@ class RFlexBase(Base):
         if len(readings) == p.SONAR_COUNT:
             wires, raws = zip(*readings)
             if wires == p.SONAR_WIRE_IDS:
-                self._sonar[:] = p.sonar_metres_of_raws(raws)
+                self._sonar[:] = [p.sonar_metres(raw) for raw in raws]
                 return
         for wire, raw in readings:
             index = p.SONAR_INDEX_OF_WIRE_ID.get(wire)

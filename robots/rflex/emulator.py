@@ -243,7 +243,7 @@ class RFlexController:
     def _sonar_report(self) -> bytes:
         ranges = np.asarray(self.world.sonar_ranges(), dtype=float)[:p.SONAR_COUNT].tolist()
         return p.encode_escaped(p.sonar_report_of_raws(self._next_seq(), 0, self._timestamp(),
-                                                       p.sonar_raws(ranges)))
+                                                       [p.sonar_raw(r) for r in ranges]))
 
     def _dio_reports(self) -> bytes:
         """Every pressed panel each period, and each release once."""

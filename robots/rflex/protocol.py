@@ -263,7 +263,7 @@ def axis_set_dir(axis: int, velocity: int, accel: int, torque: int) -> Frame:
             and type(torque) is int and 0 <= axis <= 0xFF and -U32_MAX <= velocity <= U32_MAX
             and 0 <= accel <= U32_MAX and 0 <= torque <= U32_MAX):
         data = _SET_DIR.pack(axis, abs(velocity), accel, torque, 1 if velocity >= 0 else 0)
-        if ESC not in data and MOT ^ MOT_AXIS_SET_DIR ^ 14 ^ xor_bytes(data) != ESC:
+        if ESC not in data and checksum(MOT, 0, MOT_AXIS_SET_DIR, data) != ESC:
             return Frame(MOT, MOT_AXIS_SET_DIR, data)
     return clean_command(
         "MOT_AXIS_SET_DIR", MOT, MOT_AXIS_SET_DIR,
@@ -537,18 +537,6 @@ def sonar_raw(metres: float) -> int:
     if not math.isfinite(metres) or metres < 0:
         return SONAR_NO_ECHO
     return min(SONAR_NO_ECHO, round(metres * SONAR_RAW_PER_M))
-
-
-def sonar_raws(metres: list[float]) -> list[int]:
-    """`sonar_raw` of each reading, in one pass."""
-    top, scale, isfinite = SONAR_NO_ECHO, SONAR_RAW_PER_M, math.isfinite
-    return [top if not isfinite(m) or m < 0 else min(top, round(m * scale)) for m in metres]
-
-
-def sonar_metres_of_raws(raws) -> list[float]:
-    """`sonar_metres` of each raw range, in one pass."""
-    top, scale, inf = SONAR_NO_ECHO, SONAR_RAW_PER_M, math.inf
-    return [inf if raw >= top else raw / scale for raw in raws]
 
 
 # --------------------------------------------------------------------------- byte-fed parser
