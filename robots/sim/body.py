@@ -15,7 +15,8 @@ import numpy as np
 from robots.base import clamp_velocity
 from robots.profile import Limits
 from robots.sim.outline import Rectangle
-from robots.sim.raycast import point_segment_distances
+from robots.sim.raycast import (nearest_of_many_segments, nearest_segment,
+                                 point_segment_distances)
 
 BUMPER_FRONT = 1
 BUMPER_REAR = 2
@@ -155,7 +156,8 @@ class UnicycleBody:
         the half diagonal. A few array operations where the exact outline takes dozens: it
         decides alone whenever nothing is near."""
         x, y, _ = self._pose(x, y, None)
-        near = _nearest_wall(x, y, segments)
+        near = (nearest_segment(x, y, segments) if len(segments) <= FEW_WALLS
+                else nearest_of_many_segments(x, y, segments))
         if circles is not None and len(circles):
             for cx, cy, radius in circles.tolist():
                 near = min(near, math.hypot(cx - x, cy - y) - radius)
@@ -176,16 +178,3 @@ class UnicycleBody:
             return False
         return after < self.clearance(self.x, self.y, obstacles, self.th)
 
-
-def _nearest_wall(x: float, y: float, segments: np.ndarray) -> float:
-    """Distance from (x, y) to the nearest segment (inf without any): a plain loop over a
-    few (the walls near the body are one to a dozen; numpy's calls cost more), numpy over many."""
-    if len(segments) > FEW_WALLS:
-        return float(point_segment_distances(x, y, segments).min())
-    near = math.inf
-    for x1, y1, x2, y2 in segments.tolist():
-        ex, ey = x2 - x1, y2 - y1
-        length2 = ex * ex + ey * ey
-        u = 0.0 if length2 == 0.0 else min(1.0, max(0.0, ((x - x1) * ex + (y - y1) * ey) / length2))
-        near = min(near, math.hypot(x1 + u * ex - x, y1 + u * ey - y))
-    return near

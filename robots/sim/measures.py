@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from robots.sim.people import BODY_RADIUS
+from robots.sim.raycast import nearest_of_many_segments, nearest_segment
 
 if TYPE_CHECKING:
     from robots.sim.world import World
@@ -108,11 +109,11 @@ class Measures:
                 segments = world.floor.segments      # the exact value still counts
             gap_wall = self._outline_gap(body, segments)
         elif near_walls is None:
-            gap_wall = _nearest_of_many(body.x, body.y, world.floor.segments) - body.radius
+            gap_wall = nearest_of_many_segments(body.x, body.y, world.floor.segments) - body.radius
         elif len(near_walls):
-            gap_wall = _nearest(body.x, body.y, near_walls) - body.radius
+            gap_wall = nearest_segment(body.x, body.y, near_walls) - body.radius
         elif self.min_wall_clearance > NEAR_WALLS:     # the exact value still counts
-            gap_wall = _nearest_of_many(body.x, body.y, world.floor.segments) - body.radius
+            gap_wall = nearest_of_many_segments(body.x, body.y, world.floor.segments) - body.radius
         else:
             gap_wall = math.inf                        # farther than the minimum: no news
         self.min_wall_clearance = min(self.min_wall_clearance, gap_wall)
@@ -192,24 +193,3 @@ class Measures:
             self.contacts.append(Contact(t, kind, who, moving))
         self._touching = touching
 
-
-def _nearest(x: float, y: float, segments: np.ndarray) -> float:
-    """Distance from (x, y) to the nearest segment (floors have no zero-length walls). Plain
-    Python: it runs every substep over the few walls near the body, where numpy's call
-    overhead would dominate."""
-    best = math.inf
-    for x1, y1, x2, y2 in segments.tolist():
-        ex, ey = x2 - x1, y2 - y1
-        u = min(1.0, max(0.0, ((x - x1) * ex + (y - y1) * ey) / (ex * ex + ey * ey)))
-        best = min(best, math.hypot(x1 + u * ex - x, y1 + u * ey - y))
-    return best
-
-
-def _nearest_of_many(x: float, y: float, segments: np.ndarray) -> float:
-    """The same over many walls, vectorised."""
-    if not len(segments):
-        return math.inf
-    ax, ay = segments[:, 0], segments[:, 1]
-    ex, ey = segments[:, 2] - ax, segments[:, 3] - ay
-    u = np.clip(((x - ax) * ex + (y - ay) * ey) / (ex * ex + ey * ey), 0.0, 1.0)
-    return float(np.hypot(ax + u * ex - x, ay + u * ey - y).min())

@@ -2,9 +2,13 @@
 
 Pure geometry, no I/O: the sonar, the laser, the person detector's occlusion test and the
 collision checks all reduce to these few array expressions. It is on the hot path (every tick
-casts ~230 rays), so there is no Python loop over rays or obstacles.
+casts ~230 rays), so there is no Python loop over rays or obstacles, except in
+`nearest_segment`, which runs over the few walls near a body, where numpy's call overhead
+would cost more than the loop.
 """
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -108,3 +112,23 @@ def point_segment_distances(x: float, y: float, segments: np.ndarray) -> np.ndar
     return np.sqrt(cx * cx + cy * cy)
 
 
+def nearest_segment(x: float, y: float, segments: np.ndarray) -> float:
+    """Distance from (x, y) to the nearest segment (floors have no zero-length walls). Plain
+    Python: it runs every substep over the few walls near the body, where numpy's call
+    overhead would dominate."""
+    best = math.inf
+    for x1, y1, x2, y2 in segments.tolist():
+        ex, ey = x2 - x1, y2 - y1
+        u = min(1.0, max(0.0, ((x - x1) * ex + (y - y1) * ey) / (ex * ex + ey * ey)))
+        best = min(best, math.hypot(x1 + u * ex - x, y1 + u * ey - y))
+    return best
+
+
+def nearest_of_many_segments(x: float, y: float, segments: np.ndarray) -> float:
+    """`nearest_segment` over many walls, vectorised (inf without any)."""
+    if not len(segments):
+        return math.inf
+    ax, ay = segments[:, 0], segments[:, 1]
+    ex, ey = segments[:, 2] - ax, segments[:, 3] - ay
+    u = np.clip(((x - ax) * ex + (y - ay) * ey) / (ex * ex + ey * ey), 0.0, 1.0)
+    return float(np.hypot(ax + u * ex - x, ay + u * ey - y).min())
