@@ -19,14 +19,10 @@ import numpy as np
 
 from robots.devices import Laser
 from robots.profile import RobotProfile
+from skills.fastclip import clip as _clip
 from skills.localization import Localization
 from skills.navigation.footprint import Footprint, inside
 from skills.skill import Skill
-
-try:        # the clip ufunc itself: what np.clip calls, without its Python wrappers
-    from numpy._core.umath import clip as _clip
-except ImportError:     # numpy < 2
-    from numpy.core.umath import clip as _clip
 
 
 class ObstacleSensing(Skill):

@@ -30,12 +30,8 @@ from typing import Sequence
 import numpy as np
 from scipy.spatial import cKDTree
 
-try:        # the clip ufunc itself: what np.clip calls, without its ~20 µs of Python wrappers
-    from numpy._core.umath import clip as _clip
-except ImportError:     # numpy < 2
-    from numpy.core.umath import clip as _clip
-
 from robots.profile import Limits
+from skills.fastclip import clip as _clip
 from skills.navigation.costmap import CostMap
 from skills.navigation.footprint import Footprint
 from skills.safety import LEFT_BEHIND

@@ -39,12 +39,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
+from skills.fastclip import clip as _clip
 from skills.navigation.gridmap import GridMap
-
-try:        # the clip ufunc itself: what np.clip calls, without its Python wrappers
-    from numpy._core.umath import clip as _clip
-except ImportError:     # numpy < 2
-    from numpy.core.umath import clip as _clip
 
 TWO_PI = 2 * math.pi
 MAX_SHORT_SHARE = 0.5       # more beams than this cut short, and more than
