@@ -616,7 +616,7 @@ def _linspace(start: float, stop: float, num: int) -> list[float]:
 
 def _rollout_grid(x, y, th, v0, w0, vs: np.ndarray, ws: np.ndarray, times: np.ndarray,
                   limits: Limits) -> np.ndarray:
-    """`rollout` of every speed in `vs` with every turn rate in `ws` (the commands of
+    """The poses at `times` of every speed in `vs` with every turn rate in `ws` (the commands of
     `_samples`, speed-major): the same poses, with each speed's and each turn rate's ramp,
     headings and their cosines and sines computed once for all the commands sharing it."""
     edges = np.concatenate([[0.0], times])
@@ -636,26 +636,6 @@ def _rollout_grid(x, y, th, v0, w0, vs: np.ndarray, ws: np.ndarray, times: np.nd
     poses[..., 1] += y
     poses[..., 2] = th_end
     return poses.reshape(len(vs) * len(ws), len(times), 3)
-
-
-def rollout(x, y, th, v0, w0, commands, times, limits: Limits) -> np.ndarray:
-    """(s, k, 3) poses at `times` for each command (s, 2): v and w ramp from (v0, w0) towards
-    the command at the acceleration limits and then hold it (midpoint integration)."""
-    commands = np.asarray(commands, dtype=float).reshape(-1, 2)
-    times = np.asarray(times, dtype=float)
-    edges = np.concatenate([[0.0], times])
-    mids = 0.5 * (edges[1:] + edges[:-1])
-    dts = np.diff(edges)
-    dv = commands[:, 0:1] - v0
-    dw = commands[:, 1:2] - w0
-    v = v0 + _clip(dv, -limits.max_accel * mids, limits.max_accel * mids)
-    w = w0 + _clip(dw, -limits.max_turn_accel * mids, limits.max_turn_accel * mids)
-    dth = w * dts
-    th_end = th + np.cumsum(dth, axis=1)
-    th_mid = th_end - 0.5 * dth
-    xs = x + np.cumsum(v * dts * np.cos(th_mid), axis=1)
-    ys = y + np.cumsum(v * dts * np.sin(th_mid), axis=1)
-    return np.stack([xs, ys, th_end], axis=-1)
 
 
 def _nearest_distance(px: np.ndarray, py: np.ndarray, points: np.ndarray,

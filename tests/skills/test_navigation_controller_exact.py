@@ -7,8 +7,7 @@ from scipy.spatial import cKDTree
 
 from skills.navigation.controller import (KD_TREE_FROM, NEAREST_READINGS, SQUARES_UP_TO,
                                           LocalController, _arc, _linspace, _nearest_distance,
-                                          _PathAhead, _project, _resample, _rollout_grid, _speeds,
-                                          rollout)
+                                          _PathAhead, _project, _resample, _rollout_grid, _speeds)
 from skills.navigation.footprint import Footprint
 from tests.skills.test_navigation_controller import CONTROLLER, COSTMAP, LIMITS, ROOM
 
@@ -126,6 +125,27 @@ def old_samples(controller, v0, w0, cap):
     return np.column_stack([grid_v.ravel(), grid_w.ravel()])
 
 
+def old_rollout(x, y, th, v0, w0, commands, times, limits):
+    """`rollout` before the cut (the controller's only caller now rolls out the speed × turn
+    rate grid): v and w ramp from (v0, w0) towards each command (s, 2) at the acceleration
+    limits and then hold it (midpoint integration)."""
+    commands = np.asarray(commands, dtype=float).reshape(-1, 2)
+    times = np.asarray(times, dtype=float)
+    edges = np.concatenate([[0.0], times])
+    mids = 0.5 * (edges[1:] + edges[:-1])
+    dts = np.diff(edges)
+    dv = commands[:, 0:1] - v0
+    dw = commands[:, 1:2] - w0
+    v = v0 + np.clip(dv, -limits.max_accel * mids, limits.max_accel * mids)
+    w = w0 + np.clip(dw, -limits.max_turn_accel * mids, limits.max_turn_accel * mids)
+    dth = w * dts
+    th_end = th + np.cumsum(dth, axis=1)
+    th_mid = th_end - 0.5 * dth
+    xs = x + np.cumsum(v * dts * np.cos(th_mid), axis=1)
+    ys = y + np.cumsum(v * dts * np.sin(th_mid), axis=1)
+    return np.stack([xs, ys, th_end], axis=-1)
+
+
 def samples_and_rollout(v0, w0, cap):
     vs, ws = CONTROLLER._sample_speeds(v0, w0, cap)
     commands = np.column_stack([np.repeat(vs, len(ws)), np.tile(ws, len(vs))])
@@ -155,7 +175,7 @@ def test_the_sampled_commands_speeds_and_rollouts_are_as_before():
         assert commands.tobytes() == old.tobytes()
         x, y, th = (float(v) for v in rng.uniform(-3.0, 3.0, 3))
         new = _rollout_grid(x, y, th, v0, w0, vs, ws, times, limits)
-        assert new.tobytes() == rollout(x, y, th, v0, w0, old, times, limits).tobytes()
+        assert new.tobytes() == old_rollout(x, y, th, v0, w0, old, times, limits).tobytes()
         speeds = np.repeat(_speeds(v0, vs[:, None], times, limits), len(ws), axis=0)
         assert speeds.tobytes() == _speeds(v0, old, times, limits).tobytes()
 
