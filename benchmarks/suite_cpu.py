@@ -10,6 +10,8 @@ the first test that needs a run pays for it).
 
     python benchmarks/suite_cpu.py [--top 30] [pytest arguments, e.g. tests/skills]
 
+Then the tests that hold a worker longest beyond their CPU (real-time waits).
+
 CPU-seconds are the machine-independent part of the suite's time: on two cores the suite
 cannot finish in less than about half its CPU-seconds, whatever the number of workers.
 Processes a test starts but does not wait for (Ray's, Chromium) are not counted.
@@ -46,19 +48,21 @@ def pytest_runtest_protocol(item, nextitem):
     runs the test as usual."""
     folder = os.environ.get(OUT_VARIABLE)
     if folder:
-        item.config._suite_cpu_start = (_cpu(), time.monotonic())
+        item.config._suite_cpu_start = (_cpu(), time.monotonic(), time.time())
 
 
 def pytest_runtest_makereport(item, call):
-    """After the tear-down phase, one line per test: own CPU, waited children's CPU, wall."""
+    """After the tear-down phase, one line per test: own CPU, waited children's CPU, wall,
+    when it began (seconds since the epoch, the same clock in every worker), the worker."""
     folder = os.environ.get(OUT_VARIABLE)
     start = getattr(item.config, "_suite_cpu_start", None)
     if not folder or start is None or call.when != "teardown":
         return
-    (own0, children0), wall0 = start
+    (own0, children0), wall0, began = start
     own, children = _cpu()
     line = json.dumps([item.nodeid, round(own - own0, 3), round(children - children0, 3),
-                       round(time.monotonic() - wall0, 3)])
+                       round(time.monotonic() - wall0, 3), round(began, 3),
+                       os.environ.get("PYTEST_XDIST_WORKER", "-")])
     with open(Path(folder) / f"worker-{os.getpid()}.jsonl", "a") as handle:
         handle.write(line + "\n")
 
@@ -74,7 +78,7 @@ def run_suite(pytest_args: list[str], folder: Path) -> int:
     return subprocess.run(command, cwd=ROOT, env=env).returncode
 
 
-def read_rows(folder: Path) -> list[tuple[str, float, float, float]]:
+def read_rows(folder: Path) -> list[tuple[str, float, float, float, float, str]]:
     rows = []
     for path in sorted(folder.glob("worker-*.jsonl")):
         rows += [tuple(json.loads(line)) for line in path.read_text().splitlines() if line]
@@ -83,7 +87,7 @@ def read_rows(folder: Path) -> list[tuple[str, float, float, float]]:
 
 def report(rows, top: int, wall: float) -> None:
     by_file: dict[str, list[float]] = defaultdict(lambda: [0.0, 0.0, 0])
-    for nodeid, own, children, _ in rows:
+    for nodeid, own, children, *_ in rows:
         entry = by_file[nodeid.split("::")[0]]
         entry[0] += own
         entry[1] += children
@@ -102,6 +106,34 @@ def report(rows, top: int, wall: float) -> None:
         cpu = own + children
         print(f"{cpu:7.1f} {100 * cpu / max(total, 1e-9):5.1f}% {own:8.1f} {children:8.1f} "
               f"{count:5d}  {name}")
+    report_waiting(rows, top)
+    report_timeline(rows, wall)
+
+
+def report_timeline(rows, wall: float) -> None:
+    """How the wall clock went: start-up and collection before the first test, and the tail:
+    from the moment the first worker had no test left to the end of the last one (on two cores
+    a worker with nothing left is half the machine idle unless the others can use it)."""
+    first = min(row[4] for row in rows)
+    last_end: dict[str, float] = defaultdict(float)
+    for row in rows:
+        worker = row[5] if len(row) > 5 else "-"
+        last_end[worker] = max(last_end[worker], row[4] + row[3])
+    ends = sorted(last_end.values())
+    print(f"wall clock: {wall:.0f} s; {wall - (ends[-1] - first):.0f} s outside the tests "
+          f"(start-up, collection, the end); the {len(ends)} workers ran out of tests "
+          f"{ends[0] - first:.0f} s to {ends[-1] - first:.0f} s after the first began")
+
+
+def report_waiting(rows, top: int) -> None:
+    """The tests that hold a worker longest beyond their CPU (real-time waits: timeouts, links
+    going silent, a browser). A worker waiting is a core lent to the others only while other
+    workers have computing to do; at the end of the run it is time the suite waits."""
+    waiting = sorted(rows, key=lambda row: -(row[3] - row[1] - row[2]))[:top]
+    print(f"tests waiting longest beyond their CPU (wall - CPU; wall includes waiting for a core):")
+    print(f"{'wait-s':>7} {'wall-s':>7} {'CPU-s':>6}  test")
+    for nodeid, own, children, wall, *_ in waiting:
+        print(f"{wall - own - children:7.1f} {wall:7.1f} {own + children:6.1f}  {nodeid}")
 
 
 def main(argv: list[str] | None = None) -> int:
