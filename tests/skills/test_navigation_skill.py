@@ -324,3 +324,48 @@ def test_open_skills_takes_another_map_and_places_come_from_it(tmp_path):
         assert "places: lift" in nav.status.reason
     finally:
         skills.close()
+
+
+def _path_clearance(skills, x: float, y: float) -> float:
+    """The least distance from the current plan's path to (x, y)."""
+    import numpy as np
+    waypoints = np.asarray(skills.navigation.plan.waypoints, float)
+    segments = np.column_stack([waypoints[:-1], waypoints[1:]])
+    return float(point_segment_distances(x, y, segments).min())
+
+
+@pytest.mark.parametrize("pause, detours", [(1.0, True), (6.0, False)])
+def test_a_new_goal_soon_after_planning_round_a_blocker_is_planned_round_it_too(
+        person_scenario, pause, detours):
+    # A follower renews its goal as the customer walks on: a goal given within DETOUR_MEMORY s
+    # of a way planned round a person standing in the way goes round her too (it went through
+    # her again, and the robot waited another replan_after s each time, issue 23's stand-in
+    # families); later, the map alone plans it (the blockage may have gone)
+    from skills.navigation.navigation import DETOUR_MEMORY
+    assert (pause < DETOUR_MEMORY) == detours
+    scenario = person_scenario(-3.5, -0.1, "{ pause = 1000.0 }")
+    skills = open_skills("horos", fast=True, scenario=scenario, seed=1)
+    try:
+        settle(skills)
+        nav = skills.navigation
+        nav.go_to("hall_west", skills.now())
+        run = Run()
+        while not (run.states and run.states[-1].replans >= 1) and len(run.states) < 200:
+            drive(skills, 1, run, until_done=False)
+        assert any(s.phase == "blocked" for s in run.states)              # it waited, then
+        round_her = _path_clearance(skills, -3.5, -0.1)                    # planned round her
+        nav.cancel(skills.now())
+        drive(skills, int(pause * 10), until_done=False)
+        x, y, _ = skills.navigation.grid.place("hall_west")
+        nav.go_to((x, y + 0.05), skills.now())                             # the goal renewed
+        through = _path_clearance(skills, -3.5, -0.1)
+        again = drive(skills, 40, until_done=False)
+    finally:
+        skills.close()
+    assert round_her > 0.4
+    if detours:
+        assert through > 0.4
+        assert not any(s.phase == "blocked" for s in again.states)
+    else:
+        assert through < 0.3                                 # straight through, as the map says
+        assert any(s.phase == "blocked" for s in again.states)
