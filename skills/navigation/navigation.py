@@ -326,10 +326,7 @@ class Navigation(Skill):
             if costmap is None:
                 self._fail(NO_PATH, plan.reason, now)
             return False
-        self.plan = plan
-        self._segment = 0
-        self.write("navigation/path", tuple((float(px), float(py)) for px, py in plan.waypoints),
-                   now)
+        self._use(plan, now)
         return True
 
     def _on_blocked(self, command, now: float, left: float) -> None:
@@ -387,6 +384,13 @@ class Navigation(Skill):
         self._blocked_since = self._clear_since = None
         return False
 
+    def _use(self, plan: Plan, now: float) -> None:
+        """Drive along `plan` from its start, and show it."""
+        self.plan = plan
+        self._segment = 0
+        self.write("navigation/path", tuple((float(px), float(py)) for px, py in plan.waypoints),
+                   now)
+
     def _detour_plan(self, now: float, start) -> bool:
         """Plan on the cost map of the last way round a blockage while it is DETOUR_MEMORY s
         fresh. Why: a follower renews its goal as the customer walks on; planned on the map
@@ -401,10 +405,7 @@ class Navigation(Skill):
         plan = self.planner.plan(start, self._target[:2], costmap)
         if not plan.found:              # the goal lies in or beyond what blocked: the map's way
             return False
-        self.plan = plan
-        self._segment = 0
-        self.write("navigation/path", tuple((float(px), float(py)) for px, py in plan.waypoints),
-                   now)
+        self._use(plan, now)
         return True
 
     def _replan_around(self, now: float) -> bool:
