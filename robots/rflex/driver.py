@@ -49,6 +49,9 @@ DIST_CONV = 101230.0          # units/m, CARMEN b21r+ (Player/ROS: 103000)
 ANGLE_CONV = 35343.888        # units/rad, CARMEN b21r+ (Player/ROS: 35000)
 BAUD = 115200
 RESEND_PERIOD = 0.1           # s: both axes at 10 Hz, always
+# s: a caller that commanded this recently resends itself (its next command goes out when
+# due): the driver's own resend waits, so the two never go out back to back
+CALLER_RESENDS = 1.5 * RESEND_PERIOD
 WATCHDOG_TIMEOUT = 0.15       # s: zero goes out within 200 ms of the last fresh command
 LINK_TIMEOUT = 0.35           # s without a report: link down (three missed 10 Hz reports and a
                               # half, as the P2OS driver: silence is noticed within 0.5 s)
@@ -107,6 +110,7 @@ class RFlexBase(Base):
         self._cmd = (0.0, 0.0)
         self._next_send = 0.0
         self._last_sent: tuple[float, float] | None = None
+        self._commanded_at = -math.inf        # when a caller's command() last sent
         self._next_attempt = 0.0
         self._last_start = -math.inf
         self._cycles = 0
@@ -243,6 +247,7 @@ class RFlexBase(Base):
         v, w = clamp_velocity(v, w, self.limits)
         with self._state_lock:
             self._cmd = (v, w)
+        self._commanded_at = self._now()
         self._send_axes(force=False)
 
     def stop(self) -> None:
@@ -452,7 +457,10 @@ class RFlexBase(Base):
             self._housekeeping(self._now())
 
     def _housekeeping(self, now: float) -> None:
-        """Watchdog (lock-step), the 10 Hz resend, the silent-controller restart."""
+        """Watchdog (lock-step), the 10 Hz resend, the silent-controller restart. The resend
+        waits while a caller commands every tick: in lock-step the tick's command follows at
+        the same instant, and a resend of the last tick's command went out just before it,
+        out of date in most ticks (rflex.md §8: not back to back)."""
         if self.lockstep is not None:
             self.watchdog.check(now)
         if self.fault_reset.expired(now):
@@ -463,7 +471,7 @@ class RFlexBase(Base):
                 self._stale_stop()
             if now - self._last_start >= RESTART_PERIOD:
                 self._silent(now)
-        if now >= self._next_send - 1e-6:
+        if now >= self._next_send - 1e-6 and now - self._commanded_at >= CALLER_RESENDS:
             self._cycles += 1
             self._send_axes()
         if now >= self._next_status and self._port is not None:

@@ -74,6 +74,30 @@ def test_both_axes_resent_every_100_ms_zeros_included():
         base.close()
 
 
+def test_a_caller_commanding_every_tick_gets_one_pair_per_tick_not_a_stale_resend_first():
+    # rflex.md §8: both axes at 10 Hz, not back to back. The tick's poll used to resend the last
+    # tick's command and the tick's command followed at the same instant
+    base, emulator, sim, clock = lockstep_pair()
+    try:
+        tick(base, sim, clock)
+        for i in range(20):
+            tick(base, sim, clock)
+            base.command(0.05 * (i % 4), 0.0)              # a new command most ticks
+        sent = [(t, c) for t, c in set_dirs(emulator, since=0.15) if c.axis == 0]
+        times = [t for t, _ in sent]
+        assert len(times) == len(set(times)) == 20             # one per tick, none doubled
+        assert [c.velocity for _, c in sent] == [
+            p.velocity_units(0.05 * (i % 4), base.dist_conv) for i in range(20)]
+        quiet_from = clock.now()                               # the caller stops commanding
+        for _ in range(10):
+            tick(base, sim, clock)
+        resent = [t for t, c in set_dirs(emulator, since=quiet_from + 1e-6) if c.axis == 0]
+        assert resent and resent[0] - quiet_from <= 0.2 + 1e-9  # the driver resends again
+        assert all(b - a == pytest.approx(0.1) for a, b in zip(resent, resent[1:]))
+    finally:
+        base.close()
+
+
 def test_drives_the_body_and_integrates_odometry_in_world_frame():
     clock = SimClock()
     sim = Simulation(PERSES, None, 0, clock)
