@@ -57,10 +57,6 @@ UNKNOWN_PLACE = "unknown place"
 TURN_GAIN = 1.5              # rad/s per rad of heading error on the goal
 OFF_PATH = 1.0               # m from the path at which the robot plans again from where it is
 READING_SIZE = 0.25          # m drawn around an off-map reading when planning around it
-# s after a way was planned round a blockage that a new goal (a follower's customer walking on)
-# is planned round the people standing near too, not through them again
-DETOUR_MEMORY = 5.0
-REPLAN_REACH = 4.0           # m: readings and people nearer than this are planned round
 SONAR_RANGE = 1.5            # m: farther sonar echoes are too wide to steer by
 IGNORED_RADIUS = 0.45        # m around an ignored person whose readings do not block
 ON_MAP = 0.09                # m: a reading this near a mapped wall (cell centre) is that wall
@@ -134,8 +130,6 @@ class Navigation(Skill):
         # (the customer a follower drives behind; their legs still count as readings)
         self.ignore_people: frozenset[int] = frozenset()
         self._previous_scan: np.ndarray | None = None    # laser readings of the last tick, map frame
-        # when a way was last planned round a blockage; kept across new goals (`go_to`)
-        self._detour_made: float | None = None
         motion.navigator = self
 
     @cached_property
@@ -319,14 +313,15 @@ class Navigation(Skill):
 
     def _make_plan(self, now: float, costmap=None) -> bool:
         state = self.localization.state
-        if costmap is None and self._detour_plan(now, (state.x, state.y)):
-            return True
         plan = self.planner.plan((state.x, state.y), self._target[:2], costmap)
         if not plan.found:
             if costmap is None:
                 self._fail(NO_PATH, plan.reason, now)
             return False
-        self._use(plan, now)
+        self.plan = plan
+        self._segment = 0
+        self.write("navigation/path", tuple((float(px), float(py)) for px, py in plan.waypoints),
+                   now)
         return True
 
     def _on_blocked(self, command, now: float, left: float) -> None:
@@ -384,63 +379,22 @@ class Navigation(Skill):
         self._blocked_since = self._clear_since = None
         return False
 
-    def _use(self, plan: Plan, now: float) -> None:
-        """Drive along `plan` from its start, and show it."""
-        self.plan = plan
-        self._segment = 0
-        self.write("navigation/path", tuple((float(px), float(py)) for px, py in plan.waypoints),
-                   now)
-
-    def _detour_plan(self, now: float, start) -> bool:
-        """Within DETOUR_MEMORY s of a way planned round a blockage, plan round the people
-        standing near now. Why: a follower renews its goal as the customer walks on; planned
-        on the map alone, each new goal led through the shopper standing in the way again, and
-        the robot waited `replan_after` s before each new way round (issue 23, the stand-in
-        families). Only people standing now: the whole blockage remembered (crossers, their
-        readings) sent the robot round a crowd that had walked on (crowd5 seed 1)."""
-        if self._detour_made is None:
-            return False
-        if now - self._detour_made > DETOUR_MEMORY:
-            self._detour_made = None
-            return False
-        standing = self._standing_near(start)
-        if not len(standing):
-            return False
-        costmap = self.costmap.with_obstacles(standing, self._person_size())
-        plan = self.planner.plan(start, self._target[:2], costmap)
-        if not plan.found:              # the goal lies in or beyond them: the map's way
-            return False
-        self._use(plan, now)
-        return True
-
-    def _standing_near(self, at) -> np.ndarray:
-        """(k, 2) the tracked people standing within REPLAN_REACH of `at`, but not one the
-        caller drives up to (a follower's customer)."""
-        return np.array([(t.x, t.y) for t in self.perception.tracks
-                         if math.hypot(t.vx, t.vy) < MOVING and t.id not in self.ignore_people
-                         and math.hypot(t.x - at[0], t.y - at[1]) < REPLAN_REACH]).reshape(-1, 2)
-
-    def _person_size(self) -> float:
-        """People drawn wider than the controller's blocking distance, so a path round them
-        is clear."""
-        return PERSON_RADIUS + self.params.controller.block_margin + 0.05
-
     def _replan_around(self, now: float) -> bool:
         """Plan again with the readings off the map and the people standing as obstacles."""
         state = self.localization.state
         points = self.block_points
         if len(points):
             off_map = self.grid.clearance(points[:, 0], points[:, 1]) > 0.15
-            near = np.hypot(points[:, 0] - state.x, points[:, 1] - state.y) < REPLAN_REACH
+            near = np.hypot(points[:, 0] - state.x, points[:, 1] - state.y) < 4.0
             points = points[off_map & near]
-        standing = self._standing_near((state.x, state.y))
-        sizes = np.concatenate([np.full(len(points), READING_SIZE),
-                                np.full(len(standing), self._person_size())])
+        standing = np.array([(t.x, t.y) for t in self.perception.tracks
+                             if math.hypot(t.vx, t.vy) < MOVING]).reshape(-1, 2)
+        # people drawn wider than the controller's blocking distance, so the new path is clear
+        person = PERSON_RADIUS + self.params.controller.block_margin + 0.05
+        sizes = np.concatenate([np.full(len(points), READING_SIZE), np.full(len(standing), person)])
         costmap = self.costmap.with_obstacles(np.vstack([points.reshape(-1, 2), standing]), sizes)
         found = self._make_plan(now, costmap)
         self._found_way = found
-        if found:
-            self._detour_made = now
         return found
 
     def _turn_on_goal(self, heading, th, w0, now: float) -> tuple[float, float]:
