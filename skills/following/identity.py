@@ -133,7 +133,8 @@ class Identity:
                     if now - self._belief.t < p.predict_for else (0.0, 0.0))
         look = self._look if self._look_known else None
         choice, self.ambiguous = score.decide(
-            [(score.identity_score(t, predicted, velocity, gate, look), t) for t in candidates])
+            [(score.identity_score(t, predicted, velocity, gate, look, since=self._belief.t), t)
+             for t in candidates])
         return choice                    # None when two fit alike: wait, do not guess
 
     def _confirmed_since_the_loss(self, track, now: float) -> bool:

@@ -3,6 +3,7 @@ re-acquisition gate, her look, and two candidates that fit alike."""
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 from follow_fakes import (BLUE, RED, Localization, Motion, Navigation, Perception, ShelfGrid,
                           Speech, follower, learn_her, seen, track)
@@ -313,5 +314,36 @@ def test_legs_alone_find_her_again_after_a_short_loss():
     t = _lost_for(following, perception, 0.5)
     t = round(t + 0.1, 6)
     perception.believed = (track(1, 2.0 + 0.5 * t, 0.0, t, vx=0.5, camera_seen=0.0),)
+    following.sense(t)
+    assert not following.state.lost and following.state.target == 1
+
+
+def _her_old_view_on(tid, x, t, vy, viewed_at):
+    """Track `tid` at (x, 0) seen at `t` walking with her, its newest camera view hers (red)
+    but taken at `viewed_at`."""
+    return replace(seen(tid, x, 0.0, viewed_at, RED, vx=0.5), last_seen=t, vy=vy,
+                   confirmed_seen=viewed_at)
+
+
+def test_her_old_view_on_a_track_kept_alive_by_legs_does_not_make_it_her():
+    # HOROS standin8 seed 2: she walks on behind a shopper pushing a cart; her track goes
+    # unseen, then the tracker hangs it on the cart's wheels (laser legs) 1.5 m short of her.
+    # The track's newest camera view is still hers from before the loss: it must not count
+    # for her (it scored +6 and the robot followed the cart for 9.5 s)
+    following, perception = follower()
+    t = learn_her(following, perception)          # she is at x = 2.5 at t = 1.0, 0.5 m/s
+    last_view = t - 0.1
+    for _ in range(7):
+        t = round(t + 0.1, 6)
+        perception.believed = ()
+        following.sense(t)
+    assert following.state.lost
+    # 0.8 s after the loss: her prediction is at x = 2.9; the legs 1.55 m short of it
+    perception.believed = (_her_old_view_on(1, 2.9 - 1.55, t, 0.55, last_view),)
+    following.sense(t)
+    assert following.state.lost and following.state.phase == HIDDEN
+    # the same track with a view of her taken now is her
+    t = round(t + 0.1, 6)
+    perception.believed = (_her_old_view_on(1, 2.95 - 1.55, t, 0.55, t),)
     following.sense(t)
     assert not following.state.lost and following.state.target == 1
