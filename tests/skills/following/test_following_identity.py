@@ -347,3 +347,29 @@ def test_her_old_view_on_a_track_kept_alive_by_legs_does_not_make_it_her():
     perception.believed = (_her_old_view_on(1, 2.95 - 1.55, t, 0.55, t),)
     following.sense(t)
     assert not following.state.lost and following.state.target == 1
+
+
+def test_after_a_close_pass_her_old_view_on_the_track_left_behind_does_not_keep_it_hers():
+    # PERSES carts seed 4: a new track on her came within 0.8 m of her followed track, which
+    # stayed behind on a cart's wheels with no camera view since; the camera saw the new track
+    # looking like her. When they part, the view taken before they came close must not count
+    # for the track left behind (it kept the robot on the cart for 3.9 s)
+    following, perception = follower()
+    perception.believed = (seen(1, 2.0, 0.0, 0.0, RED),)
+    following.follow(0.0, target=1)
+    t = 0.0
+    for _ in range(10):                              # she stands; her look is learned
+        t = round(t + 0.1, 6)
+        perception.believed = (seen(1, 2.0, 0.0, t, RED),)
+        following.sense(t)
+    last_view = t
+    t = round(t + 0.1, 6)                            # a new track on her, 0.6 m off hers
+    perception.believed = (_her_old_view_on(1, 2.0, t, 0.0, last_view),
+                           replace(seen(2, 2.0, 0.6, t, RED), vy=0.5))
+    following.sense(t)
+    assert following.state.target == 1
+    t = round(t + 0.1, 6)                            # apart: hers stays, the new one walks on
+    perception.believed = (_her_old_view_on(1, 2.0, t, 0.0, last_view),
+                           replace(seen(2, 2.0, 1.1, t, RED), vy=0.5))
+    following.sense(t)
+    assert following.state.target == 2 and not following.state.lost
