@@ -144,19 +144,17 @@ class Identity:
         return choice                    # None when two fit alike: wait, do not guess
 
     def _legs_trusted(self, track, now: float) -> bool:
-        """Laser legs alone keep a track hers for LEGS_TRUSTED_FOR s after a sensor that can
-        tell a person (the camera; `Track.confirmed_seen`) last saw it, followed or not; after
-        a loss, a track that sensor has seen since she was last seen may be her. Longer on
-        legs alone, a track is not her: a coasting track's gate grows so wide that the tracker
-        hangs it on any legs near it, and it took the wheels of a cart pushed behind another
-        shopper, 1 m short of her, for her after 3 s (HOROS, bench_follow standin8 seed 2,
-        issue 23); her followed track slid onto a crosser's cart while the camera saw her
-        0.9 m away (HOROS crowd10 seed 0). Sooner, legs alone still keep and find her: in a
-        crowd the camera often cannot see her between the others (PERSES crowd10 seed 2)."""
+        """Laser legs alone keep a track hers, or make it hers again after a loss, for
+        LEGS_TRUSTED_FOR s after a sensor that can tell a person (the camera;
+        `Track.confirmed_seen`) last saw it. Longer on legs alone, a track is not her: a
+        coasting track's gate grows so wide that the tracker hangs it on any legs near it, and
+        it took the wheels of a cart pushed behind another shopper, 1 m short of her, for her
+        after 3 s (HOROS, bench_follow standin8 seed 2, issue 23); her followed track slid
+        onto a crosser's cart while the camera saw her 0.9 m away (HOROS crowd10 seed 0).
+        Sooner, legs alone still keep and find her: in a crowd the camera often cannot see her
+        between the others (PERSES crowd10 seed 2)."""
         seen = track.confirmed_seen
-        if seen is None:
-            return False
-        return now - seen <= LEGS_TRUSTED_FOR or (self.state.lost and seen > self._belief.t)
+        return seen is not None and now - seen <= LEGS_TRUSTED_FOR
 
     @property
     def _look_known(self) -> bool:

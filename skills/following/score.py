@@ -12,9 +12,9 @@ cue, so the cues weigh against each other in one currency:
   `APPEARANCE_A + APPEARANCE_B * h`, clipped to ±APPEARANCE_CAP, on the Hellinger distance
   `h` between her learned look and the track's view. A view taken before she was lost
   (`since`) counts only against: the tracker may have kept her old id alive on somebody
-  else's legs since, and her last view on it says nothing about who it is now. A and B are the log odds of a
-  logistic regression calibrated on simulated views (`python benchmarks/calibrate_identity.py`,
-  4000 pairs, seeds 0 and 1: 18.7 - 109.6 h and 17.6 - 103.0 h; a stranger scores above 0 in
+  else's legs since, and her last view on it says nothing about who it is now. A and B are
+  the log odds of a logistic regression calibrated on simulated views
+  (`python benchmarks/calibrate_identity.py`, 4000 pairs, seeds 0 and 1: 18.7 - 109.6 h and 17.6 - 103.0 h; a stranger scores above 0 in
   0.3 % of pairs, the same person below 0 in 0.1–0.3 %). The cap keeps look-alikes (a few in a
   hundred shoppers dress alike) from overruling where the tracks are.
 
