@@ -14,9 +14,10 @@ cue, so the cues weigh against each other in one currency:
   (`since`) counts only against: the tracker may have kept her old id alive on somebody
   else's legs since, and her last view on it says nothing about who it is now. A and B are
   the log odds of a logistic regression calibrated on simulated views
-  (`python benchmarks/calibrate_identity.py`, 4000 pairs, seeds 0 and 1: 18.7 - 109.6 h and 17.6 - 103.0 h; a stranger scores above 0 in
-  0.3 % of pairs, the same person below 0 in 0.1–0.3 %). The cap keeps look-alikes (a few in a
-  hundred shoppers dress alike) from overruling where the tracks are.
+  (`python benchmarks/calibrate_identity.py`, 4000 pairs, seeds 0 and 1: 18.7 - 109.6 h and
+  17.6 - 103.0 h; a stranger scores above 0 in 0.3 % of pairs, the same person below 0 in
+  0.1–0.3 %). The cap keeps look-alikes (a few in a hundred shoppers dress alike) from
+  overruling where the tracks are.
 
 A track may be her when its score reaches THRESHOLD (the gate's edge without other evidence).
 When the best two candidates score within MARGIN of each other, the follower does not pick:
