@@ -46,8 +46,8 @@ LOOK_KNOWN = 5            # views of her before her look is trusted
 MISMATCHES = 2            # her track's last views, and those within
 UNLIKE_FOR = 0.6          # this long (s), of which the best counts (see _followed_score)
 VIEWS_KEPT = 20           # appearance scores of her track's views kept
-LEGS_TRUSTED_FOR = 1.0    # s after the camera last saw a track that legs alone keep it hers
-                          # (see _legs_trusted)
+LEGS_TRUSTED_FOR = 1.0    # s unseen after which only the camera finds her again (see
+                          # _confirmed_since_the_loss)
 STRANGER_MEMORY = 30.0    # s a stranger's last sighting is kept after their track is gone
 
 
@@ -99,16 +99,10 @@ class Identity:
         gate = self._gate(now - self._belief.t)
         followed = None if self.state.lost else self.state.target
         tracks = [t for t in tracks if self._plausible(t, t.id == followed)]
+        lost = self.state.lost
         same = next((t for t in tracks if t.id == self.state.target
-                     and t.id not in self._others), None)
-        if same is not None and not self._legs_trusted(same, now):
-            # her track kept by legs alone too long: she is hidden, as when the camera last
-            # saw her (the track may have slid onto a cart's wheels beside her)
-            if not self.state.lost:
-                self._belief = self._matched or self._belief
-                predicted = self._belief.at(now, p.predict_for)
-                gate = self._gate(now - self._belief.t)
-            same = None
+                     and t.id not in self._others
+                     and (not lost or self._confirmed_since_the_loss(t, now))), None)
         if same is not None and same.status == CONFIRMED:      # seen within lost_after (0.35 s)
             # while she is followed the same score decides whether her track is still her
             seen_score, looks_unlike = self._followed_score(same, predicted, gate, now)
@@ -133,7 +127,7 @@ class Identity:
                       and math.hypot(t.x - predicted[0], t.y - predicted[1]) <= gate
                       and (self._look_known or self._born_where_she_could_be(t))
                       and t.id not in self._strangers
-                      and self._legs_trusted(t, now)
+                      and (not lost or self._confirmed_since_the_loss(t, now))
                       and (t.id not in self._others or self._seen_as_her_since_the_loss(t))]
         velocity = ((self._belief.vx, self._belief.vy)
                     if now - self._belief.t < p.predict_for else (0.0, 0.0))
@@ -143,18 +137,17 @@ class Identity:
              for t in candidates])
         return choice                    # None when two fit alike: wait, do not guess
 
-    def _legs_trusted(self, track, now: float) -> bool:
-        """Laser legs alone keep a track hers, or make it hers again after a loss, for
-        LEGS_TRUSTED_FOR s after a sensor that can tell a person (the camera;
-        `Track.confirmed_seen`) last saw it. Longer on legs alone, a track is not her: a
-        coasting track's gate grows so wide that the tracker hangs it on any legs near it, and
-        it took the wheels of a cart pushed behind another shopper, 1 m short of her, for her
-        after 3 s (HOROS, bench_follow standin8 seed 2, issue 23); her followed track slid
-        onto a crosser's cart while the camera saw her 0.9 m away (HOROS crowd10 seed 0).
-        Sooner, legs alone still keep and find her: in a crowd the camera often cannot see her
-        between the others (PERSES crowd10 seed 2)."""
-        seen = track.confirmed_seen
-        return seen is not None and now - seen <= LEGS_TRUSTED_FOR
+    def _confirmed_since_the_loss(self, track, now: float) -> bool:
+        """Once she has been unseen for LEGS_TRUSTED_FOR s, a track is taken for her only after
+        a sensor that can tell a person (the camera; `Track.confirmed_seen`) has seen it since
+        she was last seen: by then her coasting track's gate has grown so wide that the tracker
+        re-attaches it to any legs near her prediction, and it took the wheels of a cart pushed
+        behind another shopper, 1 m short of her, for her after 3 s (HOROS, bench_follow
+        standin8 seed 2, issue 23). Sooner, legs alone still find her again: in a crowd the
+        camera often cannot see her between the others (PERSES crowd10 seed 2 was given up)."""
+        if now - self._belief.t <= LEGS_TRUSTED_FOR:
+            return True
+        return track.confirmed_seen is not None and track.confirmed_seen > self._belief.t
 
     @property
     def _look_known(self) -> bool:

@@ -373,28 +373,3 @@ def test_after_a_close_pass_her_old_view_on_the_track_left_behind_does_not_keep_
                            replace(seen(2, 2.0, 1.1, t, RED), vy=0.5))
     following.sense(t)
     assert following.state.target == 2 and not following.state.lost
-
-
-def test_her_followed_track_kept_by_legs_alone_for_over_a_second_is_not_her():
-    # HOROS crowd10 seed 0: her followed track slid onto a crosser's cart 0.9 m from her while
-    # the camera fed her detections to another track; with no camera view for 0.8 s it was kept
-    # (no view, no evidence). After LEGS_TRUSTED_FOR without the camera it is not her; the track
-    # the camera sees looking like her, where she should be, is
-    following, perception = follower()
-    t = learn_her(following, perception)          # she is at x = 2.5 at t = 1.0, 0.5 m/s
-    last_view = round(t - 0.1, 6)
-    for _ in range(9):                             # legs only, for 0.9 s: still her
-        t = round(t + 0.1, 6)
-        perception.believed = (_her_old_view_on(1, 2.0 + 0.5 * t, t, 0.0, last_view),)
-        following.sense(t)
-        assert following.state.phase != HIDDEN and following.state.target == 1
-    for _ in range(3):                             # 1.1 s and on: not her any more
-        t = round(t + 0.1, 6)
-        perception.believed = (_her_old_view_on(1, 2.0 + 0.5 * t, t, 0.0, last_view),)
-        following.sense(t)
-    assert following.state.lost and following.state.phase == HIDDEN
-    t = round(t + 0.1, 6)
-    perception.believed = (_her_old_view_on(1, 2.0 + 0.5 * t, t, 0.0, last_view),
-                           seen(2, 2.0 + 0.5 * t, 0.3, t, RED, vx=0.5))
-    following.sense(t)
-    assert not following.state.lost and following.state.target == 2
