@@ -103,8 +103,6 @@ class Identity:
         same = next((t for t in tracks if t.id == self.state.target
                      and t.id not in self._others
                      and (not lost or self._confirmed_since_the_loss(t, now))), None)
-        if same is not None and not lost and self._on_legs_alone(same, now):
-            same = None       # no privilege: it competes with the others (_on_legs_alone)
         if same is not None and same.status == CONFIRMED:      # seen within lost_after (0.35 s)
             # while she is followed the same score decides whether her track is still her
             seen_score, looks_unlike = self._followed_score(same, predicted, gate, now)
@@ -150,17 +148,6 @@ class Identity:
         if now - self._belief.t <= LEGS_TRUSTED_FOR:
             return True
         return track.confirmed_seen is not None and track.confirmed_seen > self._belief.t
-
-    def _on_legs_alone(self, track, now: float) -> bool:
-        """Her followed track has been kept by laser legs alone (no camera) for over
-        LEGS_TRUSTED_FOR s: it is then no longer simply kept (no view is no evidence) but
-        competes with the other candidates by the one score, so that a track the camera sees
-        looking like her where she should be wins (HOROS bench_follow crowd10 seed 0: her
-        track slid onto a crosser's cart 0.9 m from her while the camera fed her detections
-        to another track). Alone, it stays hers: a stand-in hides her from the camera while
-        the laser still sees her legs (dropping it then lost her for 7.5 s in standin8)."""
-        seen = track.confirmed_seen
-        return seen is not None and now - seen > LEGS_TRUSTED_FOR
 
     @property
     def _look_known(self) -> bool:

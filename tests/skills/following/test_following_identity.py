@@ -373,38 +373,3 @@ def test_after_a_close_pass_her_old_view_on_the_track_left_behind_does_not_keep_
                            replace(seen(2, 2.0, 1.1, t, RED), vy=0.5))
     following.sense(t)
     assert following.state.target == 2 and not following.state.lost
-
-
-def _legs_only_for(following, perception, seconds):
-    """Her track (1) seen by the camera while she walks along x (learn_her), then kept by
-    laser legs alone for `seconds`; returns (t, the time of the camera's last view)."""
-    t = learn_her(following, perception)          # she is at x = 2.5 at t = 1.0, 0.5 m/s
-    last_view = round(t - 0.1, 6)
-    while t < last_view + seconds - 1e-9:
-        t = round(t + 0.1, 6)
-        perception.believed = (_her_old_view_on(1, 2.0 + 0.5 * t, t, 0.0, last_view),)
-        following.sense(t)
-        assert following.state.phase != HIDDEN and following.state.target == 1
-    return t, last_view
-
-
-def test_her_track_on_legs_alone_for_over_a_second_yields_to_the_track_the_camera_sees_as_her():
-    # HOROS crowd10 seed 0: her followed track slid onto a crosser's cart 0.9 m from her while
-    # the camera fed her detections to another track; with no camera view for 0.8 s it was
-    # kept (no view, no evidence). After LEGS_TRUSTED_FOR without the camera it competes with
-    # the others by the one score: the track the camera sees looking like her wins
-    following, perception = follower()
-    t, last_view = _legs_only_for(following, perception, 1.2)
-    t = round(t + 0.1, 6)
-    perception.believed = (_her_old_view_on(1, 2.0 + 0.5 * t, t, 0.0, last_view),
-                           seen(2, 2.0 + 0.5 * t, 0.6, t, RED, vx=0.5))
-    following.sense(t)
-    assert following.state.target == 2 and not following.state.lost
-
-
-def test_her_track_on_legs_alone_stays_hers_while_nobody_else_fits():
-    # a stand-in hides her from the camera while the laser still sees her legs (standin8):
-    # with nobody else who may be her, her legs-only track stays hers
-    following, perception = follower()
-    t, _ = _legs_only_for(following, perception, 3.0)
-    assert following.state.target == 1 and not following.state.lost
