@@ -133,7 +133,8 @@ class Identity:
                     if now - self._belief.t < p.predict_for else (0.0, 0.0))
         look = self._look if self._look_known else None
         choice, self.ambiguous = score.decide(
-            [(score.identity_score(t, predicted, velocity, gate, look), t) for t in candidates])
+            [(score.identity_score(t, predicted, velocity, gate, look, since=self._belief.t), t)
+             for t in candidates])
         return choice                    # None when two fit alike: wait, do not guess
 
     def _confirmed_since_the_loss(self, track, now: float) -> bool:
@@ -323,9 +324,11 @@ class Identity:
         options = [t for t in tracks if t.id in ids and t.status == CONFIRMED]
         velocity = (before.vx, before.vy)
         look = self._look if self._look_known else None
+        # a view from before they came close cannot tell whether the ids swapped since: it
+        # counts only against (PERSES carts seed 4 kept her old id, left on a cart's wheels)
         best, ambiguous = score.decide(
-            [(score.identity_score(t, expected, velocity, UNTANGLE_REACH, look), t)
-             for t in options])
+            [(score.identity_score(t, expected, velocity, UNTANGLE_REACH, look,
+                                   since=before.t), t) for t in options])
         if best is None:
             # none of them is where the customer should be (they are hidden: the track that
             # walked off with the id was somebody else), or two fit alike (a look-alike

@@ -10,11 +10,14 @@ cue, so the cues weigh against each other in one currency:
   velocity and hers (a standing customer does not walk off at 1.4 m/s).
 - **appearance** (once her look is known and the track has a camera view):
   `APPEARANCE_A + APPEARANCE_B * h`, clipped to ±APPEARANCE_CAP, on the Hellinger distance
-  `h` between her learned look and the track's view. A and B are the log odds of a
-  logistic regression calibrated on simulated views (`python benchmarks/calibrate_identity.py`,
-  4000 pairs, seeds 0 and 1: 18.7 - 109.6 h and 17.6 - 103.0 h; a stranger scores above 0 in
-  0.3 % of pairs, the same person below 0 in 0.1–0.3 %). The cap keeps look-alikes (a few in a
-  hundred shoppers dress alike) from overruling where the tracks are.
+  `h` between her learned look and the track's view. A view taken before she was lost
+  (`since`) counts only against: the tracker may have kept her old id alive on somebody
+  else's legs since, and her last view on it says nothing about who it is now. A and B are
+  the log odds of a logistic regression calibrated on simulated views
+  (`python benchmarks/calibrate_identity.py`, 4000 pairs, seeds 0 and 1: 18.7 - 109.6 h and
+  17.6 - 103.0 h; a stranger scores above 0 in 0.3 % of pairs, the same person below 0 in
+  0.1–0.3 %). The cap keeps look-alikes (a few in a hundred shoppers dress alike) from
+  overruling where the tracks are.
 
 A track may be her when its score reaches THRESHOLD (the gate's edge without other evidence).
 When the best two candidates score within MARGIN of each other, the follower does not pick:
@@ -57,19 +60,26 @@ def motion_score(track, velocity: tuple[float, float]) -> float:
     return -0.5 * (dv / MOTION_SIGMA) ** 2
 
 
-def appearance_score(track, look) -> float:
-    """0 without a known look or a view of the track (no evidence either way)."""
+def appearance_score(track, look, since: float | None = None) -> float:
+    """0 without a known look or a view of the track (no evidence either way). A view taken
+    at or before `since` (when she was last seen) counts only against her: her track's
+    last view, carried on by legs alone onto a cart's wheels 1.3 m short of her, scored
+    +6 and had the follower take the cart for her (HOROS bench_follow standin8 seed 2)."""
     if look is None or getattr(track, "appearance", None) is None:
         return 0.0
     h = appearance.distance(look, track.appearance)
-    return max(-APPEARANCE_CAP, min(APPEARANCE_CAP, APPEARANCE_A + APPEARANCE_B * h))
+    odds = max(-APPEARANCE_CAP, min(APPEARANCE_CAP, APPEARANCE_A + APPEARANCE_B * h))
+    seen_at = getattr(track, "appearance_t", None)
+    if since is not None and (seen_at is None or seen_at <= since):
+        return min(odds, 0.0)
+    return odds
 
 
 def identity_score(track, predicted: tuple[float, float], velocity: tuple[float, float],
-                   gate: float, look=None) -> float:
+                   gate: float, look=None, since: float | None = None) -> float:
     """Log-likelihood ratio that `track` is the customer (see the module's docstring)."""
     return (position_score(track, predicted, gate) + motion_score(track, velocity)
-            + appearance_score(track, look))
+            + appearance_score(track, look, since))
 
 
 def decide(scored: list[tuple[float, object]]):

@@ -3,6 +3,7 @@ re-acquisition gate, her look, and two candidates that fit alike."""
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 from follow_fakes import (BLUE, RED, Localization, Motion, Navigation, Perception, ShelfGrid,
                           Speech, follower, learn_her, seen, track)
@@ -315,3 +316,60 @@ def test_legs_alone_find_her_again_after_a_short_loss():
     perception.believed = (track(1, 2.0 + 0.5 * t, 0.0, t, vx=0.5, camera_seen=0.0),)
     following.sense(t)
     assert not following.state.lost and following.state.target == 1
+
+
+def _her_old_view_on(tid, x, t, vy, viewed_at):
+    """Track `tid` at (x, 0) seen at `t` walking with her, its newest camera view hers (red)
+    but taken at `viewed_at`."""
+    return replace(seen(tid, x, 0.0, viewed_at, RED, vx=0.5), last_seen=t, vy=vy,
+                   confirmed_seen=viewed_at)
+
+
+def test_her_old_view_on_a_track_kept_alive_by_legs_does_not_make_it_her():
+    # HOROS standin8 seed 2: she walks on behind a shopper pushing a cart; her track goes
+    # unseen, then the tracker hangs it on the cart's wheels (laser legs) 1.5 m short of her.
+    # The track's newest camera view is still hers from before the loss: it must not count
+    # for her (it scored +6 and the robot followed the cart for 9.5 s)
+    following, perception = follower()
+    t = learn_her(following, perception)          # she is at x = 2.5 at t = 1.0, 0.5 m/s
+    last_view = t - 0.1
+    for _ in range(7):
+        t = round(t + 0.1, 6)
+        perception.believed = ()
+        following.sense(t)
+    assert following.state.lost
+    # 0.8 s after the loss: her prediction is at x = 2.9; the legs 1.55 m short of it
+    perception.believed = (_her_old_view_on(1, 2.9 - 1.55, t, 0.55, last_view),)
+    following.sense(t)
+    assert following.state.lost and following.state.phase == HIDDEN
+    # the same track with a view of her taken now is her
+    t = round(t + 0.1, 6)
+    perception.believed = (_her_old_view_on(1, 2.95 - 1.55, t, 0.55, t),)
+    following.sense(t)
+    assert not following.state.lost and following.state.target == 1
+
+
+def test_after_a_close_pass_her_old_view_on_the_track_left_behind_does_not_keep_it_hers():
+    # PERSES carts seed 4: a new track on her came within 0.8 m of her followed track, which
+    # stayed behind on a cart's wheels with no camera view since; the camera saw the new track
+    # looking like her. When they part, the view taken before they came close must not count
+    # for the track left behind (it kept the robot on the cart for 3.9 s)
+    following, perception = follower()
+    perception.believed = (seen(1, 2.0, 0.0, 0.0, RED),)
+    following.follow(0.0, target=1)
+    t = 0.0
+    for _ in range(10):                              # she stands; her look is learned
+        t = round(t + 0.1, 6)
+        perception.believed = (seen(1, 2.0, 0.0, t, RED),)
+        following.sense(t)
+    last_view = t
+    t = round(t + 0.1, 6)                            # a new track on her, 0.6 m off hers
+    perception.believed = (_her_old_view_on(1, 2.0, t, 0.0, last_view),
+                           replace(seen(2, 2.0, 0.6, t, RED), vy=0.5))
+    following.sense(t)
+    assert following.state.target == 1
+    t = round(t + 0.1, 6)                            # apart: hers stays, the new one walks on
+    perception.believed = (_her_old_view_on(1, 2.0, t, 0.0, last_view),
+                           replace(seen(2, 2.0, 1.1, t, RED), vy=0.5))
+    following.sense(t)
+    assert following.state.target == 2 and not following.state.lost

@@ -52,3 +52,22 @@ def test_decide_takes_the_clear_best_waits_between_two_alike_and_takes_nobody_be
     assert decide([(THRESHOLD - 0.1, a)]) == (None, False)
     assert decide([(-0.5, a), (THRESHOLD - 5.0, b)]) == (a, False)    # b is nobody
     assert decide([]) == (None, False)
+
+
+def test_a_view_taken_before_she_was_lost_counts_only_against():
+    # her old id may since have been hung on somebody else's legs (HOROS standin8 seed 2):
+    # its last view, hers, says nothing for it; a view unlike her still says it is not her
+    rng = np.random.default_rng(1)
+    her = appearance_of("carla")
+    look = np.mean([observed(her, rng) for _ in range(10)], axis=0)
+    like, unlike = observed(her, rng), observed(appearance_of("s1"), rng)
+
+    def viewed(view, at):
+        return SimpleNamespace(x=0.0, y=0.0, vx=0.0, vy=0.0, appearance=view, appearance_t=at)
+
+    assert appearance_score(viewed(like, 4.0), look, since=5.0) == 0.0
+    assert appearance_score(viewed(like, 5.0), look, since=5.0) == 0.0
+    assert appearance_score(viewed(like, 5.1), look, since=5.0) == appearance_score(
+        viewed(like, 5.1), look) > 0.0
+    assert appearance_score(viewed(unlike, 4.0), look, since=5.0) == appearance_score(
+        viewed(unlike, 4.0), look) < 0.0
