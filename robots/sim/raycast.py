@@ -72,7 +72,9 @@ def _segment_hits(px, py, dx, dy, segments: np.ndarray) -> np.ndarray:
     denom = dx * ey - dy * ex         # cross(d, e); 0 when parallel
     t_num = qx * ey - qy * ex         # cross(q, e)
     s_num = qx * dy - qy * dx         # cross(q, d)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    # a ray (nearly) parallel to a segment divides by (nearly) 0: t and s come out infinite
+    # (or NaN), and such a pair is no hit below
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         t = t_num / denom
         s = s_num / denom
     hit = (t >= 0.0) & (s >= 0.0) & (s <= 1.0)
