@@ -84,8 +84,11 @@ def first_difference(a, b, where: str = "") -> str | None:
 
 
 def compare(old_ticks, new_ticks) -> str | None:
-    """The first difference between two runs' ticks (lists of decoded messages), or None."""
+    """The first difference between two runs' ticks (lists of decoded messages), or None.
+    Two runs without a tick are not the same run: nothing was compared."""
     old_ticks, new_ticks = list(old_ticks), list(new_ticks)
+    if not old_ticks or not new_ticks:
+        return f"no ticks recorded (old {len(old_ticks)}, new {len(new_ticks)})"
     for n, (a, b) in enumerate(zip(old_ticks, new_ticks)):
         found = first_difference(strip(a), strip(b), f"tick {n}")
         if found:

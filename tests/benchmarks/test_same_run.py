@@ -30,6 +30,7 @@ def test_a_difference_is_named_where_it_first_occurs(same_run):
     assert same_run.compare(old, new).startswith("tick 1.pose[0]: 0.1 != 0.1000001")
     assert same_run.compare(old, old[:2]) == "ticks 3 != 2"
     assert same_run.compare([{"a": 1}], [{"b": 1}]) == "tick 0.a: only in old"
+    assert same_run.compare([], []) == "no ticks recorded (old 0, new 0)"    # nothing compared
 
 
 def test_a_tree_against_itself_is_the_same(same_run, capsys):

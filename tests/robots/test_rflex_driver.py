@@ -277,6 +277,19 @@ def test_sonar_reports_map_wire_ids_to_profile_indices():
     assert sum(math.isfinite(r) for r in sonar) == 2                # unknown id 200 ignored
 
 
+def test_a_whole_ring_in_profile_order_reads_as_the_same_ring_in_any_order():
+    # the one-pass path (every sonar, in the order the controller sends them) and the
+    # reading-by-reading path give the same ring
+    raws = [(97 * k) % 4000 if k % 5 else p.SONAR_NO_ECHO for k in range(p.SONAR_COUNT)]
+    readings = tuple(zip(p.SONAR_WIRE_IDS, raws))
+    in_order, shuffled = make_unopened(), make_unopened()
+    in_order._apply_report(p.SonarReport(0, 0, readings))
+    shuffled._apply_report(p.SonarReport(0, 0, readings[::-1]))
+    ring = in_order.read_state().sonar
+    assert ring == shuffled.read_state().sonar
+    assert list(ring) == [p.sonar_metres(raw) for raw in raws]
+
+
 def test_unknown_option_and_bad_factor_are_clear_errors():
     with pytest.raises(ProfileError, match="unknown option.*dist_cov.*allowed"):
         make_unopened(dist_cov=1.0)

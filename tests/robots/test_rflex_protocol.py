@@ -370,3 +370,42 @@ def test_xor_fold_equals_bytewise_xor(data):
     for byte in data:
         expected ^= byte
     assert p.xor_bytes(data) == expected
+
+
+def _set_dir_by_clean_command(axis, velocity, accel, torque):
+    """MOT_AXIS_SET_DIR as `clean_command` builds it (the way `axis_set_dir` takes when its
+    one-pack path does not apply)."""
+    return p.clean_command(
+        "MOT_AXIS_SET_DIR", p.MOT, p.MOT_AXIS_SET_DIR,
+        [p.Field("axis", axis, "B"), p.Field("velocity", abs(velocity), "I"),
+         p.Field("acceleration", accel, "I"), p.Field("torque", torque, "I"),
+         p.Field("direction", 1 if velocity >= 0 else 0, "B")], nudge="acceleration")
+
+
+@settings(max_examples=400, deadline=None)
+@given(st.sampled_from([0, 1]), st.integers(-200_000, 200_000), st.integers(0, 200_000),
+       st.sampled_from([0, 30000, 0x1B1B]))
+def test_axis_set_dir_is_what_clean_command_builds(axis, velocity, accel, torque):
+    # the one-pack path must give the same frame, and leave 0x1B cases to clean_command
+    assert p.axis_set_dir(axis, velocity, accel, torque) == _set_dir_by_clean_command(
+        axis, velocity, accel, torque)
+
+
+def test_axis_set_dir_with_a_0x1b_byte_is_cleaned_as_before():
+    frame = p.axis_set_dir(0, 0x1B, 0x1B00, 30000)
+    assert frame == _set_dir_by_clean_command(0, 0x1B, 0x1B00, 30000)
+    assert p.ESC not in p.frame_body(frame)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.integers(0, 0xFFFF), max_size=p.SONAR_COUNT), st.integers(0, 0xFFFFFFFF),
+       st.integers(0, 300))
+def test_a_sonar_report_of_raws_is_the_sonar_report_of_the_ring_in_order(raws, timestamp, seq):
+    readings = tuple(zip(p.SONAR_WIRE_IDS, raws))
+    assert p.sonar_report_of_raws(seq, 0, timestamp, raws) == p.sonar_report(
+        seq, p.SonarReport(0, timestamp, readings))
+
+
+def test_a_sonar_report_of_more_raws_than_the_ring_is_refused():
+    with pytest.raises(CommandError, match="the ring has"):
+        p.sonar_report_of_raws(0, 0, 0, [0] * (p.SONAR_COUNT + 1))

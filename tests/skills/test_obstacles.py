@@ -12,7 +12,7 @@ from robots.devices import LaserScan
 from robots.profile import PROFILE_DIR, load_profile
 from skills.blackboard import Blackboard
 from skills.events import EventLog
-from skills.obstacles import ObstacleSensing
+from skills.obstacles import CONE_SLACK, ECHO_TOLERANCE, ObstacleSensing, explained_echoes
 from skills.skillset import open_skills
 
 
@@ -127,3 +127,36 @@ def test_a_reading_beside_the_front_corner_is_not_ahead_but_one_farther_on_is():
     assert beside == math.inf
     assert farther == pytest.approx(0.3)
     assert inside == pytest.approx(0.01)
+
+
+def _explained_by_every_reading(ranges, poses, cone, laser_points):
+    """`explained_echoes` as first written: every sonar's row against every laser reading."""
+    dx = laser_points[None, :, 0] - poses[:, None, 0]
+    dy = laser_points[None, :, 1] - poses[:, None, 1]
+    distance = np.hypot(dx, dy)
+    along = dx * np.cos(poses[:, 2])[:, None] + dy * np.sin(poses[:, 2])[:, None]
+    inside = along >= distance * math.cos(min(cone / 2 + CONE_SLACK, math.pi))
+    nearest = np.where(inside, distance, np.inf).min(axis=1)
+    with np.errstate(invalid="ignore"):
+        return np.isfinite(ranges) & (np.abs(nearest - ranges) <= ECHO_TOLERANCE)
+
+
+def test_leaving_out_far_readings_and_silent_sonars_explains_the_same_echoes():
+    rng = np.random.default_rng(7)
+    angles = np.linspace(-np.pi, np.pi, 24, endpoint=False)
+    poses = np.column_stack([0.25 * np.cos(angles), 0.25 * np.sin(angles), angles])
+    explained = 0
+    for _ in range(200):
+        ranges = rng.uniform(0.2, 3.0, 24)
+        ranges[rng.random(24) < 0.3] = np.inf                    # sonars without an echo
+        bearings = rng.uniform(-np.pi, np.pi, 180)
+        reach = rng.uniform(0.1, 8.0, 180)
+        points = np.column_stack([reach * np.cos(bearings), reach * np.sin(bearings)])
+        # some readings right where an echo is, so both answers occur
+        hit = np.flatnonzero(np.isfinite(ranges))[:6]
+        points[:len(hit)] = poses[hit, :2] + (ranges[hit] + rng.uniform(-0.08, 0.08, len(hit)))[
+            :, None] * np.column_stack([np.cos(poses[hit, 2]), np.sin(poses[hit, 2])])
+        got = explained_echoes(ranges, poses, np.radians(30), points)
+        assert (got == _explained_by_every_reading(ranges, poses, np.radians(30), points)).all()
+        explained += int(got.sum())
+    assert explained > 200                                       # not all False
