@@ -60,6 +60,9 @@ PACE_LEARNING = 0.05      # ... from a running average of her pace while walking
 class FollowParams:
     distance: float = 1.2          # m, robot centre to customer centre
     min_distance: float = 0.8      # m: never drives closer than this
+    tolerance: float = 0.3         # m the distance may fall short of `distance` when she stops
+                                   # dead (the robot walks this much less of its stopping
+                                   # distance beyond `distance`)
     lead_time: float = 0.6         # s: the goal runs ahead by the customer's velocity times this
     speed_gain: float = 0.8        # m/s per m of distance error, on top of the customer's speed
     standing: float = 0.2          # m/s: a slower customer counts as standing

@@ -69,9 +69,11 @@ class Keeping:
             gx, gy = goal
         pace = self._pace(track, now)
         brake = BRAKE * self.motion.limits.max_accel
-        # walking, keep half the stopping distance beyond the setpoint: should the customer
-        # stop dead, the robot comes to rest about as far inside it as it followed outside
-        error = d - (p.distance + self._stopping_distance(pace) / 2)
+        # walking, keep beyond the setpoint what of the stopping distance exceeds the
+        # tolerance: should the customer stop dead, the robot comes to rest no further inside
+        # it than the tolerance, and walks as close to the setpoint as that allows (a robot
+        # barely faster than her catches up slowly, so every cm it trails counts)
+        error = d - (p.distance + max(self._stopping_distance(pace) - p.tolerance, 0.0))
         gain = p.speed_gain if error >= 0 else 2 * p.speed_gain     # closing in: brake harder
         speed = pace + gain * error
         # never faster than what still stops at min_distance should the customer stop dead
