@@ -138,6 +138,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._waiting_since: float | None = None
         self._contest: _Belief | None = None          # the customer before someone came close
         self._contest_ids: set[int] = set()
+        self._unsettled = False       # a contest ended with two fitting alike: decided each tick
         self._first_seen: dict[int, tuple[float, float, float]] = {}   # id: (t, x, y)
         self._usual_pace = USUAL_PACE
         self._look: np.ndarray | None = None           # what the customer looks like ...
@@ -369,6 +370,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._waiting_since = None
         self._contest = None
         self._contest_ids = set()
+        self._unsettled = False
         self._first_seen = {}
         self._usual_pace = USUAL_PACE
         self._look, self._looks, self._look_t = None, 0, None
