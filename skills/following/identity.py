@@ -118,6 +118,11 @@ class Identity:
                 if same is not None:
                     self._note_others(tracks, same.id, now)
                     return same
+                if self.ambiguous:
+                    return None           # two fit alike after a close pass: wait, decide again
+                # none of the contestants is her: she is sought from where she was before it
+                predicted = self._belief.at(now, p.predict_for)
+                gate = self._gate(now - self._belief.t)
             elif looks_unlike:
                 # the camera says her track is on somebody else now (someone who crossed her
                 # close, hidden behind her until then): she is hidden, as at the last view of her

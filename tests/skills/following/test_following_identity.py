@@ -373,3 +373,34 @@ def test_after_a_close_pass_her_old_view_on_the_track_left_behind_does_not_keep_
                            replace(seen(2, 2.0, 1.1, t, RED), vy=0.5))
     following.sense(t)
     assert following.state.target == 2 and not following.state.lost
+
+
+def test_a_look_alike_who_takes_her_id_walking_close_past_her_is_not_followed_after():
+    # tests/skills/test_following.py, HOROS, look-alike: a woman dressed like her walked
+    # 0.45 m past her as she stood, and the tracker swapped their ids. When they parted, the
+    # two fitted alike (within the score's margin); the next tick took her old id, now on the
+    # look-alike, back as her unchecked, and the robot followed the look-alike for 40 s. The
+    # contest stays open until one is clearly her: the robot waits, then keeps her.
+    following, perception = follower()
+    perception.believed = (seen(1, 2.0, 0.0, 0.0, RED),)
+    following.follow(0.0, target=1)
+    t = 0.0
+    for _ in range(10):                              # she stands; her look is learned
+        t = round(t + 0.1, 6)
+        perception.believed = (seen(1, 2.0, 0.0, t, RED),)
+        following.sense(t)
+    passing = [(3.5, 1, 2), (3.0, 1, 2), (2.5, 1, 2),  # (look-alike's x, her id, look-alike's)
+               (2.1, 2, 1), (1.7, 2, 1)]                 # ... the ids swap beside her
+    for x, hers, other in passing:
+        t = round(t + 0.1, 6)
+        perception.believed = (seen(hers, 2.0, 0.0, t, RED, vx=0.1),
+                               seen(other, x, 0.5, t, RED, vx=-0.5))
+        following.sense(t)
+    assert following.state.target == 1              # still her old id: they are close
+    for k, x in enumerate((1.3, 1.2, 1.1, 1.0, 0.8, 0.5, 0.2)):   # apart: the look-alike
+        t = round(t + 0.1, 6)                                      # walks on with id 1
+        perception.believed = (seen(2, 2.0, 0.0, t, RED, vx=0.3 if k == 0 else 0.1),
+                               seen(1, x, 0.5, t, RED, vx=-0.5 if k == 0 else -0.6))
+        following.sense(t)
+        assert following.state.lost or following.state.target == 2, (t, following.state)
+    assert following.state.target == 2 and not following.state.lost
