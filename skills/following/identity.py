@@ -347,10 +347,15 @@ class Identity:
         velocity = (before.vx, before.vy)
         look = self._look if self._look_known else None
         # a view from before they came close cannot tell whether the ids swapped since: it
-        # counts only against (PERSES carts seed 4 kept her old id, left on a cart's wheels)
+        # counts only against (PERSES carts seed 4 kept her old id, left on a cart's wheels);
+        # between two who both look like her, no view tells them apart, and the camera's
+        # next view of one of them (whichever it happens to see) must not decide: views
+        # count only against then (bench_follow lookalike seed 5, PERSES)
+        alike = look is not None and sum(self._may_be_her(t) for t in options) > 1
+        since = math.inf if alike else before.t
         best, ambiguous = score.decide(
             [(score.identity_score(t, expected, velocity, UNTANGLE_REACH, look,
-                                   since=before.t), t) for t in options])
+                                   since=since), t) for t in options])
         self._unsettled = best is None and ambiguous
         if not self._unsettled:
             self._contest, self._contest_ids = None, set()
