@@ -348,10 +348,11 @@ class Identity:
         look = self._look if self._look_known else None
         # a view from before they came close cannot tell whether the ids swapped since: it
         # counts only against (PERSES carts seed 4 kept her old id, left on a cart's wheels);
-        # between two who both look like her, no view tells them apart, and the camera's
-        # next view of one of them (whichever it happens to see) must not decide: views
-        # count only against then (bench_follow lookalike seed 5, PERSES)
-        alike = look is not None and sum(self._may_be_her(t) for t in options) > 1
+        # with a look-alike among them (seen apart from her, looking like her: a stranger)
+        # no view tells them apart, and the camera's next view of one of them (whichever it
+        # happens to see) must not decide: views count only against then (bench_follow
+        # lookalike seed 5, PERSES: her track had no view since, the look-alike's had one)
+        alike = look is not None and any(t.id in self._strangers for t in options)
         since = math.inf if alike else before.t
         best, ambiguous = score.decide(
             [(score.identity_score(t, expected, velocity, UNTANGLE_REACH, look,
