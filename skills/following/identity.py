@@ -344,6 +344,13 @@ class Identity:
         before, ids = self._contest, self._contest_ids
         expected = before.at(now, self.params.predict_for)
         options = [t for t in tracks if t.id in ids and t.status == CONFIRMED]
+        if self._unsettled and len(options) < len(ids):
+            # one of two who fitted alike vanished (hidden by the other): the one left is not
+            # her for that; she is lost, and found again as after any loss (the look-alike,
+            # a stranger, never is; bench_follow lookalike seed 0, PERSES)
+            self._unsettled, self._contest, self._contest_ids = False, None, set()
+            self._belief = before
+            return None
         velocity = (before.vx, before.vy)
         look = self._look if self._look_known else None
         # a view from before they came close cannot tell whether the ids swapped since: it
