@@ -5,10 +5,11 @@ stands, and give way to anybody who walks at the robot.
   shoppers) towards the customer, led by her velocity so it does not trail, at a pace that
   matches hers plus a correction for the distance error; walking, it keeps beyond `distance`
   what of its stopping distance exceeds `tolerance` (a dead stop of hers ends no further than
-  that inside `distance`), and no more: it is barely faster than her. Never closer than `min_distance`: the safety arbiter refuses to
-  drive at anybody inside it while following, and anybody (the customer too) walking at the
-  robot inside it makes it back off (`skills.giving_way`); somebody whose course passes the
-  robot's body by (`_walking_at`) is passing, not walking at it.
+  that inside `distance`), and no more: it is barely faster than her. Never closer than
+  `min_distance`: the safety arbiter refuses to drive at anybody inside it while following,
+  and anybody (the customer too) walking at the robot inside it makes it back off
+  (`skills.giving_way`); somebody whose course passes the robot's body by (`_walking_at`) is
+  passing, not walking at it.
 - **waiting**: she stands (or comes closer) within reach: the robot faces her and closes in
   slowly to half its stopping distance inside `distance` (backing off to it, where it can see
   behind, when a search left it closer).
