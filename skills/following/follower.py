@@ -60,6 +60,9 @@ PACE_LEARNING = 0.05      # ... from a running average of her pace while walking
 class FollowParams:
     distance: float = 1.2          # m, robot centre to customer centre
     min_distance: float = 0.8      # m: never drives closer than this
+    tolerance: float = 0.3         # m the distance may fall short of `distance` when she stops
+                                   # dead (the robot walks this much less of its stopping
+                                   # distance beyond `distance`)
     lead_time: float = 0.6         # s: the goal runs ahead by the customer's velocity times this
     speed_gain: float = 0.8        # m/s per m of distance error, on top of the customer's speed
     standing: float = 0.2          # m/s: a slower customer counts as standing
@@ -135,6 +138,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._waiting_since: float | None = None
         self._contest: _Belief | None = None          # the customer before someone came close
         self._contest_ids: set[int] = set()
+        self._unsettled = False       # a contest ended with two fitting alike: decided each tick
         self._first_seen: dict[int, tuple[float, float, float]] = {}   # id: (t, x, y)
         self._usual_pace = USUAL_PACE
         self._look: np.ndarray | None = None           # what the customer looks like ...
@@ -366,6 +370,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._waiting_since = None
         self._contest = None
         self._contest_ids = set()
+        self._unsettled = False
         self._first_seen = {}
         self._usual_pace = USUAL_PACE
         self._look, self._looks, self._look_t = None, 0, None

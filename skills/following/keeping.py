@@ -3,11 +3,13 @@ stands, and give way to anybody who walks at the robot.
 
 - **following**: the robot drives (through the navigation skill, so around shelves and other
   shoppers) towards the customer, led by her velocity so it does not trail, at a pace that
-  matches hers plus a correction for the distance error; walking, it keeps half its stopping
-  distance beyond `distance`. Never closer than `min_distance`: the safety arbiter refuses to
-  drive at anybody inside it while following, and anybody (the customer too) walking at the
-  robot inside it makes it back off (`skills.giving_way`); somebody whose course passes the
-  robot's body by (`_walking_at`) is passing, not walking at it.
+  matches hers plus a correction for the distance error; walking, it keeps beyond `distance`
+  what of its stopping distance exceeds `tolerance` (a dead stop of hers ends no further than
+  that inside `distance`), and no more: it is barely faster than her. Never closer than
+  `min_distance`: the safety arbiter refuses to drive at anybody inside it while following,
+  and anybody (the customer too) walking at the robot inside it makes it back off
+  (`skills.giving_way`); somebody whose course passes the robot's body by (`_walking_at`) is
+  passing, not walking at it.
 - **waiting**: she stands (or comes closer) within reach: the robot faces her and closes in
   slowly to half its stopping distance inside `distance` (backing off to it, where it can see
   behind, when a search left it closer).
@@ -69,9 +71,11 @@ class Keeping:
             gx, gy = goal
         pace = self._pace(track, now)
         brake = BRAKE * self.motion.limits.max_accel
-        # walking, keep half the stopping distance beyond the setpoint: should the customer
-        # stop dead, the robot comes to rest about as far inside it as it followed outside
-        error = d - (p.distance + self._stopping_distance(pace) / 2)
+        # walking, keep beyond the setpoint what of the stopping distance exceeds the
+        # tolerance: should the customer stop dead, the robot comes to rest no further inside
+        # it than the tolerance, and walks as close to the setpoint as that allows (a robot
+        # barely faster than her catches up slowly, so every cm it trails counts)
+        error = d - (p.distance + max(self._stopping_distance(pace) - p.tolerance, 0.0))
         gain = p.speed_gain if error >= 0 else 2 * p.speed_gain     # closing in: brake harder
         speed = pace + gain * error
         # never faster than what still stops at min_distance should the customer stop dead

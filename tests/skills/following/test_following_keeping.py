@@ -95,3 +95,48 @@ def test_while_its_way_is_blocked_navigation_keeps_its_goal_so_it_can_plan_round
     nav.phase = "driving"                                        # round the blocker
     following._drive_to((7.0, 0.0), 0.5, 8.0)
     assert nav.goals[-1] == (8.0, (7.0, 0.0))
+
+
+class _SpeedNavigation(Navigation):
+    """Records the speed each goal is driven at, on an open floor."""
+    def __init__(self):
+        from robots.profile import load_profile
+        super().__init__()
+        self.profile = load_profile("perses")
+        self.grid = type("Open", (), {"clearance": staticmethod(lambda x, y: 10.0)})()
+        self.asked = []
+
+    def go_to(self, goal, now, speed=None):
+        super().go_to(goal, now, speed)
+        self.asked.append(speed)
+
+    def set_speed(self, speed):
+        super().set_speed(speed)
+        self.asked.append(speed)
+
+
+def _walking_distance(pace: float) -> float:
+    """Where the robot asks for her own pace, she walking straight ahead at `pace`."""
+    near, far = 0.9, 3.0
+    for _ in range(40):                                  # the asked speed grows with d
+        d = (near + far) / 2
+        following, _ = follower()
+        following.navigation = nav = _SpeedNavigation()
+        following._drive_behind(track(1, d, 0.0, 0.0, vx=pace), (0.0, 0.0, 0.0), d, 0.0)
+        near, far = (d, far) if nav.asked[-1] < pace else (near, d)
+    return (near + far) / 2
+
+
+@pytest.mark.parametrize("pace", [0.3, 0.4, 0.5, 0.6])
+def test_walking_it_trails_only_what_a_dead_stop_would_take_beyond_the_tolerance(pace):
+    # issue 23: the robot (0.6 m/s at most) catches up with a customer at 0.5 m/s at only
+    # 0.1 m/s; trailing half its stopping distance (1.41 m at 0.5 m/s) left 0.09 m to the
+    # band's edge, and PERSES spent a tenth of its following time beyond it (bench_follow
+    # base). It trails what a dead stop would take beyond the tolerance below the setpoint.
+    params = follower()[0].params
+    brake = 0.8 * follower()[0].motion.limits.max_accel
+    stopping = pace * pace / (2 * brake) + 0.1 * pace / 0.5
+    d = _walking_distance(pace)
+    assert d == pytest.approx(params.distance + max(stopping - params.tolerance, 0.0), abs=0.01)
+    assert d - stopping >= params.distance - params.tolerance - 0.01   # a dead stop: in band
+    assert d <= params.distance + params.tolerance                       # walking: in band
