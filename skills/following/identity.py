@@ -108,6 +108,8 @@ class Identity:
                 return settled
             if self.ambiguous:
                 return None
+            predicted = self._belief.at(now, p.predict_for)   # hers from before the pass
+            gate = self._gate(now - self._belief.t)
         lost = self.state.lost
         same = next((t for t in tracks if t.id == self.state.target
                      and t.id not in self._others
