@@ -94,11 +94,7 @@ class Identity:
         self.ambiguous = False
         p = self.params
         tracks = self.perception.believed
-        predicted = self._belief.at(now, p.predict_for)
-        # the gate grows as far as the customer can have walked off the prediction (round a
-        # shelf end, into the next aisle); somebody else inside it is kept out by `_others`
-        # and by the rule that of two candidates one must be clearly nearer
-        gate = self._gate(now - self._belief.t)
+        predicted, gate = self._prediction(now)
         followed = None if self.state.lost else self.state.target
         tracks = [t for t in tracks if self._plausible(t, t.id == followed)]
         if self._unsettled:                   # two fitted alike after a close pass: decide again
@@ -108,8 +104,7 @@ class Identity:
                 return settled
             if self.ambiguous:
                 return None
-            predicted = self._belief.at(now, p.predict_for)   # hers from before the pass
-            gate = self._gate(now - self._belief.t)
+            predicted, gate = self._prediction(now)       # hers from before the pass
         lost = self.state.lost
         same = next((t for t in tracks if t.id == self.state.target
                      and t.id not in self._others
@@ -125,16 +120,14 @@ class Identity:
                 if self.ambiguous:
                     return None           # two fit alike after a close pass: wait, decide again
                 # none of the contestants is her: she is sought from where she was before it
-                predicted = self._belief.at(now, p.predict_for)
-                gate = self._gate(now - self._belief.t)
+                predicted, gate = self._prediction(now)
             elif looks_unlike:
                 # the camera says her track is on somebody else now (someone who crossed her
                 # close, hidden behind her until then): she is hidden, as at the last view of her
                 self._others.add(same.id)
                 self._views, self._views_of = [], None
                 self._belief = self._matched or self._belief
-                predicted = self._belief.at(now, p.predict_for)
-                gate = self._gate(now - self._belief.t)
+                predicted, gate = self._prediction(now)
         # who may be her: fresh confirmed tracks inside the gate (where she can have walked),
         # not seen as somebody else beside her (unless seen looking like her since), and
         # without her look, born where she could be; of those the identity score decides
@@ -152,6 +145,14 @@ class Identity:
             [(score.identity_score(t, predicted, velocity, gate, look, since=self._belief.t), t)
              for t in candidates])
         return choice                    # None when two fit alike: wait, do not guess
+
+    def _prediction(self, now: float) -> tuple[tuple[float, float], float]:
+        """Where the belief puts her now, and the gate round it: it grows as far as she can
+        have walked off the prediction (round a shelf end, into the next aisle); somebody
+        else inside it is kept out by `_others` and by the rule that of two candidates one
+        must be clearly nearer."""
+        return (self._belief.at(now, self.params.predict_for),
+                self._gate(now - self._belief.t))
 
     def _confirmed_since_the_loss(self, track, now: float) -> bool:
         """Once she has been unseen for LEGS_TRUSTED_FOR s, a track is taken for her only after

@@ -64,7 +64,9 @@ def appearance_score(track, look, since: float | None = None) -> float:
     """0 without a known look or a view of the track (no evidence either way). A view taken
     at or before `since` (when she was last seen) counts only against her: her track's
     last view, carried on by legs alone onto a cart's wheels 1.3 m short of her, scored
-    +6 and had the follower take the cart for her (HOROS bench_follow standin8 seed 2)."""
+    +6 and had the follower take the cart for her (HOROS bench_follow standin8 seed 2).
+    `since` = math.inf: every view counts only against (a known look-alike among the
+    candidates, where no view tells them apart)."""
     if look is None or getattr(track, "appearance", None) is None:
         return 0.0
     h = appearance.distance(look, track.appearance)
