@@ -76,3 +76,35 @@ def test_a_round_robot_is_judged_by_its_centre_as_before(bench):
     assert bench._robot_closed_in(CONTACT, world(perses(0.0, 0.0, 0.0), person), before)
     walked = {"robot": (0.0, 0.0, 0.0), "shopper0": [(0.50, 0.0)]}
     assert not bench._robot_closed_in(CONTACT, world(perses(0.0, 0.0, 0.0), person), walked)
+
+
+
+
+def walk(speed: float, seconds: float, ahead: float = 1.2, stand: float = 0.0) -> list:
+    """(t, x, y) every 0.1 s from 5 s on (where the share begins counting) of a customer
+    walking east at `speed` for `seconds` from `ahead` m ahead, then standing `stand` s."""
+    path = [(5.0 + k / 10, ahead + speed * k / 10) for k in range(int(seconds * 10) + 1)]
+    x = path[-1][1]
+    path += [(path[-1][0] + k / 10, x) for k in range(1, int(stand * 10) + 1)]
+    return [(t, x, 0.0) for t, x in path]
+
+
+def test_the_reference_pursuer_keeps_up_with_a_customer_slower_than_its_top_speed(bench):
+    path = walk(0.5, 30.0)
+    assert bench.pursued_in_band(path, (0.0, 0.0), PERSES.limits) == len(path)
+
+
+def test_the_reference_pursuer_falls_behind_a_customer_faster_than_its_top_speed(bench):
+    """At 1.4 m/s against 0.6 she is 0.3 m beyond the band 0.4 s after the start."""
+    assert bench.pursued_in_band(walk(1.4, 30.0), (0.0, 0.0), PERSES.limits) == 4
+
+
+def test_the_reference_pursuer_backs_off_no_faster_than_the_cap_near_people(bench):
+    """She walks back 3 s and stands: at 0.2 m/s the 0.3 m/s cap near people keeps her in
+    the band; at 0.5 m/s she closes on it at 0.2 m/s, leaves the band after 1.5 s and is back
+    in it 1 s after she stopped (0.3 m regained at 0.3 m/s): 2.5 s outside."""
+    assert PERSES.limits.max_speed_near_people == 0.3
+    slow, fast = walk(-0.2, 3.0, stand=5.0), walk(-0.5, 3.0, stand=5.0)
+    assert bench.pursued_in_band(slow, (0.0, 0.0), PERSES.limits) == len(slow)
+    outside = len(fast) - bench.pursued_in_band(fast, (0.0, 0.0), PERSES.limits)
+    assert 23 <= outside <= 26
