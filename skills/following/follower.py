@@ -248,6 +248,11 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._search_heading = None
         self._search_goal = None
         self._search_turns = 0
+        if self._plan is not None:
+            # the search's goal is not hers: navigation holds a goal while its way is blocked
+            # (`Keeping._drive_to`), so found again 1.7 m off she was "followed" for 50 s with
+            # the search's goal 9 m away (crowd5 seed 2, issue 23)
+            self._goal = None
         self._plan, self._plan_index, self._searched = None, 0, []
         self._looking_since = None
         d = math.hypot(track.x - robot[0], track.y - robot[1])

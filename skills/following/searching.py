@@ -8,7 +8,8 @@
   1. the predicted place (her last seen state run on for `predict_for` s), looking along her
      heading (round in thirds when she stood);
   2. then the places where she is likely to reappear, expanding outwards from where she
-     vanished: SEARCH_AHEAD on along the direction her trail last took, and the map's aisle
+     vanished: SEARCH_AHEAD on along the direction her trail last took (the way she can
+     walk on nearest it: turning into an aisle, up the aisle), and the map's aisle
      ends and crossings (its places named `aisle…`; in the store, where each aisle meets the
      front or back aisle) within SEARCH_REACH of walking (round shelves,
      `room.walking_distances`), nearest first, those along her heading counted nearer than
@@ -77,6 +78,8 @@ FURTHER = "further along her way"
 WALK_ON_SPREAD = math.radians(30)   # directions tried either side of her heading (a trail's
 WALK_ON_STEP = math.radians(5)      # heading runs some degrees off the aisle she walked up)
 WALK_ON_MAX = 10.0        # m at most beyond the place looked at
+AHEAD_SPREAD = math.radians(60)   # directions tried either side of her heading for the place
+                                  # SEARCH_AHEAD on (turning into an aisle, her heading lags)
 
 
 @dataclass(frozen=True)
@@ -108,8 +111,9 @@ def search_plan(predicted, seen, heading, ends, walk=None, ahead=None,
     plan = [Lookout(predicted[0], predicted[1], _along(heading), PREDICTED)]
     candidates = []
     if ahead is not None:
-        candidates.append((_cost(ahead, seen, heading, walk, course), Lookout(
-            ahead[0], ahead[1], _along(heading), AHEAD)))
+        along = (ahead[2],) if len(ahead) > 2 else _along(heading)
+        candidates.append((_cost(ahead[:2], seen, heading, walk, course), Lookout(
+            ahead[0], ahead[1], along, AHEAD)))
     for name, x, y, th in ends:
         cost = _cost((x, y), seen, heading, walk, course)
         if cost is not None:
@@ -307,7 +311,9 @@ class Searching:
         reach = min(reach, WALK_ON_MAX)
         if reach < MERGE:
             return
-        base = math.atan2(heading[1], heading[0])
+        # on along the way looked along there (the place on her way: the direction she can
+        # walk on, `_walkable_ahead`), else her heading
+        base = (lookout.bearings[0] if lookout.bearings else math.atan2(heading[1], heading[0]))
         best = None
         for k in range(int(round(WALK_ON_SPREAD / WALK_ON_STEP)) + 1):
             for sign in ((1,) if k == 0 else (1, -1)):
@@ -456,12 +462,36 @@ class Searching:
         ahead = None
         if heading is not None:
             x1, y1 = self._trail[-1] if self._trail else seen
-            point = (x1 + heading[0] * SEARCH_AHEAD, y1 + heading[1] * SEARCH_AHEAD)
-            # where the robot fits: near that point (she walked close along a shelf), else
-            # short of it
-            ahead = self._nearest_free(*point) or self._free_towards((x1, y1), point)
+            ahead = self._walkable_ahead((x1, y1), heading)
+            if ahead is None:
+                point = (x1 + heading[0] * SEARCH_AHEAD, y1 + heading[1] * SEARCH_AHEAD)
+                # where the robot fits: near that point (she walked close along a shelf),
+                # else short of it
+                ahead = self._nearest_free(*point) or self._free_towards((x1, y1), point)
         return search_plan(predicted, seen, heading, self._lookouts(), self._walking_from(seen),
                            ahead, self._course())
+
+    def _walkable_ahead(self, start, heading):
+        """(x, y, direction): SEARCH_AHEAD on from `start` the way she can walk on, the
+        direction within AHEAD_SPREAD of her heading whose straight run (the robot fitting,
+        the map's line clear) goes furthest, the nearest her heading among equals; None
+        without a map or when no direction runs MERGE. Her heading as she turns into an aisle
+        points at the shelf beside it, and the point 3 m along it lay in the next aisle:
+        crowd10 seed 2 searched aisle A5 while she walked up A4 (issue 23, crowdfix1)."""
+        if self.navigation is None:
+            return None
+        base = math.atan2(heading[1], heading[0])
+        best = None
+        for k in range(int(round(AHEAD_SPREAD / WALK_ON_STEP)) + 1):
+            for sign in ((1,) if k == 0 else (1, -1)):
+                th = base + sign * k * WALK_ON_STEP
+                end = self._clear_run(start, th, SEARCH_AHEAD)
+                if end is not None and (best is None or end[0] > best[0] + 1e-9):
+                    best = (end[0], end[1], th)
+        if best is None or best[0] < MERGE:
+            return None
+        (x, y), th = best[1], best[2]
+        return x, y, _wrap(th)
 
     def _course(self):
         """The direction of her trail as a whole (its first point kept to its last; a unit

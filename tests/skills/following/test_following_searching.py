@@ -270,3 +270,44 @@ def test_a_place_on_her_way_looked_at_without_her_leads_on_up_the_aisle_she_walk
     assert abs(lookout.x - 14.2) < 0.5 and lookout.y > 15.0     # up the aisle, not into a shelf
     assert abs(lookout.bearings[0] - NORTH) < 0.1
     assert following._search_goal == (lookout.x, lookout.y)
+
+
+def test_found_again_while_the_search_is_blocked_the_robot_drives_to_her_not_to_the_place():
+    """Crowd5 seed 2 (issue 23, branch crowdfix1): navigation keeps its goal while its way is
+    blocked (`Keeping._drive_to`), so when she was found again 1.7 m from the robot, standing,
+    while the search's way to a place 9 m off was blocked, that place stayed navigation's goal
+    for the 50 s left of the run. Found again, the goal is hers."""
+    following, perception = _searching_from((12.0, 4.75, 0.0), [(20.0, 6.5), (5.0, 16.5)])
+    now = _search_for(following, 5.0, 0.5)
+    nav = following.navigation
+    assert nav.goals[-1] == (20.0, 6.5) and following.state.phase == SEARCHING
+    nav.state.phase = "blocked"                          # somebody stands in the search's way
+    for _ in range(10):                                  # she stands 1.7 m off, in view
+        now += 0.1
+        her = track(following.state.target, 13.4, 5.7, now)
+        perception.believed = (her,)
+        following.sense(now)
+    assert following.state.phase == "following"
+    x, y = nav.goals[-1]
+    assert math.hypot(x - her.x, y - her.y) < 0.5        # navigation drives to her
+
+
+def test_the_place_on_along_her_way_is_up_the_aisle_she_turned_into_not_through_its_shelf():
+    """Crowd10 seed 2 (issue 23, branch crowdfix1): she crossed the front aisle diagonally
+    into aisle A4 (x = 14) and vanished as she turned up it; her heading still pointed
+    north-east, and the place 3 m along it lay in aisle A5, beyond the shelf: the search went
+    to A5 while she walked up A4. The place is where she can walk on, and it is looked at
+    along that way."""
+    following, perception = follower(Speech())
+    following.navigation = Navigation()
+    for k in range(41):                                  # 0.5 m/s north-east for 4 s
+        t = 0.1 * k
+        perception.believed = (track(1, 12.6 + 0.3 * t, 5.0 + 0.4 * t, t, vx=0.3, vy=0.4),)
+        if k == 0:
+            following.follow(0.0, target=1, give_up_after=60.0)
+        following.sense(t)
+    plan = following._make_plan((14.2, 7.0))
+    ahead = next((lookout for lookout in plan if lookout.why == "3 m on along her way"), None)
+    assert ahead is not None, [(lookout.why, lookout.x, lookout.y) for lookout in plan]
+    assert abs(ahead.x - 14.0) < 0.8 and ahead.y > 8.5          # up aisle A4
+    assert abs(ahead.bearings[0] - NORTH) < math.radians(20)    # looking on up it
