@@ -13,7 +13,8 @@ With `--passes N` it calibrates instead the prior log odds CONTINUITY of
 skills/following/identity.py: that after a close pass (another confirmed track within
 CONTEST_NEAR of hers, opened and closed as `Identity._untangle` does) the id that was on
 person A is still on her rather than on the other person. Two simulated people walk close
-past each other in front of the standing robot, N geometries drawn from seed 7000 on (apart
+past each other in front of the robot (standing, or in half the geometries backing away at
+0.15..0.3 m/s facing them), N geometries drawn from seed 7000 on (apart
 from bench_follow's seeds 0..): A or B stands or both walk, the crossing angle is 30..180
 degrees, speeds 0.3..1.4 m/s, the paths' offset 0.2..0.8 m. Half move by social forces (which
 swerve them about 1 m apart whatever the offset), half exactly as scripted, offset 0.4..0.8 m
@@ -41,6 +42,7 @@ import numpy as np
 from robots.sim.appearance import appearance_of, observed
 from robots.sim.people import BODY_RADIUS
 from skills.following.identity import LOOK_KNOWN, LOOK_WEIGHT, contestants
+from skills.motion import Goal
 from skills.people import appearance
 from skills.people.track import CONFIRMED
 
@@ -112,6 +114,7 @@ def _draw_pass(rng: np.random.Generator) -> dict:
     least = 0.2 if motion == "social" else SCRIPTED_LEAST
     return {"at": at, "standing": str(rng.choice(["A", "B", "none"])), "motion": motion,
             "cart": str(rng.choice(["A", "B", "none", "none"])),
+            "robot": float(rng.choice([0.0, rng.uniform(0.15, 0.3)])),
             "heading": (heading_a, heading_a + crossing),
             "speed": tuple(float(v) for v in rng.uniform(0.3, 1.4, 2)),
             "offset": float(rng.uniform(least, 0.8)) * float(rng.choice([-1.0, 1.0]))}
@@ -221,6 +224,8 @@ def run_pass(k: int, robot: str, folder: Path) -> tuple[dict, list[tuple[str, fl
     counter = PassCounter()
     try:
         world = skills.hardware.simulation.world
+        if g["robot"]:                        # the robot backs away slowly, facing them
+            skills.motion.start(Goal("back_off", bearing=0.0, speed=g["robot"]), skills.now())
         for _ in range(int(world.scenario.duration * 10)):
             skills.sense()
             people = {p.plan.id: (p.x, p.y) for p in world.present_people()}
@@ -252,10 +257,12 @@ def _line(name: str, counts: dict) -> str:
 
 def _tally(groups: dict, robot: str, g: dict, outcomes: list) -> None:
     """Adds one geometry's passes to its groups: the robot, the motion, whether one pushes a
-    cart, and all; each pass also to its band of how close the tracks came."""
+    cart, whether the robot stands or backs away, and all; each pass also to its band of how close the tracks came."""
     cart = "no cart" if g["cart"] == "none" else "a cart"
+    moving = "backing" if g["robot"] else "standing"
     empty = dict.fromkeys(("geometries", "none") + OUTCOMES, 0)
-    for name in (robot, f"{robot} {g['motion']}", f"{robot} {cart}", "all"):
+    for name in (robot, f"{robot} {g['motion']}", f"{robot} {cart}", f"{robot} robot {moving}",
+                 "all"):
         counts = groups.setdefault(name, dict(empty))
         counts["geometries"] += 1
         counts["none"] += not outcomes
