@@ -320,8 +320,12 @@ def _pause(person: SimPerson, step: Pause, dt: float, world: "World") -> bool:
 
 
 def _approach(person: SimPerson, step: Approach, dt: float, world: "World") -> bool:
-    """Walk straight at the robot's current position until `distance` from its centre."""
-    arrived = person._walk_towards(world.body.x, world.body.y, dt, step.distance)
+    """Walk straight at the robot's current position until `distance` from its centre, or
+    until touching its outline: people walk up to a robot, they do not push it (a `distance`
+    its body does not leave room for, or a robot backing away slower than she walks, had her
+    pressed against it for as long as it backed)."""
+    touching = world.body.gap_to_circle(person.x, person.y, BODY_RADIUS) <= ARRIVED
+    arrived = touching or person._walk_towards(world.body.x, world.body.y, dt, step.distance)
     if arrived:
         person._face_robot(world)
     return arrived

@@ -223,3 +223,20 @@ def test_answer_types_values_that_are_not_buttons_on_a_typed_prompt():
     run_until(world, lambda w: len(w.screen.presses) == 1, dt=0.05)
     assert world.t - shown == pytest.approx(1.0, abs=0.06)
     assert world.screen.take_press() == ("q", "7")
+
+
+def test_a_person_walking_up_to_a_robot_that_backs_away_stops_at_its_outline():
+    """`approach = 0.3` from the centre is inside HOROS's body: she stops on touching it and
+    does not chase a robot backing off slower than she walks, pressed against it (the
+    follow benchmark's customer turning back pressed PERSES for 22 s)."""
+    walker = {"id": "p", "at": [0.0, 0.0], "appear": 0.0, "speed": 0.5,
+              "steps": [{"approach": 0.3}, {"pause": 30.0}]}
+    hallway = {"motion": "social", "robot": [-2.0, 0.0, 0.0]}       # facing her, east
+    world = World(FLOOR, HOROS, parse_scenario({"scenario": hallway, "person": [walker]}), seed=0)
+    person = world.people[0]
+    world.body.set_command(-0.2, 0.0)          # the robot backs away from her, slower than she walks
+    run_until(world, lambda w: person.index == 1, limit=10.0)
+    gap = world.body.gap_to_circle(person.x, person.y, 0.2)
+    assert gap == pytest.approx(0.0, abs=0.05)
+    world.step(3.0)
+    assert world.body.gap_to_circle(person.x, person.y, 0.2) >= gap + 0.25   # left behind
