@@ -343,8 +343,7 @@ class Identity:
         someone is that close to the customer (`contestants`), remember where the customer was
         and how they moved before; when the two are apart again, the customer is the track
         nearest that prediction (one who stood still stayed, one who walked went on)."""
-        near, self._settled_with = contestants(target, tracks,
-                                               getattr(self, "_settled_with", set()))
+        near, self._settled_with = contestants(target, tracks, self._settled_with)
         if near:
             if self._contest is None:
                 b = self._belief
