@@ -180,7 +180,7 @@ class PassCounter:
     close the tracks came."""
 
     def __init__(self):
-        self.followed, self.contest, self.settled, self.ids = None, False, set(), set()
+        self.followed, self.contest, self.ids = None, False, set()
         self.outcomes: list[str] = []
         self.closest: list[float] = []     # per pass: how close the tracks came (m)
 
@@ -193,10 +193,10 @@ class PassCounter:
         if mine is None:
             if self.contest:
                 self.outcomes.append("gone")
-            self.contest, self.settled = False, set()
+            self.contest = False
             self.followed = next((t.id for t in tracks if owner(t, people) == "A"), None)
             return
-        near, self.settled = contestants(mine, tracks, self.settled)
+        near = contestants(mine, tracks)
         self.ids |= near
         if near and not self.contest:
             if owner(mine, people) == "A":
@@ -209,9 +209,9 @@ class PassCounter:
             on = owner(mine, people)
             self.outcomes.append("kept" if on == "A" else "swapped" if on else "astray")
             self.contest = False
-            self.settled, self.ids = self.ids, set()
+            self.ids = set()
             if on != "A":
-                self.followed, self.settled = None, set()
+                self.followed = None
 
 
 def run_pass(k: int, robot: str, folder: Path) -> tuple[dict, list[tuple[str, float]]]:

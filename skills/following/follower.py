@@ -138,7 +138,6 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._waiting_since: float | None = None
         self._contest: _Belief | None = None          # the customer before someone came close
         self._contest_ids: set[int] = set()
-        self._settled_with: set[int] = set()          # ids of her last settled pass (hysteresis)
         self._unsettled = False       # a contest ended with two fitting alike: decided each tick
         self._first_seen: dict[int, tuple[float, float, float]] = {}   # id: (t, x, y)
         self._usual_pace = USUAL_PACE
@@ -376,7 +375,6 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._waiting_since = None
         self._contest = None
         self._contest_ids = set()
-        self._settled_with = set()
         self._unsettled = False
         self._first_seen = {}
         self._usual_pace = USUAL_PACE

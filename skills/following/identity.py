@@ -39,8 +39,6 @@ FOLLOWED_CLEARANCE = 0.05  # m: ... unless it is her followed track (see _plausi
 PACE_WINDOW = 0.4         # s over which the customer's walked distance gives their pace
 FRESH = 0.15              # s: a candidate for re-acquisition must have been seen this recently
 CONTEST_NEAR = 0.8        # m: another track this close to the customer's may swap ids with it
-CONTEST_FAR = 1.0         # m: one whose close pass with her was settled opens another only
-CONTEST_AGAIN = 0.6       # m: once this far from her and back, or this near (see contestants)
 UNTANGLE_REACH = 1.2      # m from where the customer should be after a contest, at most
 CONTINUITY = 1.5          # log odds that her track kept its id through a close pass; set by
                           # hand: measured on simulated passes the prior is 3.6 (python
@@ -76,19 +74,14 @@ class _Belief:
         return math.hypot(self.vx, self.vy)
 
 
-def contestants(target, tracks, settled: set[int]) -> tuple[set[int], set[int]]:
-    """The ids of the confirmed tracks close enough to hers (`target`) for a close pass, and
-    of those `settled` in her last pass that are still within CONTEST_FAR of her. Close is
-    within CONTEST_NEAR; for one settled with her, within CONTEST_AGAIN until it has been
-    CONTEST_FAR away: two standing about 0.8 m apart, their tracks' jitter of a few
-    centimetres opened and settled a pass tick after tick (a swap, or her views ignored and
-    taken in turn, each time). Also used by benchmarks/calibrate_identity.py's count."""
-    apart = {t.id: math.hypot(t.x - target.x, t.y - target.y) for t in tracks
-             if t.id != target.id and t.status == CONFIRMED}
-    still = {i for i in settled if apart.get(i, math.inf) < CONTEST_FAR}
-    near = {i for i, d in apart.items()
-            if d < (CONTEST_AGAIN if i in still else CONTEST_NEAR)}
-    return near, still
+def contestants(target, tracks) -> set[int]:
+    """The ids of the confirmed tracks close enough to hers (`target`), within CONTEST_NEAR,
+    to swap ids with it in a close pass. Also used by benchmarks/calibrate_identity.py's
+    count. (A hysteresis, a pass settled with someone reopened only after they had been 1 m
+    away or within 0.6 m, stopped two standing about 0.8 m apart from opening a pass tick
+    after tick, but cost two crowd20 runs given up: tried and taken out, docs/shopping.md.)"""
+    return {t.id for t in tracks if t.id != target.id and t.status == CONFIRMED
+            and math.hypot(t.x - target.x, t.y - target.y) < CONTEST_NEAR}
 
 
 class Identity:
@@ -343,7 +336,7 @@ class Identity:
         someone is that close to the customer (`contestants`), remember where the customer was
         and how they moved before; when the two are apart again, the customer is the track
         nearest that prediction (one who stood still stayed, one who walked went on)."""
-        near, self._settled_with = contestants(target, tracks, self._settled_with)
+        near = contestants(target, tracks)
         if near:
             if self._contest is None:
                 b = self._belief
@@ -393,7 +386,7 @@ class Identity:
               + (CONTINUITY if t.id == followed else 0.0), t) for t in options])
         self._unsettled = best is None and ambiguous
         if not self._unsettled:
-            self._contest, self._contest_ids, self._settled_with = None, set(), set(ids)
+            self._contest, self._contest_ids = None, set()
         if best is None:
             # none of them is where the customer should be (they are hidden: the track that
             # walked off with the id was somebody else), or two fit alike (a look-alike

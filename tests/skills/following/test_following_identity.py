@@ -405,26 +405,3 @@ def test_a_look_alike_who_takes_her_id_walking_close_past_her_is_not_followed_af
         assert following.state.lost or following.state.target == 2, (t, following.state)
     assert following.state.target == 2 and not following.state.lost
 
-
-def test_two_standing_about_the_contest_distance_apart_do_not_open_and_close_it_each_tick():
-    # two people standing about CONTEST_NEAR (0.8 m) apart: the tracks' jitter put them
-    # 0.76 then 0.84 m apart, and a close pass opened and was settled (decided again, and
-    # her views ignored and taken in turn) tick after tick; the pass settled, the other
-    # opens another only after being CONTEST_FAR (1 m) away, or within CONTEST_AGAIN
-    following, perception, t = _her_standing_in_red()
-    opened, was_open = 0, False
-    for k in range(30):
-        t = round(t + 0.1, 6)
-        apart = 0.76 if k % 2 == 0 else 0.84
-        perception.believed = (seen(1, 2.0, 0.0, t, RED), seen(2, 2.0, apart, t, BLUE))
-        following.sense(t)
-        is_open = following._contest is not None
-        opened += is_open and not was_open
-        was_open = is_open
-        assert following.state.target == 1 and not following.state.lost, t
-    assert opened == 1
-    for apart in (1.1, 0.76):                      # 1.1 m apart, then close again: a new pass
-        t = round(t + 0.1, 6)
-        perception.believed = (seen(1, 2.0, 0.0, t, RED), seen(2, 2.0, apart, t, BLUE))
-        following.sense(t)
-    assert following._contest is not None and following.state.target == 1
