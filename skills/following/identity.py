@@ -41,7 +41,7 @@ FRESH = 0.15              # s: a candidate for re-acquisition must have been see
 CONTEST_NEAR = 0.8        # m: another track this close to the customer's may swap ids with it
 UNTANGLE_REACH = 1.2      # m from where the customer should be after a contest, at most
 CONTINUITY = 1.5          # log odds that her track kept its id through a close pass; set by
-                          # hand: measured on simulated passes the prior is 3.6 (python
+                          # hand: measured on simulated passes the prior is 3.8 (python
                           # benchmarks/calibrate_identity.py --passes 300), but the contest's
                           # other terms are not calibrated likelihood ratios and from 2.5 on her
                           # fresh view no longer outweighs it (tests fail; docs/shopping.md, cont1)
