@@ -404,4 +404,3 @@ def test_a_look_alike_who_takes_her_id_walking_close_past_her_is_not_followed_af
         following.sense(t)
         assert following.state.lost or following.state.target == 2, (t, following.state)
     assert following.state.target == 2 and not following.state.lost
-
