@@ -167,11 +167,7 @@ class Navigation(Skill):
             self.set_speed(speed)
         else:
             self._speed = None
-        blocked_since = self._blocked_since if self.state.phase == BLOCKED else None
         self._reset()
-        # a new goal does not clear the way: still blocked, the clock runs on (a follower
-        # that found her again while blocked waited replan_after again before the plan round)
-        self._blocked_since = blocked_since
         try:
             name, goal = self._resolve(target)
         except (MapError, ValueError) as exc:

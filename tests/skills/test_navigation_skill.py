@@ -164,26 +164,6 @@ def test_a_person_in_the_doorway_blocks_with_a_growing_time_then_it_gives_up(per
     assert body.y < 1.2 and not run.stalled                              # did not push through
 
 
-def test_a_new_goal_given_while_blocked_does_not_start_the_blocked_time_again(person_scenario):
-    """A follower that finds her again while the way is blocked gives navigation her place;
-    the person in the doorway still blocks it, so the time blocked runs on (it was started
-    again, and the plan round the blocker waited replan_after once more: HOROS standin8)."""
-    scenario = person_scenario(-2.5, 1.2, "{ pause = 1000.0 }")
-    skills = open_skills("horos", fast=True, scenario=scenario, seed=3)
-    try:
-        settle(skills)
-        skills.navigation.go_to("room_n2", skills.now())
-        while skills.navigation.state.blocked_for < 2.0:
-            drive(skills, 1)
-        before = skills.navigation.state.blocked_for
-        skills.navigation.go_to((-2.4, 3.0), skills.now())      # in room N2, past the door
-        drive(skills, 10)
-        state = skills.navigation.state
-    finally:
-        skills.close()
-    assert state.phase == "blocked" and state.blocked_for >= before + 0.9, (before, state)
-
-
 def test_blocked_status_names_the_time_while_waiting(person_scenario):
     scenario = person_scenario(-2.5, 1.2, "{ pause = 1000.0 }")
     skills = open_skills("horos", fast=True, scenario=scenario, seed=3)
