@@ -350,17 +350,11 @@ def run(seed: int, robot: str, folder: Path, give_way: bool | None = True,
                 track = next((t for t in skills.perception.believed if t.id == state.target),
                              None)
                 if track is not None:
-                    nearest = min(people, key=lambda p: math.hypot(p.x - track.x, p.y - track.y))
-                    on_her = nearest is customer or math.hypot(
-                        customer.x - track.x, customer.y - track.y) <= 0.7
+                    on_her = on_the_customer(track, people, customer)
                     result.wrong_ticks += not on_her
-                if track is not None:
-                    # a switch: the followed track sits on somebody else (nearer them, and more
-                    # than 0.7 m from the customer) for a second; counted once per episode
-                    nearest = min(people, key=lambda p: math.hypot(p.x - track.x, p.y - track.y))
-                    astray = (nearest is not customer and math.hypot(
-                        customer.x - track.x, customer.y - track.y) > 0.7)
-                    wrong_for = wrong_for + 1 if astray else 0
+                    # a switch: the followed track sits on somebody else for a second; counted
+                    # once per episode
+                    wrong_for = 0 if on_her else wrong_for + 1
                     if wrong_for == 10:
                         result.switches += 1
             if not on_her and (not result.episodes or result.episodes[-1][1] is not None):
@@ -384,6 +378,13 @@ def run(seed: int, robot: str, folder: Path, give_way: bool | None = True,
         return result
     finally:
         skills.close()
+
+
+def on_the_customer(track, people, customer) -> bool:
+    """The benchmark's rule for a followed track: it is hers unless it sits on somebody else,
+    nearer them than her and over 0.7 m from her."""
+    nearest = min(people, key=lambda p: math.hypot(p.x - track.x, p.y - track.y))
+    return nearest is customer or math.hypot(customer.x - track.x, customer.y - track.y) <= 0.7
 
 
 def pursued_in_band(path: list, start: tuple, limits, dt: float = 0.1) -> int:

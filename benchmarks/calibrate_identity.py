@@ -257,7 +257,8 @@ def _line(name: str, counts: dict) -> str:
 
 def _tally(groups: dict, robot: str, g: dict, outcomes: list) -> None:
     """Adds one geometry's passes to its groups: the robot, the motion, whether one pushes a
-    cart, whether the robot stands or backs away, and all; each pass also to its band of how close the tracks came."""
+    cart, whether the robot stands or backs away, and all; each pass also to its band of how
+    close the tracks came."""
     cart = "no cart" if g["cart"] == "none" else "a cart"
     moving = "backing" if g["robot"] else "standing"
     empty = dict.fromkeys(("geometries", "none") + OUTCOMES, 0)

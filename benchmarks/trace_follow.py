@@ -137,11 +137,7 @@ def _on_her(skills, state, people, customer) -> bool:
     if state.phase in (HIDDEN, SEARCHING):
         return True
     track = next((t for t in skills.perception.believed if t.id == state.target), None)
-    if track is None:
-        return True
-    nearest = min(people, key=lambda p: math.hypot(p.x - track.x, p.y - track.y))
-    return nearest is customer or math.hypot(customer.x - track.x,
-                                             customer.y - track.y) <= 0.7
+    return track is None or bf.on_the_customer(track, people, customer)
 
 
 def causes(rows: list[dict]) -> tuple[Counter, int]:

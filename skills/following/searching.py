@@ -314,16 +314,10 @@ class Searching:
         # on along the way looked along there (the place on her way: the direction she can
         # walk on, `_walkable_ahead`), else her heading
         base = (lookout.bearings[0] if lookout.bearings else math.atan2(heading[1], heading[0]))
-        best = None
-        for k in range(int(round(WALK_ON_SPREAD / WALK_ON_STEP)) + 1):
-            for sign in ((1,) if k == 0 else (1, -1)):
-                th = base + sign * k * WALK_ON_STEP
-                end = self._clear_run((lookout.x, lookout.y), th, reach)
-                if end is not None and (best is None or end[0] > best[0] + 1e-9):
-                    best = (end[0], end[1], th)
-        if best is None or best[0] < MERGE:
+        best = self._longest_run((lookout.x, lookout.y), base, WALK_ON_SPREAD, reach)
+        if best is None:
             return
-        (x, y), th = best[1], best[2]
+        (x, y), th = best
         at = self._plan_index + 1
         self._plan.insert(at, Lookout(x, y, (th,), FURTHER))
         self._viewed = {k if k < at else k + 1: v for k, v in self._viewed.items()}
@@ -480,18 +474,27 @@ class Searching:
         crowd10 seed 2 searched aisle A5 while she walked up A4 (issue 23, crowdfix1)."""
         if self.navigation is None:
             return None
-        base = math.atan2(heading[1], heading[0])
+        best = self._longest_run(start, math.atan2(heading[1], heading[0]), AHEAD_SPREAD,
+                                 SEARCH_AHEAD)
+        if best is None:
+            return None
+        (x, y), th = best
+        return x, y, _wrap(th)
+
+    def _longest_run(self, start, base: float, spread: float, reach: float):
+        """((x, y), direction): the end of the longest straight run (`_clear_run`) from
+        `start` among the directions within `spread` of `base`, WALK_ON_STEP apart, the
+        nearest `base` among equals; None when none runs MERGE."""
         best = None
-        for k in range(int(round(AHEAD_SPREAD / WALK_ON_STEP)) + 1):
+        for k in range(int(round(spread / WALK_ON_STEP)) + 1):
             for sign in ((1,) if k == 0 else (1, -1)):
                 th = base + sign * k * WALK_ON_STEP
-                end = self._clear_run(start, th, SEARCH_AHEAD)
+                end = self._clear_run(start, th, reach)
                 if end is not None and (best is None or end[0] > best[0] + 1e-9):
                     best = (end[0], end[1], th)
         if best is None or best[0] < MERGE:
             return None
-        (x, y), th = best[1], best[2]
-        return x, y, _wrap(th)
+        return best[1], best[2]
 
     def _course(self):
         """The direction of her trail as a whole (its first point kept to its last; a unit

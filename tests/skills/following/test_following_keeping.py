@@ -8,6 +8,7 @@ import pytest
 
 from follow_fakes import follower, track
 from skills.following import WAITING
+from skills.following.keeping import BRAKE, LATENCY_MARGIN
 
 
 def test_standing_close_it_backs_off_facing_her_and_far_it_only_faces_her():
@@ -134,8 +135,8 @@ def test_walking_it_trails_only_what_a_dead_stop_would_take_beyond_the_tolerance
     # band's edge, and PERSES spent a tenth of its following time beyond it (bench_follow
     # base). It trails what a dead stop would take beyond the tolerance below the setpoint.
     params = follower()[0].params
-    brake = 0.8 * follower()[0].motion.limits.max_accel
-    stopping = pace * pace / (2 * brake) + 0.1 * pace / 0.5
+    brake = BRAKE * follower()[0].motion.limits.max_accel
+    stopping = pace * pace / (2 * brake) + LATENCY_MARGIN * pace / 0.5
     d = _walking_distance(pace)
     assert d == pytest.approx(params.distance + max(stopping - params.tolerance, 0.0), abs=0.01)
     assert d - stopping >= params.distance - params.tolerance - 0.01   # a dead stop: in band
