@@ -78,6 +78,7 @@ import numpy as np
 from robots.sim.people import BODY_RADIUS
 from robots.sim.raycast import point_segment_distances
 from skills.following import HIDDEN, SEARCHING, pace
+from skills.safety import LEFT_BEHIND
 from skills.skillset import open_skills
 
 SETPOINT = 1.2
@@ -213,6 +214,9 @@ class Result:
                                                     # following, and where the robot began
     start: tuple = (0.0, 0.0)
     reference_band: int = 0         # ticks an unobstructed pursuer is within ±0.3 m (below)
+    others: list = field(default_factory=list)      # ((x, y), ...) of everybody else, per
+                                                    # entry of `path`
+    reference_capped: int = 0       # the same pursuer also slowed near everybody else
 
 
 def line_of_sight(world, a, b, people, customer) -> bool:
@@ -318,6 +322,7 @@ def run(seed: int, robot: str, folder: Path, give_way: bool | None = True,
                 result.gave_up, result.reason = True, state.reason
                 break
             result.path.append((now - started, customer.x, customer.y))
+            result.others.append(tuple((p.x, p.y) for p in people if p is not customer))
             if now - started >= 5.0:
                 result.ticks += 1
                 d = math.hypot(customer.x - body.x, customer.y - body.y)
@@ -370,6 +375,8 @@ def run(seed: int, robot: str, folder: Path, give_way: bool | None = True,
         _heeding(result, world)
         result.reference_band = pursued_in_band(result.path, result.start,
                                                 skills.profile.limits)
+        result.reference_capped = pursued_in_band(result.path, result.start,
+                                                  skills.profile.limits, result.others)
         measures = world.measures
         result.clearance_others = min((gap for who, gap in measures.min_person_clearance.items()
                                        if who != "customer"), default=math.inf)
@@ -387,22 +394,30 @@ def on_the_customer(track, people, customer) -> bool:
     return nearest is customer or math.hypot(customer.x - track.x, customer.y - track.y) <= 0.7
 
 
-def pursued_in_band(path: list, start: tuple, limits, dt: float = 0.1) -> int:
+def pursued_in_band(path: list, start: tuple, limits, others: list | None = None,
+                    dt: float = 0.1) -> int:
     """Ticks (from 5 s on, as the robot's share counts them) that a point robot with no
     obstacles, nobody in its way and no delay or acceleration, driving straight towards or away
     from her to keep SETPOINT within the profile's speed limits, is within ±0.3 m of it along
     her true path. Its top speed is `max_speed` while she recedes from it, else
     `max_speed_near_people` within `near_people_distance` (the safety arbiter's cap, which the
-    follower lifts only for a receding customer). A reference for what the limits allow, not a
-    bound: shelves and people only make it harder, and a pursuer that knew her path in advance
-    could do a little better."""
+    follower lifts only for a receding customer). With `others` (per entry of `path`, where
+    everybody else stands) the cap also holds whenever one of them is that near and not left
+    behind (within LEFT_BEHIND of the way it drives), as the arbiter's is: what the limits
+    allow in a crowd. A reference for what the limits allow, not a bound: shelves and people
+    in the way only make it harder, and a pursuer that knew her path in advance could do a
+    little better."""
     x, y = start
     inside, before = 0, None
-    for t, hx, hy in path:
+    for k, (t, hx, hy) in enumerate(path):
         gap = math.hypot(hx - x, hy - y)
         receding = before is not None and gap > math.hypot(before[0] - x, before[1] - y)
         top = (limits.max_speed if receding or gap >= limits.near_people_distance
                else limits.max_speed_near_people)
+        if others is not None and gap > 1e-9 and _near_ahead(
+                others[k], (x, y), math.atan2(hy - y, hx - x) + (gap < SETPOINT) * math.pi,
+                limits.near_people_distance):
+            top = min(top, limits.max_speed_near_people)
         if gap > 1e-9:
             move = max(-top * dt, min(top * dt, gap - SETPOINT))
             x, y = x + (hx - x) / gap * move, y + (hy - y) / gap * move
@@ -410,6 +425,13 @@ def pursued_in_band(path: list, start: tuple, limits, dt: float = 0.1) -> int:
             inside += abs(math.hypot(hx - x, hy - y) - SETPOINT) <= 0.3
         before = (hx, hy)
     return inside
+
+
+def _near_ahead(people, at: tuple, way: float, distance: float) -> bool:
+    """Somebody within `distance` of `at` and not left behind by driving along `way` (rad)."""
+    return any(math.hypot(px - at[0], py - at[1]) < distance
+               and abs(math.remainder(math.atan2(py - at[1], px - at[0]) - way, math.tau))
+               <= LEFT_BEHIND for px, py in people)
 
 
 def _heeding(result: Result, world) -> None:
@@ -512,6 +534,10 @@ def print_family(family: str, results: list, wall: float) -> None:
     print(f"   an unobstructed pursuer within the robot's speed limits along her path (the "
           f"reference of `pursued_in_band`): pooled {sum(r.reference_band for r in results) / ticks:.1%}, "
           f"worst seed {min(reference):.1%}")
+    capped = [r.reference_capped / max(r.ticks, 1) for r in results]
+    print(f"   the same pursuer also held to max_speed_near_people near everybody else (the "
+          f"arbiter's cap): pooled {sum(r.reference_capped for r in results) / ticks:.1%}, "
+          f"worst seed {min(capped):.1%}")
     print(f"   following the wrong person: {sum(r.wrong_ticks for r in results) / 10:.1f} s "
           f"(target 0); losses (track lost or on someone else): {len(episodes)}, found again "
           f"within 10 s: {found}/{len(episodes)}")

@@ -108,3 +108,15 @@ def test_the_reference_pursuer_backs_off_no_faster_than_the_cap_near_people(benc
     assert bench.pursued_in_band(slow, (0.0, 0.0), PERSES.limits) == len(slow)
     outside = len(fast) - bench.pursued_in_band(fast, (0.0, 0.0), PERSES.limits)
     assert 23 <= outside <= 26
+
+
+def test_the_capped_reference_slows_near_somebody_ahead_but_not_near_one_left_behind(bench):
+    """She walks east at 0.5 m/s from 1.2 m ahead; a shopper stands by the pursuer's way. Held
+    to 0.3 m/s while he is within 1.5 m ahead, the pursuer falls behind her; with him behind
+    its start (left behind from the first step) it keeps up as without him."""
+    path = walk(0.5, 30.0)
+    ahead = [((6.0, 0.3),)] * len(path)
+    behind = [((-1.0, 0.0),)] * len(path)
+    free = bench.pursued_in_band(path, (0.0, 0.0), PERSES.limits)
+    assert bench.pursued_in_band(path, (0.0, 0.0), PERSES.limits, behind) == free
+    assert bench.pursued_in_band(path, (0.0, 0.0), PERSES.limits, ahead) < free - 20
