@@ -16,6 +16,8 @@ Against the simulator's ground truth it reports:
   robot with no obstacles and nobody in its way would keep within ±0.3 m driving straight
   along her true path within the profile's speed limits (`pursued_in_band`): what the
   limits allow when she walks faster than the robot (the fast families) or back at it;
+  and the share the same pursuer keeps when also held to the near-people cap whenever anybody
+  else is near it and not left behind: what the limits allow in a crowd;
 - lost events (the follower enters `hidden`) per 10 minutes of following;
 - re-acquisition: of the losses, the share found again within 5 s (target ≥ 90 % for
   occlusions up to 3 s), and the scripted occlusions' share;
