@@ -120,3 +120,11 @@ def test_the_capped_reference_slows_near_somebody_ahead_but_not_near_one_left_be
     free = bench.pursued_in_band(path, (0.0, 0.0), PERSES.limits)
     assert bench.pursued_in_band(path, (0.0, 0.0), PERSES.limits, behind) == free
     assert bench.pursued_in_band(path, (0.0, 0.0), PERSES.limits, ahead) < free - 20
+
+
+def test_the_seed_interval_holds_the_pooled_share_and_widens_with_the_spread(bench):
+    """Seeds alike: the interval is the share itself; seeds far apart: it spans most of them."""
+    same = bench.seed_interval([90, 90, 90, 90], [100] * 4)
+    assert same == pytest.approx((0.9, 0.9))
+    low, high = bench.seed_interval([50, 95, 90, 85, 92, 88], [100] * 6)
+    assert low < 0.833 < high and high - low > 0.05 and high <= 0.95
