@@ -83,7 +83,9 @@ class LeanKalmanFilter(KalmanFilter):
         if u is not None or B is not None or F is None or not hasattr(Q, "shape"):
             return super().predict(u, B, F, Q)
         self.x = dot(F, self.x)
-        self.P = self._alpha_sq * dot(dot(F, self.P), F.T) + Q
+        P = dot(dot(F, self.P), F.T)
+        # times the fading factor unless it is 1 (a product by 1.0 is the same float)
+        self.P = (P if self._alpha_sq == 1.0 else self._alpha_sq * P) + Q
 
     def update(self, z, R=None, H=None):
         if z is None or R is None or H is None or not hasattr(R, "shape"):

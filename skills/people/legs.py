@@ -164,5 +164,17 @@ def _people(legs: list[tuple[float, float]], t: float, p: LegParams) -> list[Det
 
 
 def _detection(t: float, xy: tuple[float, float], sigma: float) -> Detection:
-    var = sigma * sigma
-    return Detection(t=t, x=xy[0], y=xy[1], cov=((var, 0.0), (0.0, var)), source="laser")
+    return Detection(t=t, x=xy[0], y=xy[1], cov=_covariance(sigma), source="laser")
+
+
+def _covariance(sigma: float) -> tuple[tuple[float, float], tuple[float, float]]:
+    """One covariance object per sigma: perception rotates each object once a tick
+    (`skills.people.frames.detections_to_world`)."""
+    cov = _COVARIANCES.get(sigma)
+    if cov is None:
+        var = sigma * sigma
+        cov = _COVARIANCES[sigma] = ((var, 0.0), (0.0, var))
+    return cov
+
+
+_COVARIANCES: dict[float, tuple[tuple[float, float], tuple[float, float]]] = {}

@@ -222,14 +222,16 @@ def _appearances(detections: list[WorldDetection], seen_xy: np.ndarray, fused_xy
                  merge_distance: float) -> list[tuple[float, ...] | None]:
     """Per fused detection, the appearance of the nearest detection that carries one (the
     camera's, when the laser saw the same person), or None."""
-    looks = [(k, d[4]) for k, d in enumerate(detections) if len(d) > 4 and d[4] is not None]
+    seen = seen_xy.tolist()      # plain floats: the same differences, squares and sums
+    looks = [(seen[k], d[4]) for k, d in enumerate(detections)
+             if len(d) > 4 and d[4] is not None]
     if not looks:
         return [None] * len(fused_xy)
     result: list[tuple[float, ...] | None] = []
-    for fx, fy in fused_xy:
-        k, look = min(looks, key=lambda kl: (seen_xy[kl[0], 0] - fx) ** 2
-                      + (seen_xy[kl[0], 1] - fy) ** 2)
-        near = math.hypot(seen_xy[k, 0] - fx, seen_xy[k, 1] - fy) <= merge_distance
+    for fx, fy in fused_xy.tolist():
+        (sx, sy), look = min(looks, key=lambda xy_look: (xy_look[0][0] - fx) ** 2
+                             + (xy_look[0][1] - fy) ** 2)
+        near = math.hypot(sx - fx, sy - fy) <= merge_distance
         result.append(tuple(look) if near else None)
     return result
 
@@ -240,7 +242,7 @@ def _as_arrays(detections: list[WorldDetection], confirming_sources: tuple[str, 
     if not detections:
         return np.zeros((0, 2)), np.zeros((0, 2, 2)), np.zeros(0, dtype=bool)
     xy = np.array([(d[0], d[1]) for d in detections], dtype=float)
-    cov = np.array([np.asarray(d[2], dtype=float) for d in detections])
+    cov = np.array([d[2] for d in detections], dtype=float)
     if cov.shape[1:] != (2, 2):
         raise ValueError(f"detection covariances must be 2x2; got shape {cov.shape[1:]}")
     broken = ~(np.isfinite(xy).all(axis=1) & np.isfinite(cov).all(axis=(1, 2)))
