@@ -13,10 +13,10 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from skills.people.kalman import LeanKalmanFilter
+from skills.people.kalman import LeanKalmanFilter, predict_all, update_all
 
 from skills.people import imm, motion_model
-from skills.people.association import assign, gated_cost, mahalanobis_sq
+from skills.people.association import assign, gated_cost, inverse_2x2, mahalanobis_sq
 from skills.people.fusion import fuse_close_detections
 from skills.people.track import CONFIRMED, LOST, TENTATIVE, Track
 
@@ -116,8 +116,9 @@ class PeopleTracker:
                                                     confirming)
         looks = _appearances(detections, seen_xy, xy, self.params.merge_distance)
         pairs, _, new_dets = self._associate(xy, cov)
+        self._update_filters(pairs, xy, cov)
         for i, j in pairs:
-            self._correct(self._tracks[i], t, xy[j], cov[j], bool(confirming[j]), looks[j])
+            self._correct(self._tracks[i], t, bool(confirming[j]), looks[j])
         for j in new_dets:
             state = _TrackState(next(self._ids), t, xy[j], cov[j], bool(confirming[j]),
                                 self.params)
@@ -145,8 +146,7 @@ class PeopleTracker:
                 for state in self._tracks:
                     imm.predict(state.kf, (f, q), stand)
             else:
-                for state in self._tracks:
-                    state.kf.predict(F=f, Q=q)
+                predict_all([state.kf for state in self._tracks], f, q)
             remaining -= dt
 
     def _associate(self, xy: np.ndarray, cov: np.ndarray):
@@ -158,14 +158,24 @@ class PeopleTracker:
         d2, log_det = mahalanobis_sq(track_xy, track_cov, xy, cov)
         return assign(gated_cost(d2, log_det, self.params.gate))
 
-    def _correct(self, state: _TrackState, t: float, xy: np.ndarray, cov: np.ndarray,
-                 confirming: bool, appearance: tuple[float, ...] | None = None) -> None:
+    def _update_filters(self, pairs: list[tuple[int, int]], xy: np.ndarray,
+                        cov: np.ndarray) -> None:
+        """Each paired track's filter takes its detection (the cv filters all at once)."""
+        if not pairs:
+            return
+        if self.params.model == "imm":
+            for i, j in pairs:
+                imm.update(self._tracks[i].kf, xy[j].reshape(2, 1), cov[j])
+            return
+        tracks, dets = zip(*pairs)
+        update_all([self._tracks[i].kf for i in tracks], xy[list(dets), :, None],
+                   cov[list(dets)], motion_model.H, _inverses)
+
+    def _correct(self, state: _TrackState, t: float, confirming: bool,
+                 appearance: tuple[float, ...] | None = None) -> None:
+        """A track's life cycle after its filter took a detection."""
         if appearance is not None:
             state.appearance, state.appearance_t = appearance, t
-        if self.params.model == "imm":
-            imm.update(state.kf, xy.reshape(2, 1), cov)
-        else:
-            state.kf.update(xy.reshape(2, 1), R=cov, H=motion_model.H)
         state.hits += 1
         state.confirming_hits += confirming
         state.last_seen = t
@@ -216,6 +226,11 @@ def inverse_2x2_single(m: np.ndarray) -> np.ndarray:
     a, b, c, d = m.ravel().tolist()
     det = a * d - b * c
     return np.array([[d / det, -b / det], [-c / det, a / det]])
+
+
+def _inverses(m: np.ndarray) -> np.ndarray:
+    """`inverse_2x2_single` of each of a stack of 2x2 matrices (the same floats)."""
+    return inverse_2x2(m)[0]
 
 
 def _appearances(detections: list[WorldDetection], seen_xy: np.ndarray, fused_xy: np.ndarray,
