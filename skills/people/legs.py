@@ -85,8 +85,9 @@ def _segments(ranges: np.ndarray, p: LegParams) -> tuple[np.ndarray, np.ndarray]
     valid = np.isfinite(ranges) & (ranges <= p.max_range)
     cut = np.ones(len(ranges) + 1, dtype=bool)
     if len(ranges) > 1:
-        step = np.abs(np.diff(np.where(valid, ranges, 0.0)))
-        cut[1:-1] = (step > p.jump) | ~valid[1:] | ~valid[:-1]
+        kept = np.where(valid, ranges, 0.0)
+        step = np.abs(kept[1:] - kept[:-1])          # np.diff's subtraction, without its wrapper
+        cut[1:-1] = (step > p.jump) | ~(valid[1:] & valid[:-1])
     starts = np.flatnonzero(cut[:-1] & valid)
     cuts = np.flatnonzero(cut)                  # a segment ends at the first cut after its start
     return starts, cuts[np.searchsorted(cuts, starts, side="right")]
