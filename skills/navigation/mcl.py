@@ -217,8 +217,8 @@ class FieldLookup:
     def __call__(self, xs: np.ndarray, ys: np.ndarray) -> np.ndarray:
         # cell index + 1 in the framed map; truncation equals floor wherever it is >= 0, and
         # anything below lands on the ring after the clamp
-        cols = np.clip(((xs - self.x0) * self.scale + 1.0).astype(np.intp), 0, self.cols - 1)
-        rows = np.clip(((ys - self.y0) * self.scale + 1.0).astype(np.intp), 0, self.rows - 1)
+        cols = _clip(((xs - self.x0) * self.scale + 1.0).astype(np.intp), 0, self.cols - 1)
+        rows = _clip(((ys - self.y0) * self.scale + 1.0).astype(np.intp), 0, self.rows - 1)
         return self.framed.take(rows * self.cols + cols)
 
     def at_beams(self, particles: np.ndarray, beam_poses: np.ndarray,
