@@ -29,6 +29,8 @@ def detections_to_world(detections, pose: tuple[float, float, float]) -> list[tu
     in the world frame: `robot_to_world`'s floats, with the rotation made once for the tick and
     each covariance object rotated once (a detector hands all its detections the same one).
     Detections with the same covariance object share one read-only array."""
+    if not detections:
+        return []
     px, py, th = pose
     c, s = math.cos(th), math.sin(th)
     rot = np.array([[c, -s], [s, c]])
