@@ -20,7 +20,7 @@ import numpy as np
 from robots.devices import Detection, Laser, PersonDetector
 from skills.device_link import DeviceLink
 from skills.localization import Localization
-from skills.people.frames import robot_to_world
+from skills.people.frames import detections_to_world
 from skills.people.legs import detect_legs
 from skills.people.tracker import PeopleTracker, TrackerParams
 from skills.people.user import UserSelector, approach_speed, distance
@@ -56,9 +56,7 @@ class PeoplePerception(Skill):
             self.set_status(failed("no person detector and no laser on this robot"), now)
             return
         detections = self._detections(now)
-        pose = (state.x, state.y, state.th)
-        world = [(*robot_to_world(d.x, d.y, d.cov, pose), d.source, d.appearance)
-                 for d in detections]
+        world = detections_to_world(detections, (state.x, state.y, state.th))
         if self.grid is not None and world:
             world = self._off_walls(world)
         tracks = self.tracker.update(now, world)

@@ -29,6 +29,7 @@ from dataclasses import dataclass, replace
 
 
 from skills.following import score
+from skills.navigation.gridmap import point_clearance
 from skills.people import appearance
 from skills.people.track import CONFIRMED
 
@@ -435,4 +436,4 @@ class Identity:
         one along the shelf ends, and the relaxed rule took it back as her)."""
         nav = self.navigation
         least = FOLLOWED_CLEARANCE if followed else PERSON_CLEARANCE
-        return nav is None or bool(nav.grid.clearance(track.x, track.y) >= least)
+        return nav is None or bool(point_clearance(nav.grid, track.x, track.y) >= least)

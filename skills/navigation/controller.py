@@ -430,6 +430,10 @@ class LocalController:
         so a move of a centimetre never looks like a step towards a wall."""
         grid = self.costmap.grid
         x, y = np.asarray(x, float), np.asarray(y, float)
+        if x.size == 1 and x.shape == y.shape:      # the robot's own pose, once a tick
+            at = self._point_clearance(float(x.flat[0]), float(y.flat[0]))
+            if at is not None:
+                return np.full(x.shape, at)
         if x.ndim == 0 and y.ndim == 0:
             return self._map_clearance(x[None], y[None]).reshape(())
         fx = (x - grid.origin[0]) / grid.resolution - 0.5
@@ -460,6 +464,27 @@ class LocalController:
         d += term
         np.minimum(d, lowest, out=d)
         return d if inside.all() else np.where(inside, d, 0.0)
+
+    def _point_clearance(self, x: float, y: float) -> float | None:
+        """`_map_clearance` of one point in plain floats: the same cell, the same products
+        and sums in the same order, np.minimum's rule (a NaN wins) for the cap; None for a
+        point whose cell a float cannot name (left to the arrays). A dozen array calls cost
+        more than the arithmetic of one point."""
+        grid = self.costmap.grid
+        fx = (x - grid.origin[0]) / grid.resolution - 0.5
+        fy = (y - grid.origin[1]) / grid.resolution - 0.5
+        if not (math.isfinite(fx) and math.isfinite(fy)):
+            return None
+        c0, r0 = math.floor(fx), math.floor(fy)
+        tx, ty = fx - c0, fy - r0
+        rows, cols = self.costmap.clearance.shape
+        r, c = min(max(r0, 0), rows - 2), min(max(c0, 0), cols - 2)
+        if r != r0 or c != c0:
+            return 0.0
+        f00, f01, f10, f11, lowest = self._corners()[r * cols + c].tolist()
+        ux, uy = 1 - tx, 1 - ty
+        d = ux * uy * f00 + tx * uy * f01 + ux * ty * f10 + tx * ty * f11
+        return d if (d <= lowest or d != d) else lowest
 
     def _corners(self) -> np.ndarray:
         """(cells, 5) for the square of cell centres whose lower left corner is each cell:

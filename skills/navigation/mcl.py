@@ -217,20 +217,24 @@ class FieldLookup:
     def __call__(self, xs: np.ndarray, ys: np.ndarray) -> np.ndarray:
         # cell index + 1 in the framed map; truncation equals floor wherever it is >= 0, and
         # anything below lands on the ring after the clamp
-        cols = np.clip(((xs - self.x0) * self.scale + 1.0).astype(np.intp), 0, self.cols - 1)
-        rows = np.clip(((ys - self.y0) * self.scale + 1.0).astype(np.intp), 0, self.rows - 1)
+        cols = _clip(((xs - self.x0) * self.scale + 1.0).astype(np.intp), 0, self.cols - 1)
+        rows = _clip(((ys - self.y0) * self.scale + 1.0).astype(np.intp), 0, self.rows - 1)
         return self.framed.take(rows * self.cols + cols)
 
     def at_beams(self, particles: np.ndarray, beam_poses: np.ndarray,
-                 ranges: np.ndarray) -> np.ndarray:
+                 ranges: np.ndarray, turns=None) -> np.ndarray:
         """`self(*beam_endpoints(particles, beam_poses, ranges))`, the same float operations in
         the same order, in two (N, K) buffers instead of a dozen temporaries (the filter's
-        hottest lines: 500 particles by 36 beams on most ticks of a moving robot)."""
+        hottest lines: 500 particles by 36 beams on most ticks of a moving robot). `turns`:
+        the cosines and sines (N,) of the particles' headings, when known."""
         bx, by, bth = beam_poses[:, 0], beam_poses[:, 1], beam_poses[:, 2]
         ex = bx + ranges * np.cos(bth)
         ey = by + ranges * np.sin(bth)
-        pth = particles[:, 2:3]
-        c, s = np.cos(pth), np.sin(pth)
+        if turns is None:
+            pth = particles[:, 2:3]
+            c, s = np.cos(pth), np.sin(pth)
+        else:
+            c, s = turns[0][:, None], turns[1][:, None]
         ends = np.multiply(c, ex)                       # x: px + c ex - s ey
         np.add(particles[:, 0:1], ends, out=ends)
         other = np.multiply(s, ey)
@@ -354,12 +358,13 @@ def low_variance_resample(weights: np.ndarray, rng: np.random.Generator,
     return np.searchsorted(cumulative, positions, side="right").clip(0, len(weights) - 1)
 
 
-def weighted_estimate(particles: np.ndarray, weights: np.ndarray):
-    """Weighted mean pose (circular mean heading) and its 3×3 covariance."""
+def weighted_estimate(particles: np.ndarray, weights: np.ndarray, turns=None):
+    """Weighted mean pose (circular mean heading) and its 3×3 covariance (`turns`: the
+    cosines and sines of the particles' headings, when known)."""
     x = float(weights @ particles[:, 0])
     y = float(weights @ particles[:, 1])
-    th = math.atan2(float(weights @ np.sin(particles[:, 2])),
-                    float(weights @ np.cos(particles[:, 2])))
+    cos, sin = turns if turns is not None else (np.cos(particles[:, 2]), np.sin(particles[:, 2]))
+    th = math.atan2(float(weights @ sin), float(weights @ cos))
     d = np.empty((len(particles), 3))       # as column_stack builds it, without its copies
     np.subtract(particles[:, 0], x, out=d[:, 0])
     np.subtract(particles[:, 1], y, out=d[:, 1])
@@ -406,6 +411,7 @@ class MonteCarloLocalization:
         self.pose: tuple[float, float, float] = (0.0, 0.0, 0.0)
         self.covariance = np.zeros((3, 3))
         self._spread: float | None = None
+        self._turns_of: tuple = (None, None)     # `_turns`: the particles and theirs
 
     # -- initialisation --
 
@@ -456,17 +462,19 @@ class MonteCarloLocalization:
         mapped = ~self._unmapped(short, long)
         if not mapped.any():
             return                  # everything in view is unmapped: the scan tells nothing
-        loglik = self._beam_log_likelihood(self.particles, beam_poses, ranges)
-        per_beam = loglik[:, mapped].mean(axis=1)            # (N,) mean log likelihood per beam
+        loglik = self._beam_log_likelihood(self.particles, beam_poses, ranges,
+                                           turns=self._turns())
+        seen = loglik[:, mapped]       # the mapped beams' columns, taken once for both sums
+        per_beam = seen.mean(axis=1)                         # (N,) mean log likelihood per beam
         offmap = ~self._on_free(self.particles)
         per_beam[offmap] += self.outside                     # a robot cannot stand in a wall
         self._track_likelihood(per_beam)
         if self._weighs_short(long):
             weighed = loglik.sum(axis=1)
         elif self.model.skip_short:     # the short beams say nothing about the pose
-            weighed = loglik[:, mapped].sum(axis=1)
+            weighed = seen.sum(axis=1)
         else:                       # the short beams through their own, flatter, field
-            weighed = loglik[:, mapped].sum(axis=1) + self._beam_log_likelihood(
+            weighed = seen.sum(axis=1) + self._beam_log_likelihood(
                 self.particles, beam_poses[~mapped], ranges[~mapped],
                 self._short_loglik).sum(axis=1)
         logw = np.log(np.maximum(self.weights, 1e-300)) + self.model.weight * weighed
@@ -495,12 +503,13 @@ class MonteCarloLocalization:
         return (not leaves_out or self.w_slow is None or self.lost
                 or float(long.mean()) > MIN_LONG_SHARE)
 
-    def _beam_log_likelihood(self, particles, beam_poses, ranges, lookup=None) -> np.ndarray:
+    def _beam_log_likelihood(self, particles, beam_poses, ranges, lookup=None,
+                             turns=None) -> np.ndarray:
         """(N, K) log likelihood of each beam from each particle (best ray of a cone), read
-        from `lookup` (the likelihood field by default)."""
+        from `lookup` (the likelihood field by default; `turns`: `_turns()` of `particles`)."""
         lookup = self._loglik if lookup is None else lookup
         if self.model.cone <= 0.0:
-            return lookup.at_beams(particles, beam_poses, ranges)
+            return lookup.at_beams(particles, beam_poses, ranges, turns)
         best = None
         for fraction in (-1 / 3, 0.0, 1 / 3):
             rays = beam_poses + (0.0, 0.0, fraction * self.model.cone)
@@ -683,5 +692,15 @@ class MonteCarloLocalization:
         return np.vstack((near, self._free_poses(count - local)))
 
     def _estimate(self) -> None:
-        self.pose, self.covariance = weighted_estimate(self.particles, self.weights)
+        self.pose, self.covariance = weighted_estimate(self.particles, self.weights,
+                                                       self._turns())
         self._spread = None
+
+    def _turns(self) -> tuple[np.ndarray, np.ndarray]:
+        """The cosines and sines of the particles' headings, computed once per set of
+        particles (a new array after every motion step and resampling): an update's two
+        estimates and its beam lookup read them (the same floats as computing them again)."""
+        if self._turns_of[0] is not self.particles:
+            headings = self.particles[:, 2]
+            self._turns_of = (self.particles, (np.cos(headings), np.sin(headings)))
+        return self._turns_of[1]

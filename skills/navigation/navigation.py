@@ -456,17 +456,21 @@ class Navigation(Skill):
         return True
 
     def _rest_of_path(self, x: float, y: float) -> np.ndarray:
-        """The path from the robot's projection on it to the goal (segments never go back)."""
+        """The path from the robot's projection on it to the goal (segments never go back).
+        In plain floats (a few numbers a tick): np.dot's two products and sum, np.clip's
+        clamp (`_unit`)."""
         points = self.plan.waypoints
-        best, best_d, best_p = self._segment, math.inf, points[self._segment]
-        for i in range(self._segment, min(self._segment + 3, len(points) - 1)):
-            a, b = points[i], points[i + 1]
-            ab = b - a
-            t = float(np.clip(np.dot((x, y) - a, ab) / max(np.dot(ab, ab), 1e-12), 0.0, 1.0))
-            q = a + t * ab
-            d = math.hypot(x - q[0], y - q[1])
+        first = self._segment
+        near = points[first: first + 4].tolist()
+        best, best_d, best_p = first, math.inf, near[0]
+        for k in range(len(near) - 1):
+            (ax, ay), (bx, by) = near[k], near[k + 1]
+            abx, aby = bx - ax, by - ay
+            t = _unit(((x - ax) * abx + (y - ay) * aby) / max(abx * abx + aby * aby, 1e-12))
+            qx, qy = ax + t * abx, ay + t * aby
+            d = math.hypot(x - qx, y - qy)
             if d < best_d - 1e-9:
-                best, best_d, best_p = i, d, q
+                best, best_d, best_p = first + k, d, (qx, qy)
         self._segment = best
         return np.vstack([best_p, points[best + 1:]])
 
@@ -572,6 +576,14 @@ class Navigation(Skill):
 
 def _replace(state: NavigationState, **changes) -> NavigationState:
     return replace(state, **changes)
+
+
+def _unit(value: float) -> float:
+    """np.clip(value, 0.0, 1.0) of a float, by its rule: a NaN stays, and so does -0.0."""
+    if value != value:
+        return value
+    value = value if value >= 0.0 else 0.0
+    return value if value <= 1.0 else 1.0
 
 
 def _length(path: np.ndarray) -> float:

@@ -22,3 +22,25 @@ def robot_to_world(x: float, y: float, cov, pose: tuple[float, float, float],
     if pose_sigma:
         world_cov = world_cov + np.eye(2) * pose_sigma ** 2
     return px + c * x - s * y, py + s * x + c * y, world_cov
+
+
+def detections_to_world(detections, pose: tuple[float, float, float]) -> list[tuple]:
+    """(x, y, world covariance, source, appearance) of each detection (robots.devices.Detection)
+    in the world frame: `robot_to_world`'s floats, with the rotation made once for the tick and
+    each covariance object rotated once (a detector hands all its detections the same one).
+    Detections with the same covariance object share one read-only array."""
+    if not detections:
+        return []
+    px, py, th = pose
+    c, s = math.cos(th), math.sin(th)
+    rot = np.array([[c, -s], [s, c]])
+    rotated: dict[int, np.ndarray] = {}
+    world = []
+    for d in detections:
+        world_cov = rotated.get(id(d.cov))
+        if world_cov is None:
+            world_cov = rotated[id(d.cov)] = rot @ np.asarray(d.cov, dtype=float) @ rot.T
+            world_cov.flags.writeable = False
+        world.append((px + c * d.x - s * d.y, py + s * d.x + c * d.y, world_cov, d.source,
+                      d.appearance))
+    return world

@@ -85,8 +85,9 @@ def _segments(ranges: np.ndarray, p: LegParams) -> tuple[np.ndarray, np.ndarray]
     valid = np.isfinite(ranges) & (ranges <= p.max_range)
     cut = np.ones(len(ranges) + 1, dtype=bool)
     if len(ranges) > 1:
-        step = np.abs(np.diff(np.where(valid, ranges, 0.0)))
-        cut[1:-1] = (step > p.jump) | ~valid[1:] | ~valid[:-1]
+        kept = np.where(valid, ranges, 0.0)
+        step = np.abs(kept[1:] - kept[:-1])          # np.diff's subtraction, without its wrapper
+        cut[1:-1] = (step > p.jump) | ~(valid[1:] & valid[:-1])
     starts = np.flatnonzero(cut[:-1] & valid)
     cuts = np.flatnonzero(cut)                  # a segment ends at the first cut after its start
     return starts, cuts[np.searchsorted(cuts, starts, side="right")]
@@ -164,5 +165,17 @@ def _people(legs: list[tuple[float, float]], t: float, p: LegParams) -> list[Det
 
 
 def _detection(t: float, xy: tuple[float, float], sigma: float) -> Detection:
-    var = sigma * sigma
-    return Detection(t=t, x=xy[0], y=xy[1], cov=((var, 0.0), (0.0, var)), source="laser")
+    return Detection(t=t, x=xy[0], y=xy[1], cov=_covariance(sigma), source="laser")
+
+
+def _covariance(sigma: float) -> tuple[tuple[float, float], tuple[float, float]]:
+    """One covariance object per sigma: perception rotates each object once a tick
+    (`skills.people.frames.detections_to_world`)."""
+    cov = _COVARIANCES.get(sigma)
+    if cov is None:
+        var = sigma * sigma
+        cov = _COVARIANCES[sigma] = ((var, 0.0), (0.0, var))
+    return cov
+
+
+_COVARIANCES: dict[float, tuple[tuple[float, float], tuple[float, float]]] = {}

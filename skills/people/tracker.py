@@ -13,10 +13,10 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from skills.people.kalman import LeanKalmanFilter
+from skills.people.kalman import LeanKalmanFilter, predict_all, update_all
 
 from skills.people import imm, motion_model
-from skills.people.association import assign, gated_cost, mahalanobis_sq
+from skills.people.association import assign, gated_cost, inverse_2x2, mahalanobis_sq
 from skills.people.fusion import fuse_close_detections
 from skills.people.track import CONFIRMED, LOST, TENTATIVE, Track
 
@@ -116,8 +116,9 @@ class PeopleTracker:
                                                     confirming)
         looks = _appearances(detections, seen_xy, xy, self.params.merge_distance)
         pairs, _, new_dets = self._associate(xy, cov)
+        self._update_filters(pairs, xy, cov)
         for i, j in pairs:
-            self._correct(self._tracks[i], t, xy[j], cov[j], bool(confirming[j]), looks[j])
+            self._correct(self._tracks[i], t, bool(confirming[j]), looks[j])
         for j in new_dets:
             state = _TrackState(next(self._ids), t, xy[j], cov[j], bool(confirming[j]),
                                 self.params)
@@ -145,8 +146,7 @@ class PeopleTracker:
                 for state in self._tracks:
                     imm.predict(state.kf, (f, q), stand)
             else:
-                for state in self._tracks:
-                    state.kf.predict(F=f, Q=q)
+                predict_all([state.kf for state in self._tracks], f, q)
             remaining -= dt
 
     def _associate(self, xy: np.ndarray, cov: np.ndarray):
@@ -158,14 +158,24 @@ class PeopleTracker:
         d2, log_det = mahalanobis_sq(track_xy, track_cov, xy, cov)
         return assign(gated_cost(d2, log_det, self.params.gate))
 
-    def _correct(self, state: _TrackState, t: float, xy: np.ndarray, cov: np.ndarray,
-                 confirming: bool, appearance: tuple[float, ...] | None = None) -> None:
+    def _update_filters(self, pairs: list[tuple[int, int]], xy: np.ndarray,
+                        cov: np.ndarray) -> None:
+        """Each paired track's filter takes its detection (the cv filters all at once)."""
+        if not pairs:
+            return
+        if self.params.model == "imm":
+            for i, j in pairs:
+                imm.update(self._tracks[i].kf, xy[j].reshape(2, 1), cov[j])
+            return
+        tracks, dets = zip(*pairs)
+        update_all([self._tracks[i].kf for i in tracks], xy[list(dets), :, None],
+                   cov[list(dets)], motion_model.H, _inverses)
+
+    def _correct(self, state: _TrackState, t: float, confirming: bool,
+                 appearance: tuple[float, ...] | None = None) -> None:
+        """A track's life cycle after its filter took a detection."""
         if appearance is not None:
             state.appearance, state.appearance_t = appearance, t
-        if self.params.model == "imm":
-            imm.update(state.kf, xy.reshape(2, 1), cov)
-        else:
-            state.kf.update(xy.reshape(2, 1), R=cov, H=motion_model.H)
         state.hits += 1
         state.confirming_hits += confirming
         state.last_seen = t
@@ -218,18 +228,25 @@ def inverse_2x2_single(m: np.ndarray) -> np.ndarray:
     return np.array([[d / det, -b / det], [-c / det, a / det]])
 
 
+def _inverses(m: np.ndarray) -> np.ndarray:
+    """`inverse_2x2_single` of each of a stack of 2x2 matrices (the same floats)."""
+    return inverse_2x2(m)[0]
+
+
 def _appearances(detections: list[WorldDetection], seen_xy: np.ndarray, fused_xy: np.ndarray,
                  merge_distance: float) -> list[tuple[float, ...] | None]:
     """Per fused detection, the appearance of the nearest detection that carries one (the
     camera's, when the laser saw the same person), or None."""
-    looks = [(k, d[4]) for k, d in enumerate(detections) if len(d) > 4 and d[4] is not None]
+    seen = seen_xy.tolist()      # plain floats: the same differences, squares and sums
+    looks = [(seen[k], d[4]) for k, d in enumerate(detections)
+             if len(d) > 4 and d[4] is not None]
     if not looks:
         return [None] * len(fused_xy)
     result: list[tuple[float, ...] | None] = []
-    for fx, fy in fused_xy:
-        k, look = min(looks, key=lambda kl: (seen_xy[kl[0], 0] - fx) ** 2
-                      + (seen_xy[kl[0], 1] - fy) ** 2)
-        near = math.hypot(seen_xy[k, 0] - fx, seen_xy[k, 1] - fy) <= merge_distance
+    for fx, fy in fused_xy.tolist():
+        (sx, sy), look = min(looks, key=lambda xy_look: (xy_look[0][0] - fx) ** 2
+                             + (xy_look[0][1] - fy) ** 2)
+        near = math.hypot(sx - fx, sy - fy) <= merge_distance
         result.append(tuple(look) if near else None)
     return result
 
@@ -240,7 +257,7 @@ def _as_arrays(detections: list[WorldDetection], confirming_sources: tuple[str, 
     if not detections:
         return np.zeros((0, 2)), np.zeros((0, 2, 2)), np.zeros(0, dtype=bool)
     xy = np.array([(d[0], d[1]) for d in detections], dtype=float)
-    cov = np.array([np.asarray(d[2], dtype=float) for d in detections])
+    cov = np.array([d[2] for d in detections], dtype=float)
     if cov.shape[1:] != (2, 2):
         raise ValueError(f"detection covariances must be 2x2; got shape {cov.shape[1:]}")
     broken = ~(np.isfinite(xy).all(axis=1) & np.isfinite(cov).all(axis=(1, 2)))

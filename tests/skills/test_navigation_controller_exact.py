@@ -61,6 +61,22 @@ def test_projection_and_resampling_are_bit_identical():
         assert new.tobytes() == old.tobytes()
 
 
+def test_one_points_clearance_in_floats_is_the_arrays_to_the_bit():
+    """A single point (the robot's pose, once a tick) takes the plain-float path: the same
+    value as the same point among others, on, at the edge of and off the map."""
+    rng = np.random.default_rng(8)
+    height, width = (n * ROOM.resolution for n in ROOM.occupied.shape)
+    x = np.concatenate([rng.uniform(-0.5, width + 0.5, 2000), [0.0, 0.025, width - 0.025, width,
+                                                               -1e-12, 0.075, width - 0.075]])
+    y = np.concatenate([rng.uniform(-0.5, height + 0.5, 2000), [0.025, 0.0, 0.075, 0.3,
+                                                                0.3, height - 0.075, height]])
+    many = old_map_clearance(CONTROLLER, x, y)
+    one = np.array([CONTROLLER._map_clearance(np.array([a]), np.array([b]))[0]
+                    for a, b in zip(x.tolist(), y.tolist())])
+    assert one.tobytes() == many.tobytes()
+    assert (many == 0.0).any() and (many > 0.0).any()
+
+
 def test_map_clearance_keeps_the_shape_of_a_single_point_and_a_row():
     for x, y in [(1.0, 1.0), (np.array([1.0]), np.array([1.0])), (-3.0, 1.0),
                  (np.array([0.4, 1.3, -2.0]), np.array([[0.7], [1.1]]))]:

@@ -104,3 +104,20 @@ def test_a_map_saved_as_map_server_loads_back_the_same(tmp_path):
     assert set(again.places) == set(grid.places)
     for name, (x, y, th) in grid.places.items():
         assert again.places[name] == pytest.approx((x, y, th), abs=1e-3)
+
+
+@pytest.mark.filterwarnings("ignore:invalid value encountered in cast")   # the NaN point's cell
+def test_the_clearance_of_one_point_is_the_array_clearance_there():
+    """`clearance_at` (plain floats) reads the cell and value `clearance` reads: on the map,
+    off it, on cell edges, and at non-finite points."""
+    from skills.navigation.gridmap import GridMap
+    rng = np.random.default_rng(7)
+    grid = GridMap(rng.random((30, 40)) < 0.1, 0.05, (-0.73, 1.1))
+    xs = np.concatenate([rng.uniform(-1.5, 2.0, 3000), -0.73 + 0.05 * rng.integers(-3, 44, 300),
+                         [np.nan, np.inf, -np.inf, 1e300]])
+    ys = np.concatenate([rng.uniform(0.3, 3.0, 3000), 1.1 + 0.05 * rng.integers(-3, 34, 300),
+                         [0.5, 2.0, 2.0, 2.0]])
+    expected = grid.clearance(xs, ys)
+    got = np.array([grid.clearance_at(x, y) for x, y in zip(xs.tolist(), ys.tolist())])
+    assert got.tobytes() == expected.tobytes()
+    assert (expected == 0.0).any() and (expected > 0.0).any()

@@ -8,7 +8,8 @@ from __future__ import annotations
 import numpy as np
 
 from skills.navigation.gridmap import GridMap
-from skills.navigation.mcl import BlockedCells, FieldLookup, beam_endpoints, expected_ranges
+from skills.navigation.mcl import (BlockedCells, FieldLookup, beam_endpoints, expected_ranges,
+                                   weighted_estimate)
 
 
 def random_map(rng) -> GridMap:
@@ -31,6 +32,21 @@ def test_at_beams_is_the_lookup_of_beam_endpoints():
         fast = lookup.at_beams(particles, beams, ranges)
         plain = lookup(*beam_endpoints(particles, beams, ranges))
         assert fast.tobytes() == plain.tobytes()
+        turns = (np.cos(particles[:, 2]), np.sin(particles[:, 2]))   # as the filter keeps them
+        assert lookup.at_beams(particles, beams, ranges, turns).tobytes() == plain.tobytes()
+
+
+def test_the_estimate_with_the_kept_cosines_and_sines_is_the_estimate_without():
+    rng = np.random.default_rng(6)
+    for _ in range(20):
+        particles = np.column_stack([rng.normal(1.0, 0.3, 500), rng.normal(-2.0, 0.3, 500),
+                                     rng.normal(3.0, 0.4, 500)])
+        weights = rng.random(500)
+        weights /= weights.sum()
+        pose, cov = weighted_estimate(particles, weights)
+        kept = weighted_estimate(particles, weights,
+                                 (np.cos(particles[:, 2]), np.sin(particles[:, 2])))
+        assert kept[0] == pose and kept[1].tobytes() == cov.tobytes()
 
 
 def test_blocked_cells_are_the_cells_not_known_free_on_and_off_the_map():

@@ -289,3 +289,39 @@ def test_the_lean_filter_steps_bit_for_bit_as_filterpy():
             kf.update(z, R=r, H=motion_model.H)
         assert filters[0].x.tobytes() == filters[1].x.tobytes()
         assert filters[0].P.tobytes() == filters[1].P.tobytes()
+
+
+def test_the_stacked_filter_steps_bit_for_bit_as_each_filter_alone():
+    """`predict_all` and `update_all` give every filter the floats of its own
+    `predict` and `update` (the tracker steps its constant-velocity filters so)."""
+    from skills.people import motion_model
+    from skills.people.kalman import LeanKalmanFilter, predict_all, update_all
+    from skills.people.tracker import _inverses, inverse_2x2_single
+    rng = np.random.default_rng(5)
+
+    def filters():
+        made = []
+        for k in range(6):
+            kf = LeanKalmanFilter(dim_x=4, dim_z=2)
+            kf.x = np.array([[1.0 + k], [2.0 - k], [0.3], [-0.1 * k]])
+            kf.P = np.diag([0.04, 0.05, 1.0, 0.9]) * (1 + k)
+            kf.H, kf.inv = motion_model.H, inverse_2x2_single
+            made.append(kf)
+        return made
+    alone, stacked = filters(), filters()
+    for _ in range(40):
+        dt = float(rng.uniform(0.05, 0.3))
+        f, q = motion_model.transition(dt), motion_model.process_noise(dt, 0.5)
+        z = rng.normal(2.0, 1.0, (6, 2, 1))
+        r = np.array([np.diag(rng.uniform(0.001, 0.05, 2)) for _ in range(6)])
+        r[:, 0, 1] = r[:, 1, 0] = rng.uniform(-0.0005, 0.0005, 6)
+        for kf in alone:
+            kf.predict(F=f, Q=q)
+        predict_all(stacked, f, q)
+        some = sorted(rng.choice(6, size=int(rng.integers(1, 7)), replace=False).tolist())
+        for i in some:
+            alone[i].update(z[i], R=r[i], H=motion_model.H)
+        update_all([stacked[i] for i in some], z[some], r[some], motion_model.H, _inverses)
+        for a, b in zip(alone, stacked):
+            assert a.x.tobytes() == b.x.tobytes()
+            assert a.P.tobytes() == b.P.tobytes()
