@@ -64,11 +64,16 @@ class WallIndex:
         bound of the wall distance, kept per cell of a coarse grid, is beyond it); True where
         one may be. Lets a caller measure only the positions near walls: in a hallway most
         people are far from both walls most of the time."""
+        return self.lower_bounds(positions) < distance
+
+    def lower_bounds(self, positions: np.ndarray) -> np.ndarray:
+        """For each position (n, 2) a lower bound of its distance to the nearest wall (inf
+        without walls): `may_be_near` for several distances from one lookup."""
         if len(self.segments) == 0:
-            return np.zeros(len(positions), dtype=bool)
+            return np.full(len(positions), np.inf)
         if self._lower is None:
             self._lower = _LowerBounds(self.segments)
-        return self._lower.below(positions, distance)
+        return self._lower.bounds(positions)
 
     def nearest_points(self, positions: np.ndarray) -> np.ndarray:
         """For each position (n, 2) the nearest point of any wall (n, 2), exact where that
@@ -111,18 +116,19 @@ class _LowerBounds:
         self._rows = self.bound.tolist()       # the same bounds, for the plain loop
         self._origin = tuple(self.origin.tolist())
 
-    def below(self, positions: np.ndarray, distance: float) -> np.ndarray:
+    def bounds(self, positions: np.ndarray) -> np.ndarray:
+        """The bound of each position's cell (n,)."""
         if len(positions) <= FEW_POSITIONS:
-            return self._below_few(positions, distance)
+            return self._bounds_few(positions)
         cells = np.floor((positions - self.origin) / self.CELL).astype(np.intp)
         inside = ((cells[:, 0] >= 0) & (cells[:, 0] < self.shape[0])
                   & (cells[:, 1] >= 0) & (cells[:, 1] < self.shape[1]))
         bound = np.zeros(len(positions))
         bound[inside] = self.bound[cells[inside, 0], cells[inside, 1]]
-        return bound < distance
+        return bound
 
-    def _below_few(self, positions: np.ndarray, distance: float) -> np.ndarray:
-        """`below` for a few positions in plain Python (the same arithmetic: numpy's call
+    def _bounds_few(self, positions: np.ndarray) -> np.ndarray:
+        """`bounds` for a few positions in plain Python (the same arithmetic: numpy's call
         overhead outweighs the work for a crowd of ten, queried twice per substep)."""
         ox, oy = self._origin
         nx, ny = self.shape
@@ -130,8 +136,8 @@ class _LowerBounds:
         out = []
         for x, y in positions.tolist():
             i, j = math.floor((x - ox) / cell), math.floor((y - oy) / cell)
-            out.append((rows[i][j] if 0 <= i < nx and 0 <= j < ny else 0.0) < distance)
-        return np.array(out, dtype=bool)
+            out.append(rows[i][j] if 0 <= i < nx and 0 <= j < ny else 0.0)
+        return np.array(out)
 
 
 def _segment_parts(segments: np.ndarray) -> tuple[np.ndarray, ...]:
