@@ -28,13 +28,19 @@ class WallIndex:
         self.reach = reach
         self.cell = cell
         self._lower: _LowerBounds | None = None
+        self._cell_walls: dict[int, list[tuple[float, float, float, float]]] = {}
         self._full = len(segments) <= FEW_WALLS
         if self._full:
             self._pairs = _segment_pairs(segments)       # the same for every query
-            return
+        if len(segments):
+            self._grid(segments, reach, cell)
+
+    def _grid(self, segments: np.ndarray, reach: float, cell: float) -> None:
+        """The cells and their segments (also for few walls: `clear_of` looks there)."""
         low = np.minimum(segments[:, :2], segments[:, 2:]).min(axis=0) - reach
         high = np.maximum(segments[:, :2], segments[:, 2:]).max(axis=0) + reach
         self.origin = low
+        self._origin = tuple(low.tolist())            # the same, for plain floats
         self.shape = tuple(int(k) for k in np.ceil((high - low) / cell).astype(int) + 1)
         self._last_cell = np.array(self.shape) - 1
         self._candidates = self._bucket(segments)
@@ -58,6 +64,34 @@ class WallIndex:
             found = np.flatnonzero(near[row])
             table[row, :len(found)] = found
         return table
+
+    def clear_of(self, x: float, y: float, distance: float) -> bool:
+        """True when no wall comes within `distance` (at most `reach`) of the point (x, y),
+        up to rounding (far below a µm): measured in plain floats over the walls of the
+        point's cell, for a few points where numpy's call overhead outweighs the work."""
+        if len(self.segments) == 0:
+            return True
+        ox, oy = self._origin
+        i, j = math.floor((x - ox) / self.cell), math.floor((y - oy) / self.cell)
+        nx, ny = self.shape
+        if not (0 <= i < nx and 0 <= j < ny):
+            return True             # off the grid: farther than reach from every wall
+        for x1, y1, x2, y2 in self._walls_of_cell(i * ny + j):
+            ex, ey = x2 - x1, y2 - y1
+            u = min(1.0, max(0.0, ((x - x1) * ex + (y - y1) * ey) / max(ex * ex + ey * ey,
+                                                                          1e-18)))
+            if math.hypot(x1 + u * ex - x, y1 + u * ey - y) < distance:
+                return False
+        return True
+
+    def _walls_of_cell(self, cell: int) -> list[tuple[float, float, float, float]]:
+        """The segments of one cell as plain floats (kept: a crowd asks about a few cells)."""
+        walls = self._cell_walls.get(cell)
+        if walls is None:
+            rows = self._candidates[cell]
+            walls = self._cell_walls[cell] = self.segments[rows[rows < len(self.segments)]
+                                                           ].tolist()
+        return walls
 
     def may_be_near(self, positions: np.ndarray, distance: float) -> np.ndarray:
         """For each position (n, 2), False where no wall can be within `distance` (a lower
