@@ -28,13 +28,19 @@ class WallIndex:
         self.reach = reach
         self.cell = cell
         self._lower: _LowerBounds | None = None
+        self._cell_walls: dict[int, list[tuple[float, float, float, float]]] = {}
         self._full = len(segments) <= FEW_WALLS
         if self._full:
             self._pairs = _segment_pairs(segments)       # the same for every query
-            return
+        if len(segments):
+            self._grid(segments, reach, cell)
+
+    def _grid(self, segments: np.ndarray, reach: float, cell: float) -> None:
+        """The cells and their segments (also for few walls: `clear_of` looks there)."""
         low = np.minimum(segments[:, :2], segments[:, 2:]).min(axis=0) - reach
         high = np.maximum(segments[:, :2], segments[:, 2:]).max(axis=0) + reach
         self.origin = low
+        self._origin = tuple(low.tolist())            # the same, for plain floats
         self.shape = tuple(int(k) for k in np.ceil((high - low) / cell).astype(int) + 1)
         self._last_cell = np.array(self.shape) - 1
         self._candidates = self._bucket(segments)
@@ -59,16 +65,49 @@ class WallIndex:
             table[row, :len(found)] = found
         return table
 
+    def clear_of(self, x: float, y: float, distance: float) -> bool:
+        """True when no wall comes within `distance` (at most `reach`) of the point (x, y),
+        up to rounding (far below a µm): measured in plain floats over the walls of the
+        point's cell, for a few points where numpy's call overhead outweighs the work."""
+        if len(self.segments) == 0:
+            return True
+        ox, oy = self._origin
+        i, j = math.floor((x - ox) / self.cell), math.floor((y - oy) / self.cell)
+        nx, ny = self.shape
+        if not (0 <= i < nx and 0 <= j < ny):
+            return True             # off the grid: farther than reach from every wall
+        for x1, y1, x2, y2 in self._walls_of_cell(i * ny + j):
+            ex, ey = x2 - x1, y2 - y1
+            u = min(1.0, max(0.0, ((x - x1) * ex + (y - y1) * ey) / max(ex * ex + ey * ey,
+                                                                          1e-18)))
+            if math.hypot(x1 + u * ex - x, y1 + u * ey - y) < distance:
+                return False
+        return True
+
+    def _walls_of_cell(self, cell: int) -> list[tuple[float, float, float, float]]:
+        """The segments of one cell as plain floats (kept: a crowd asks about a few cells)."""
+        walls = self._cell_walls.get(cell)
+        if walls is None:
+            rows = self._candidates[cell]
+            walls = self._cell_walls[cell] = self.segments[rows[rows < len(self.segments)]
+                                                           ].tolist()
+        return walls
+
     def may_be_near(self, positions: np.ndarray, distance: float) -> np.ndarray:
         """For each position (n, 2), False where no wall can be within `distance` (a lower
         bound of the wall distance, kept per cell of a coarse grid, is beyond it); True where
         one may be. Lets a caller measure only the positions near walls: in a hallway most
         people are far from both walls most of the time."""
+        return self.lower_bounds(positions) < distance
+
+    def lower_bounds(self, positions: np.ndarray) -> np.ndarray:
+        """For each position (n, 2) a lower bound of its distance to the nearest wall (inf
+        without walls): `may_be_near` for several distances from one lookup."""
         if len(self.segments) == 0:
-            return np.zeros(len(positions), dtype=bool)
+            return np.full(len(positions), np.inf)
         if self._lower is None:
             self._lower = _LowerBounds(self.segments)
-        return self._lower.below(positions, distance)
+        return self._lower.bounds(positions)
 
     def nearest_points(self, positions: np.ndarray) -> np.ndarray:
         """For each position (n, 2) the nearest point of any wall (n, 2), exact where that
@@ -111,18 +150,19 @@ class _LowerBounds:
         self._rows = self.bound.tolist()       # the same bounds, for the plain loop
         self._origin = tuple(self.origin.tolist())
 
-    def below(self, positions: np.ndarray, distance: float) -> np.ndarray:
+    def bounds(self, positions: np.ndarray) -> np.ndarray:
+        """The bound of each position's cell (n,)."""
         if len(positions) <= FEW_POSITIONS:
-            return self._below_few(positions, distance)
+            return self._bounds_few(positions)
         cells = np.floor((positions - self.origin) / self.CELL).astype(np.intp)
         inside = ((cells[:, 0] >= 0) & (cells[:, 0] < self.shape[0])
                   & (cells[:, 1] >= 0) & (cells[:, 1] < self.shape[1]))
         bound = np.zeros(len(positions))
         bound[inside] = self.bound[cells[inside, 0], cells[inside, 1]]
-        return bound < distance
+        return bound
 
-    def _below_few(self, positions: np.ndarray, distance: float) -> np.ndarray:
-        """`below` for a few positions in plain Python (the same arithmetic: numpy's call
+    def _bounds_few(self, positions: np.ndarray) -> np.ndarray:
+        """`bounds` for a few positions in plain Python (the same arithmetic: numpy's call
         overhead outweighs the work for a crowd of ten, queried twice per substep)."""
         ox, oy = self._origin
         nx, ny = self.shape
@@ -130,8 +170,8 @@ class _LowerBounds:
         out = []
         for x, y in positions.tolist():
             i, j = math.floor((x - ox) / cell), math.floor((y - oy) / cell)
-            out.append((rows[i][j] if 0 <= i < nx and 0 <= j < ny else 0.0) < distance)
-        return np.array(out, dtype=bool)
+            out.append(rows[i][j] if 0 <= i < nx and 0 <= j < ny else 0.0)
+        return np.array(out)
 
 
 def _segment_parts(segments: np.ndarray) -> tuple[np.ndarray, ...]:
