@@ -93,16 +93,11 @@ class WallIndex:
                                                            ].tolist()
         return walls
 
-    def may_be_near(self, positions: np.ndarray, distance: float) -> np.ndarray:
-        """For each position (n, 2), False where no wall can be within `distance` (a lower
-        bound of the wall distance, kept per cell of a coarse grid, is beyond it); True where
-        one may be. Lets a caller measure only the positions near walls: in a hallway most
-        people are far from both walls most of the time."""
-        return self.lower_bounds(positions) < distance
-
     def lower_bounds(self, positions: np.ndarray) -> np.ndarray:
         """For each position (n, 2) a lower bound of its distance to the nearest wall (inf
-        without walls): `may_be_near` for several distances from one lookup."""
+        without walls; 0 off the index's grid), kept per cell of a coarse grid. Lets a caller
+        measure only the positions near walls: in a hallway most people are far from both
+        walls most of the time."""
         if len(self.segments) == 0:
             return np.full(len(positions), np.inf)
         if self._lower is None:

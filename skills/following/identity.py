@@ -29,7 +29,6 @@ from dataclasses import dataclass, replace
 
 
 from skills.following import score
-from skills.navigation.gridmap import point_clearance
 from skills.people import appearance
 from skills.people.track import CONFIRMED
 
@@ -436,4 +435,4 @@ class Identity:
         one along the shelf ends, and the relaxed rule took it back as her)."""
         nav = self.navigation
         least = FOLLOWED_CLEARANCE if followed else PERSON_CLEARANCE
-        return nav is None or bool(point_clearance(nav.grid, track.x, track.y) >= least)
+        return nav is None or bool(nav.grid.clearance_at(track.x, track.y) >= least)

@@ -12,8 +12,6 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
-from skills.navigation.gridmap import point_clearance
-
 FREE_MARGIN = 0.1         # m beyond the robot's radius a goal must keep from walls
 WALK_CELL = 0.25          # m: the lattice walking distances are measured on
 PERSON_ROOM = 0.25        # m a person's centre keeps from walls (where a person fits)
@@ -28,7 +26,7 @@ class Room:
         if nav is None:
             return True
         margin = nav.profile.radius + FREE_MARGIN
-        return bool(point_clearance(nav.grid, x, y) >= margin)
+        return bool(nav.grid.clearance_at(x, y) >= margin)
 
     def _free_towards(self, start, end):
         """The point nearest `end` on the segment from `start` where the robot fits, walking

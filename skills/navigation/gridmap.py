@@ -203,11 +203,3 @@ def read_pgm(path: Path) -> tuple[np.ndarray, int]:
         return mapserver.read_pgm(path)
     except FloorError as exc:
         raise MapError(str(exc)) from None
-
-
-def point_clearance(grid, x: float, y: float):
-    """The clearance of one point: `GridMap.clearance_at` for a GridMap (plain floats), the
-    map's own `clearance` for any other map-like object (a test's stand-in)."""
-    if isinstance(grid, GridMap):
-        return grid.clearance_at(x, y)
-    return grid.clearance(x, y)

@@ -62,28 +62,50 @@ def test_the_store_floor_is_answered_the_same_bucketed_or_not(monkeypatch):
 
 @pytest.mark.parametrize("seed", range(3))
 def test_a_position_said_to_be_far_from_every_wall_is(seed):
-    """`may_be_near` may say "perhaps" of a far position, never "no" of a near one."""
+    """A lower bound below a distance may say "perhaps" of a far position, never "no" of
+    a near one."""
     rng = np.random.default_rng(seed)
     segments = random_walls(rng, 150)
     index = WallIndex(segments, reach=0.7)
     positions = rng.uniform(-16, 16, (4000, 2))
     true = np.hypot(*(positions - full_search(positions, segments)).T)
     for distance in (0.2, 0.7):
-        near = index.may_be_near(positions, distance)
+        near = index.lower_bounds(positions) < distance
         assert (near | (true >= distance)).all()
         assert (~near).sum() > 100                   # and it does rule some out
 
 
 def test_a_few_positions_are_ruled_out_as_many_are():
-    """`may_be_near` answers a crowd's few positions (a plain loop) as it answers many
+    """`lower_bounds` answers a crowd's few positions (a plain loop) as it answers many
     (numpy), off the grid too."""
     rng = np.random.default_rng(5)
     index = WallIndex(random_walls(rng, 150), reach=0.7)
     positions = rng.uniform(-16, 16, (600, 2))
     assert len(positions) > wall_index.FEW_POSITIONS
     for distance in (0.2, 0.7):
-        many = index.may_be_near(positions, distance)
-        few = np.concatenate([index.may_be_near(positions[k:k + 7], distance)
+        many = index.lower_bounds(positions) < distance
+        few = np.concatenate([index.lower_bounds(positions[k:k + 7]) < distance
                               for k in range(0, len(positions), 7)])
         assert many.any() and (~many).any()
         assert np.array_equal(few, many)
+
+
+@pytest.mark.parametrize("few_walls", [wall_index.FEW_WALLS, 10_000])
+@pytest.mark.parametrize("seed", range(2))
+def test_a_point_said_clear_of_walls_is_and_one_near_a_wall_is_not(monkeypatch, few_walls,
+                                                                   seed):
+    """`clear_of` (plain floats over the point's cell, the crowd's test for sparing a round of
+    pushing apart) answers as a search over every wall, up to rounding, bucketed or not; and
+    `lower_bounds` never exceeds a position's true distance."""
+    monkeypatch.setattr(wall_index, "FEW_WALLS", few_walls)
+    rng = np.random.default_rng(seed)
+    segments = random_walls(rng, 150)
+    index = WallIndex(segments, reach=0.7)
+    positions = rng.uniform(-16, 16, (3000, 2))
+    true = np.hypot(*(positions - full_search(positions, segments)).T)
+    assert (index.lower_bounds(positions) <= true + 1e-9).all()
+    for distance in (0.2, 0.5):
+        clear = np.array([index.clear_of(x, y, distance) for x, y in positions.tolist()])
+        decided = np.abs(true - distance) > 1e-9
+        assert np.array_equal(clear[decided], (true >= distance)[decided])
+        assert clear.any() and (~clear).any()

@@ -102,6 +102,10 @@ class ShelfGrid:
     def clearance(self, x, y):
         return self.shelf_x - np.asarray(x, dtype=float) + 0.0 * np.asarray(y, dtype=float)
 
+    def clearance_at(self, x: float, y: float) -> float:
+        """`clearance` of one point, as GridMap.clearance_at answers it."""
+        return float(self.clearance(x, y))
+
 
 class Navigation:
     """Navigation that records its goals and never moves (for tests without a world)."""

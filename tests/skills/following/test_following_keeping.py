@@ -104,7 +104,8 @@ class _SpeedNavigation(Navigation):
         from robots.profile import load_profile
         super().__init__()
         self.profile = load_profile("perses")
-        self.grid = type("Open", (), {"clearance": staticmethod(lambda x, y: 10.0)})()
+        self.grid = type("Open", (), {"clearance": staticmethod(lambda x, y: 10.0),
+                                       "clearance_at": staticmethod(lambda x, y: 10.0)})()
         self.asked = []
 
     def go_to(self, goal, now, speed=None):
