@@ -138,6 +138,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._waiting_since: float | None = None
         self._contest: _Belief | None = None          # the customer before someone came close
         self._contest_ids: set[int] = set()
+        self._contest_others: dict[int, _Belief] = {}  # the others as they came close to her
         self._unsettled = False       # a contest ended with two fitting alike: decided each tick
         self._first_seen: dict[int, tuple[float, float, float]] = {}   # id: (t, x, y)
         self._usual_pace = USUAL_PACE
@@ -373,8 +374,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._looking_since = None
         self._recent = []
         self._waiting_since = None
-        self._contest = None
-        self._contest_ids = set()
+        self._end_contest()
         self._unsettled = False
         self._first_seen = {}
         self._usual_pace = USUAL_PACE

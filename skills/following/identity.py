@@ -24,6 +24,7 @@ be somebody else.
 """
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass, replace
 
@@ -343,6 +344,9 @@ class Identity:
                 standing = self._pace(target, now) < self.params.standing
                 self._contest = _Belief(b.x, b.y, 0.0 if standing else b.vx,
                                         0.0 if standing else b.vy, b.t)
+            for t in tracks:
+                if t.id in near and t.id not in self._contest_ids:
+                    self._contest_others[t.id] = self._as_they_came(t, now)
             self._contest_ids |= near
             return target
         if self._contest is None:
@@ -367,7 +371,8 @@ class Identity:
             # one of two who fitted alike vanished (hidden by the other): the one left is not
             # her for that; she is lost, and found again as after any loss (the look-alike,
             # a stranger, never is; bench_follow lookalike seed 0, PERSES)
-            self._unsettled, self._contest, self._contest_ids = False, None, set()
+            self._unsettled = False
+            self._end_contest()
             self._belief = before
             return None
         velocity = (before.vx, before.vy)
@@ -381,12 +386,16 @@ class Identity:
         alike = look is not None and any(t.id in self._strangers for t in options)
         since = math.inf if alike else before.t
         followed = self.state.target
-        best, ambiguous = score.decide(
-            [(score.identity_score(t, expected, velocity, UNTANGLE_REACH, look, since=since)
-              + (CONTINUITY if t.id == followed else 0.0), t) for t in options])
+        scored = []
+        for t in options:
+            hers = (score.identity_score(t, expected, velocity, UNTANGLE_REACH, look, since=since)
+                    + (CONTINUITY if t.id == followed else 0.0))
+            rest = [o for o in options if o is not t]
+            scored.append((hers, hers + self._others_explained(rest, now), t))
+        best, ambiguous = score.decide_assignment(scored)
         self._unsettled = best is None and ambiguous
         if not self._unsettled:
-            self._contest, self._contest_ids = None, set()
+            self._end_contest()
         if best is None:
             # none of them is where the customer should be (they are hidden: the track that
             # walked off with the id was somebody else), or two fit alike (a look-alike
@@ -402,6 +411,40 @@ class Identity:
                 self._others.add(followed)
             self.state = replace(self.state, swaps=self.state.swaps + 1)
         return best
+
+    def _as_they_came(self, track, now: float) -> _Belief:
+        """Where a contestant was and how it moved when it came close to her (standing still
+        if slower than `standing`, as she is remembered in `_untangle`)."""
+        moving = math.hypot(track.vx, track.vy) >= self.params.standing
+        return _Belief(track.x, track.y, track.vx if moving else 0.0,
+                       track.vy if moving else 0.0, now)
+
+    def _others_explained(self, rest, now: float) -> float:
+        """How well the contestants other than the one taken for her are explained as the
+        other people who came close (`_contest_others`), by the best one-to-one pairing:
+        position and motion scores against where each was predicted. It is the other half of
+        the settle's question: her followed track 0.13 m from where she stood and the
+        look-alike's 0.7 m off fitted her alike (within the margin), though the look-alike
+        stood exactly where he had stood all along; scored on her alone, the settle waited,
+        and when she walked off took the look-alike for her by elimination and the robot
+        stood by him for 174 s (bench_follow lookalike seed 10, HOROS, issue 23)."""
+        people = list(self._contest_others.values())
+        if not rest or not people:
+            return 0.0
+        horizon = self.params.predict_for
+
+        def fit(track, person: _Belief) -> float:
+            return score.position_score(track, person.at(now, horizon), UNTANGLE_REACH)
+
+        if len(rest) <= len(people):
+            pairings = ((rest, chosen) for chosen in itertools.permutations(people, len(rest)))
+        else:
+            pairings = ((chosen, people) for chosen in itertools.permutations(rest, len(people)))
+        return max(sum(fit(t, person) for t, person in zip(tracks, persons))
+                   for tracks, persons in pairings)
+
+    def _end_contest(self) -> None:
+        self._contest, self._contest_ids, self._contest_others = None, set(), {}
 
     def _pace(self, track, now: float) -> float:
         """The customer's speed: the smaller of the track's (a constant-velocity Kalman filter

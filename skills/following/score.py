@@ -88,7 +88,19 @@ def decide(scored: list[tuple[float, object]]):
     """(choice, ambiguous) from (score, track) pairs: the best track if it reaches THRESHOLD
     and beats the runner-up (also above THRESHOLD) by MARGIN; None and ambiguous=True when
     two are that close; None and False when nobody reaches THRESHOLD."""
-    ranked = sorted((pair for pair in scored if pair[0] >= THRESHOLD), key=lambda p: -p[0])
+    return _ranked([pair for pair in scored if pair[0] >= THRESHOLD])
+
+
+def decide_assignment(scored: list[tuple[float, float, object]]):
+    """`decide` for a close pass, from (her score, joint score, track) triples: a track may
+    be her when its own score reaches THRESHOLD; the margin is taken on the joint score of
+    the whole assignment (this track is her and the others are who came close with her), so
+    where the others are counts too."""
+    return _ranked([(joint, track) for own, joint, track in scored if own >= THRESHOLD])
+
+
+def _ranked(eligible: list[tuple[float, object]]):
+    ranked = sorted(eligible, key=lambda p: -p[0])
     if not ranked:
         return None, False
     if len(ranked) > 1 and ranked[0][0] - ranked[1][0] < MARGIN:
@@ -96,4 +108,5 @@ def decide(scored: list[tuple[float, object]]):
     return ranked[0][1], False
 
 
-__all__ = ["identity_score", "decide", "position_log_density", "THRESHOLD", "MARGIN"]
+__all__ = ["identity_score", "decide", "decide_assignment", "position_log_density",
+           "THRESHOLD", "MARGIN"]

@@ -404,3 +404,27 @@ def test_a_look_alike_who_takes_her_id_walking_close_past_her_is_not_followed_af
         following.sense(t)
         assert following.state.lost or following.state.target == 2, (t, following.state)
     assert following.state.target == 2 and not following.state.lost
+
+
+def test_a_look_alike_standing_beside_her_is_not_taken_for_her_when_she_walks_off():
+    # HOROS bench_follow lookalike seed 10: a look-alike (seen apart from her, a stranger)
+    # stood 0.7 m from her while she stood at a shelf; when she walked off, her track and his
+    # fitted her alike on her account alone, the follower waited, and once she was out of the
+    # pass's reach took him for her by elimination (174 s at his side). Where he stood all
+    # along counts too: she is the one who walked off with her id.
+    following, perception, t = _her_standing_in_red()
+    for x in (3.5, 3.2, 2.9, 2.7, 2.5):                 # he comes up and stops beside her
+        t = round(t + 0.1, 6)
+        perception.believed = (seen(1, 2.0, 0.0, t, RED), seen(6, x, -0.5, t, RED))
+        following.sense(t)
+    assert 6 in following._strangers
+    for _ in range(20):                                  # the two stand 0.71 m apart
+        t = round(t + 0.1, 6)
+        perception.believed = (seen(1, 2.0, 0.0, t, RED), seen(6, 2.5, -0.5, t, RED))
+        following.sense(t)
+    for k in range(1, 40):                               # she walks off, he stays
+        t = round(t + 0.1, 6)
+        her = replace(seen(1, 2.0, 0.05 * k, t, RED), vy=0.5)
+        perception.believed = (her, seen(6, 2.5, -0.5, t, RED))
+        following.sense(t)
+        assert following.state.target == 1 and not following.state.lost, (t, following.state)

@@ -9,7 +9,8 @@ import pytest
 
 from robots.sim.appearance import appearance_of, observed
 from skills.following.score import (MARGIN, THRESHOLD, appearance_score, decide,
-                                    identity_score, motion_score, position_score)
+                                    decide_assignment, identity_score, motion_score,
+                                    position_score)
 
 
 def track(x=0.0, y=0.0, vx=0.0, vy=0.0, look=None):
@@ -52,6 +53,18 @@ def test_decide_takes_the_clear_best_waits_between_two_alike_and_takes_nobody_be
     assert decide([(THRESHOLD - 0.1, a)]) == (None, False)
     assert decide([(-0.5, a), (THRESHOLD - 5.0, b)]) == (a, False)    # b is nobody
     assert decide([]) == (None, False)
+
+
+def test_a_close_pass_is_decided_on_the_whole_assignment_among_those_who_may_be_her():
+    a, b = object(), object()
+    # alike on her own account, told apart by where the other one is: the joint decides
+    assert decide_assignment([(-0.1, -0.1, a), (-0.3, -0.3 - MARGIN - 0.1, b)]) == (a, False)
+    assert decide_assignment([(-0.1, -0.1, a), (-0.3, -0.3 - MARGIN + 0.3, b)]) == (None, True)
+    # a joint score below THRESHOLD does not rule out a track that may be her on its own ...
+    assert decide_assignment([(-0.5, THRESHOLD - 3.0, a)]) == (a, False)
+    # ... and one that may not be her is not taken however well the others fit then
+    assert decide_assignment([(THRESHOLD - 0.1, 5.0, a), (-1.0, -1.0, b)]) == (b, False)
+    assert decide_assignment([]) == (None, False)
 
 
 def test_a_view_taken_before_she_was_lost_counts_only_against():
