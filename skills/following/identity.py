@@ -16,7 +16,8 @@ While she is followed, the same identity score (`skills.following.score`) and it
 threshold decide each tick whether her track is still her (`_followed_score`). Without appearance, a track
 born after the loss outside the gate of that moment (someone who came from elsewhere) is not
 her either. Two people passing close may swap track ids: `_untangle` puts her back on the
-track nearest where she should be.
+track that best explains where she should be, together with where the others who came close
+should be (`_settle`).
 
 A part of `Following` (`skills.following.follower`); it reads `params`, `perception`,
 `navigation`, `state` and keeps the belief, her look, her trail and pace, and the ids known to
@@ -422,7 +423,10 @@ class Identity:
     def _others_explained(self, rest, now: float) -> float:
         """How well the contestants other than the one taken for her are explained as the
         other people who came close (`_contest_others`), by the best one-to-one pairing:
-        position and motion scores against where each was predicted. It is the other half of
+        position scores against where each was predicted (their motion when they came close
+        predicts where; it is not scored again: a track that jumped in a tick while
+        reporting walking pace then outweighed her fresh view, PERSES carts seed 4's test).
+        It is the other half of
         the settle's question: her followed track 0.13 m from where she stood and the
         look-alike's 0.7 m off fitted her alike (within the margin), though the look-alike
         stood exactly where he had stood all along; scored on her alone, the settle waited,

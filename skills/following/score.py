@@ -21,7 +21,9 @@ cue, so the cues weigh against each other in one currency:
 
 A track may be her when its score reaches THRESHOLD (the gate's edge without other evidence).
 When the best two candidates score within MARGIN of each other, the follower does not pick:
-it stops, says so and waits until they separate (`skills.following.follower`).
+it stops, says so and waits until they separate (`skills.following.follower`). After a close
+pass the margin is taken on the whole assignment (`decide_assignment`): her score plus how
+well the other tracks fit the others who came close.
 """
 from __future__ import annotations
 
