@@ -292,7 +292,7 @@ class Crowd:
         still keeps them out of it)."""
         p = self.params
         out = np.zeros_like(positions)
-        _, near, points = self._walls_at(positions, world)
+        near, points = self._walls_at(positions, world)
         if len(near) == 0:      # a zero force, as the far ones get below (its sign aside,
             return out          # which the comfort threshold makes + 0 when it is all)
         away = positions[near] - points
@@ -312,18 +312,18 @@ class Crowd:
         return self._walls
 
     def _walls_at(self, positions: np.ndarray, world: "World"
-                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Lower bounds of the wall distance of positions (n, 2), the indices of those that
-        may be within the wall force's reach, and their nearest wall points. Kept for the
-        positions last asked about: a substep's forces ask about where the last round of
-        pushing apart left everyone, which that round asked about already."""
+                  ) -> tuple[np.ndarray, np.ndarray]:
+        """The indices of the positions (n, 2) that may be within the wall force's reach (by
+        the index's lower bounds of their wall distance), and their nearest wall points.
+        Kept for the positions last asked about: a substep's forces ask about where the last
+        round of pushing apart left everyone, which that round asked about already."""
         walls = self._wall_index(world)
         key = positions.tobytes()
         if self._walls_memo is not None and self._walls_memo[:2] == (walls, key):
             return self._walls_memo[2]
         bounds = walls.lower_bounds(positions)
         near = np.flatnonzero(bounds < BODY_RADIUS + self.params.wall_reach)
-        found = bounds, near, walls.nearest_points(positions[near])
+        found = near, walls.nearest_points(positions[near])
         self._walls_memo = (walls, key, found)
         return found
 
@@ -517,7 +517,7 @@ class Crowd:
         positions = np.array([(p.x, p.y) for p in people])
         # those within the force's reach, a wider test than the overlap's (the rest are
         # farther than BODY_RADIUS, the overlap's distance, from every wall)
-        _, near, points = self._walls_at(positions, world)
+        near, points = self._walls_at(positions, world)
         if len(near) == 0:
             return {}
         away = positions[near] - points
