@@ -63,6 +63,9 @@ SCHEMA: dict[str, KeySpec] = {spec.key: spec for spec in (
          "free distance ahead of the body (sonar and laser), inf when clear"),
     _key("obstacles/rear", "float", "m", "obstacles",
          "free distance behind the body (rear sonars), inf when clear, 0 without rear sonars"),
+    _key("obstacles/turn_room", "tuple[float, float]", "rad", "obstacles",
+         "how far the body may turn left, right on the spot before a corner nears a reading; "
+         "inf for a round body"),
     _key("people/tracks", "tuple[Track, ...]", "m, m/s (world frame)", "perception",
          "confirmed people tracks"),
     _key("people/user", "Track | None", "m, m/s (world frame)", "perception",

@@ -23,6 +23,8 @@ from robots.exceptions import FaultResetError
 from robots.profile import Limits
 from skills.perception import PeoplePerception
 from skills.localization import Localization
+from skills.navigation.footprint import Footprint, turn_room
+from skills.obstacles import TURN_MARGIN
 from skills.safety import LEFT_BEHIND, PERSON_MIN_DISTANCE, arbitrate
 from skills.skill import Skill
 from skills.status import IDLE, RUNNING, SUCCEEDED, failed
@@ -31,6 +33,7 @@ TURN_GAIN = 1.5            # rad/s per rad of heading error
 DISTANCE_GAIN = 0.8        # m/s per m of distance error
 ALIGNED = math.radians(6)  # heading error counted as "facing"
 AT_DISTANCE = 0.1          # m
+PERSON_BODY_RADIUS = 0.2   # m: a tracked person's body, for the room to turn
 PERSON_CONE = math.radians(60)   # a person this far off the heading (or its reverse) is
                                  # ahead (behind) for the arbiter's minimum distance
 
@@ -53,9 +56,12 @@ class Motion(Skill):
     name = "motion"
 
     def __init__(self, blackboard, events, base: Base, limits: Limits,
-                 localization: Localization, perception: PeoplePerception) -> None:
+                 localization: Localization, perception: PeoplePerception,
+                 footprint: Footprint | None = None) -> None:
         super().__init__(blackboard, events)
         self.base = base
+        # the body whose corners a turn sweeps (a round one sweeps nothing)
+        self.footprint = footprint or Footprint.round(0.0)
         self.limits = limits
         self.localization = localization
         self.perception = perception
@@ -86,10 +92,25 @@ class Motion(Skill):
         v, w, reason = arbitrate(v, w, link_fresh=link, free_ahead=free, free_behind=behind,
                                  nearest_person=self._nearest_person(v), limits=self.limits,
                                  person_ahead=ahead, person_behind=rear,
-                                 min_person_distance=self.min_person_distance)
+                                 min_person_distance=self.min_person_distance,
+                                 turn_room=self._turn_room() if w else (math.inf, math.inf))
         self.base.command(v, w)
         self.write("motion/command", (v, w), now)
         self.write("motion/limit", reason, now)
+
+    def _turn_room(self) -> tuple[float, float]:
+        """rad the body may turn each way: the sensed readings' room, and each tracked
+        person's as a body of PERSON_BODY_RADIUS (beside or behind a robot whose laser looks
+        ahead only, a track may be all it knows of someone)."""
+        left, right = self.blackboard.value("obstacles/turn_room", (math.inf, math.inf))
+        state = self.localization.state
+        if self.footprint.is_round or state is None or not self.perception.tracks:
+            return left, right
+        c, s = math.cos(state.th), math.sin(state.th)
+        people = [(c * (t.x - state.x) + s * (t.y - state.y),
+                   -s * (t.x - state.x) + c * (t.y - state.y)) for t in self.perception.tracks]
+        by_people = turn_room(self.footprint, people, PERSON_BODY_RADIUS, TURN_MARGIN)
+        return min(left, by_people[0]), min(right, by_people[1])
 
     def _reset_fault_while_still(self, now: float) -> None:
         """Reset a drive fault the base offers to reset, while no goal asks for motion."""

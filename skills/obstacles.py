@@ -1,4 +1,5 @@
-"""Obstacle sensing: sonar ranges (from the base) and the free distance straight ahead and behind.
+"""Obstacle sensing: sonar ranges (from the base), the free distance straight ahead and behind,
+and the room to turn on the spot each way.
 
 The free distance counts every sonar and laser reading that falls inside the corridor the
 body sweeps when driving forward (backward); the safety arbiter stops forward (backward)
@@ -10,6 +11,10 @@ on the sonar's axis, unless the laser explains it: a laser reading inside the co
 (the same wall or jamb, placed precisely). Only unexplained echoes (glass, a low object) keep
 the axis placement: a door jamb seen by a 40-degree sonar otherwise stood in the way of a robot
 passing through the door centred.
+
+The room to turn (`obstacles/turn_room`, rad each way) is how far a box-shaped body can turn
+before a corner comes within TURN_MARGIN of a reading (`footprint.turn_room`); a round body's
+turn sweeps nothing.
 """
 from __future__ import annotations
 
@@ -21,7 +26,7 @@ from robots.devices import Laser
 from robots.profile import RobotProfile
 from skills.fastclip import clip as _clip
 from skills.localization import Localization
-from skills.navigation.footprint import Footprint, inside
+from skills.navigation.footprint import Footprint, inside, turn_room
 from skills.skill import Skill
 
 
@@ -75,6 +80,16 @@ class ObstacleSensing(Skill):
         if len(laser_points):
             free = min(free, self._free_ahead_points(laser_points[:, 0], laser_points[:, 1]))
         self.write("obstacles/front", free, now)
+        self.write("obstacles/turn_room", self._turn_room(ranges, laser_points), now)
+
+    def _turn_room(self, ranges, laser_points: np.ndarray) -> tuple[float, float]:
+        """rad the body can turn each way before a corner nears a laser reading or an echo the
+        laser does not explain (on its sonar's axis, as for the free distances)."""
+        if self.footprint.is_round:
+            return math.inf, math.inf
+        xs, ys = self._sonar_points(ranges) if len(ranges) else (np.zeros(0), np.zeros(0))
+        points = np.vstack([laser_points, np.column_stack([xs, ys])])
+        return turn_room(self.footprint, points, 0.0, TURN_MARGIN)
 
     def _free_behind_sonar(self, ranges) -> float:
         """The free distance behind from the sonars; 0 without any facing backwards, or
@@ -119,6 +134,7 @@ class ObstacleSensing(Skill):
         return float(max(0.0, xs[ahead].min() - self.front))
 
 
+TURN_MARGIN = 0.05          # m a turning corner keeps from any reading
 CORRIDOR_PAD = 0.05         # m beyond the half width counted as in the way ahead, at most
 PAD_DRIFT = math.radians(15)   # the pad widens as a drift of this heading would bring the body
 PAD_SLOPE = math.tan(PAD_DRIFT)

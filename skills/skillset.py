@@ -93,7 +93,7 @@ class SkillSet:
                                            hardware.laser, user_range=user_range,
                                            grid=_map_for_people(hardware, self.map))
         self.motion = Motion(bb, ev, hardware.base, self.profile.limits, self.localization,
-                             self.perception)
+                             self.perception, footprint=self.obstacles.footprint)
         self.speech = (Speech(bb, ev, hardware.speaker, hardware.screen)
                        if hardware.speaker else None)
         self.head = (HeadControl(bb, ev, hardware.head, self.profile.head, self.localization,

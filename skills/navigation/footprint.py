@@ -98,6 +98,44 @@ class Footprint:
         return box_gap(along, across, self.length / 2, self.width / 2).min(axis=-1)
 
 
+TURN_STEP = math.radians(2)     # the turning sweep is checked at poses this far apart
+SHRINKING = 0.005               # m: a gap closes by more than this (laser noise is less)
+
+
+def turn_room(footprint: Footprint, points: np.ndarray, radii=0.0,
+              margin: float = 0.0) -> tuple[float, float]:
+    """(left, right): how far (rad) the body can turn on the spot, counter-clockwise and
+    clockwise, before its outline comes within `margin` of a disc (centres `points` (k, 2) in
+    the body frame, `radii`) it now clears by more: a box's corners sweep out to its
+    circumscribed radius, so a turn alone may strike someone standing beside it (HOROS backing
+    off from a shopper while turning to face them, issue 23). A disc already nearer than that
+    stops only the turn that brings it nearer still. Infinite for a round base (its turn sweeps
+    nothing) and when no disc is within reach of the corners in half a turn."""
+    if footprint.is_round:
+        return math.inf, math.inf
+    points = np.asarray(points, float).reshape(-1, 2)
+    radii = np.broadcast_to(np.asarray(radii, float), (len(points),))
+    near = np.hypot(points[:, 0], points[:, 1]) - radii < footprint.circumscribed + margin
+    if not near.any():
+        return math.inf, math.inf
+    xs, ys, radii = points[near, 0], points[near, 1], radii[near]
+    return (_room_turning_left(footprint, xs, ys, radii, margin),
+            _room_turning_left(footprint, xs, -ys, radii, margin))
+
+
+def _room_turning_left(footprint: Footprint, xs, ys, radii, margin: float) -> float:
+    """`turn_room`'s counter-clockwise answer (the clockwise one is its mirror image)."""
+    half_length, half_width = footprint.length / 2, footprint.width / 2
+    now = box_gap(xs, ys, half_length, half_width) - radii
+    turns = TURN_STEP * np.arange(1, int(round(math.pi / TURN_STEP)) + 1)[:, None]
+    c, s = np.cos(turns), np.sin(turns)
+    # the body turning by +t is each disc turning by -t about the body's centre
+    gaps = box_gap(c * xs + s * ys, c * ys - s * xs, half_length, half_width) - radii
+    struck = ((gaps < margin) & (gaps < now - SHRINKING)).any(axis=1)
+    first = int(np.argmax(struck))
+    return float(first * TURN_STEP) if struck[first] else math.inf
+
+
 def inside(footprint: Footprint, points: np.ndarray) -> np.ndarray:
     """(k,) True for points (k, 2) in the robot frame that lie within the footprint: a range
     reading there is the robot itself or a stray return, never an obstacle."""

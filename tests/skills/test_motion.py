@@ -3,6 +3,8 @@ from __future__ import annotations
 
 import math
 
+import pytest
+
 from skills.motion import Goal
 from skills.skillset import open_skills
 
@@ -30,3 +32,54 @@ def test_keep_distance_approaches_the_user_and_slows_down_near_people(standing_p
             if d is not None and d < limits.near_people_distance]
     assert near and max(abs(v) for v in near) <= limits.max_speed_near_people + 1e-9
     assert max(v for v, _ in commands) > 0.0                  # it did drive towards the person
+
+
+STILL_PERSON = """
+[scenario]
+name = "standing still"
+duration = 60.0
+robot = "robot_home"
+motion = "scripted"      # she stands exactly where she is put, whatever the robot does
+[[person]]
+id = "sam"
+appear = 0.0
+at = [{x}, {y}]
+speed = 1.0
+steps = [ {{ pause = 100.0 }} ]
+"""
+
+
+def _turn_left_beside(tmp_path, side: float):
+    """HOROS (a box, at home facing +y) told to turn a quarter left with someone standing
+    still `side` m to its left, just ahead of its axle: the box's front corner sweeps towards
+    them. Returns the contacts with the robot moving, the turn made (rad) and the limits
+    given."""
+    # robot frame (0.12, side) in the world: the robot stands at (0, -0.75) facing +y
+    scenario = tmp_path / f"beside_{side}.toml"
+    scenario.write_text(STILL_PERSON.format(x=-side, y=-0.75 + 0.12))
+    skills = open_skills("horos", scenario=scenario, fast=True, seed=5)
+    clock, world = skills.hardware.clock, skills.hardware.simulation.world
+    try:
+        for _ in range(10):                                   # the person is tracked
+            skills.sense(); skills.act(); clock.advance(0.1)
+        start = world.body.th
+        skills.motion.start(Goal("turn_to", bearing=start + math.pi / 2), skills.now())
+        limits = []
+        for _ in range(60):
+            skills.sense(); skills.act(); clock.advance(0.1)
+            limits.append(skills.blackboard.value("motion/limit"))
+        turned = math.atan2(math.sin(world.body.th - start), math.cos(world.body.th - start))
+        return [c for c in world.measures.contacts if c.robot_moving], turned, limits
+    finally:
+        skills.close()
+
+
+def test_a_box_shaped_base_does_not_sweep_its_corner_into_someone_beside_it(tmp_path):
+    contacts, turned, limits = _turn_left_beside(tmp_path, 0.47)
+    assert contacts == []
+    assert 0.0 < turned < math.pi / 2 - 0.2                  # it turned, and stopped short
+    assert any("sweep a corner" in why for why in limits)
+    # with the person a step farther away the corner passes clear: the whole turn is made
+    contacts, turned, limits = _turn_left_beside(tmp_path, 0.75)
+    assert contacts == [] and turned == pytest.approx(math.pi / 2, abs=0.15)
+    assert not any("sweep" in why for why in limits)
