@@ -37,10 +37,14 @@ def mahalanobis_sq(track_xy: np.ndarray, track_cov: np.ndarray,
     return d2, np.log(det)
 
 
-def gated_cost(d2: np.ndarray, log_det: np.ndarray, gate: float) -> np.ndarray:
-    """Assignment cost d^2 + ln det S, INFEASIBLE outside the gate d^2 > gate."""
+def gated_cost(d2: np.ndarray, log_det: np.ndarray, gate: float,
+               out_of_reach: np.ndarray | None = None) -> np.ndarray:
+    """Assignment cost d^2 + ln det S, INFEASIBLE outside the gate d^2 > gate and where
+    `out_of_reach` (the same shape) is True."""
     cost = d2 + log_det
     cost[d2 > gate] = INFEASIBLE
+    if out_of_reach is not None:
+        cost[out_of_reach] = INFEASIBLE
     return cost
 
 

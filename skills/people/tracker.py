@@ -44,6 +44,12 @@ class TrackerParams:
     max_dt: float = 1.0               # s; longer gaps are predicted in steps no longer than this
     model: str = "cv"                 # "cv": constant velocity; "imm": walking + standing IMM
     min_variance: float = 1e-4        # m^2 (1 cm); added to detection covariances below it
+    # How far from its prediction a detection may still be a track's, in metres, whatever
+    # the filter's covariance says: reach_base + reach_accel * unseen^2 / 2 (a person veering
+    # off their walk at reach_accel m/s^2 for the time unseen, plus the detector's error).
+    # A track coasting for a second has a covariance whose 99.99 % gate spans ~3 m.
+    reach_base: float = 0.5           # m
+    reach_accel: float = 1.0          # m/s^2
 
 
 class _TrackState:
@@ -115,7 +121,7 @@ class PeopleTracker:
         xy, cov, confirming = fuse_close_detections(xy, cov, self.params.merge_distance,
                                                     confirming)
         looks = _appearances(detections, seen_xy, xy, self.params.merge_distance)
-        pairs, _, new_dets = self._associate(xy, cov)
+        pairs, _, new_dets = self._associate(xy, cov, t)
         self._update_filters(pairs, xy, cov)
         for i, j in pairs:
             self._correct(self._tracks[i], t, bool(confirming[j]), looks[j])
@@ -149,14 +155,27 @@ class PeopleTracker:
                 predict_all([state.kf for state in self._tracks], f, q)
             remaining -= dt
 
-    def _associate(self, xy: np.ndarray, cov: np.ndarray):
+    def _associate(self, xy: np.ndarray, cov: np.ndarray, t: float):
         n, m = len(self._tracks), len(xy)
         if n == 0 or m == 0:
             return [], list(range(n)), list(range(m))
         track_xy = np.array([s.kf.x[:2, 0] for s in self._tracks])
         track_cov = np.array([s.kf.P[:2, :2] for s in self._tracks])
         d2, log_det = mahalanobis_sq(track_xy, track_cov, xy, cov)
-        return assign(gated_cost(d2, log_det, self.params.gate))
+        return assign(gated_cost(d2, log_det, self.params.gate,
+                                 self._out_of_reach(track_xy, xy, t)))
+
+    def _out_of_reach(self, track_xy: np.ndarray, xy: np.ndarray, t: float) -> np.ndarray:
+        """(n, m) True where a detection is farther from a track's prediction than its person
+        can have got to (`TrackerParams.reach_base`, `reach_accel`). Without it a lost track
+        took over another person's legs 1.8 m from where it coasted (a look-alike's track
+        standing still jumped onto the customer, whose own track had gone off with a passer-by
+        the same way: bench_follow lookalike seed 2, PERSES, issue 23)."""
+        p = self.params
+        unseen = np.array([t - s.last_seen for s in self._tracks])
+        reach = p.reach_base + 0.5 * p.reach_accel * unseen ** 2
+        gap = track_xy[:, None, :] - xy[None, :, :]
+        return np.hypot(gap[..., 0], gap[..., 1]) > reach[:, None]
 
     def _update_filters(self, pairs: list[tuple[int, int]], xy: np.ndarray,
                         cov: np.ndarray) -> None:
