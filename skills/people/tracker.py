@@ -48,7 +48,7 @@ class TrackerParams:
     # the filter's covariance says: reach_base + reach_accel * unseen^2 / 2 (a person veering
     # off their walk at reach_accel m/s^2 for the time unseen, plus the detector's error).
     # A track coasting for a second has a covariance whose 99.99 % gate spans ~3 m.
-    reach_base: float = 0.5           # m
+    reach_base: float = 0.8           # m
     reach_accel: float = 1.0          # m/s^2
 
 
