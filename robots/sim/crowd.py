@@ -26,7 +26,9 @@ Forces below `comfort` m/s² are ignored (people do not drift apart while standi
 After the move, overlaps are pushed apart: bodies (0.2 m) and carts of different people, and
 anybody with the robot's footprint (which does not move), and bodies out of walls; a person
 whose overlap survives the pushing goes back to where they stood before the substep. A person
-appears only once their spot is free. So people never pass through one another or the robot.
+appears only once their spot is free, and at least APPEAR_CLEAR from the robot (nobody steps
+out of thin air beside it: someone who walks in comes from farther off, where its sensors see
+them coming). So people never pass through one another or the robot.
 """
 from __future__ import annotations
 
@@ -47,6 +49,9 @@ if TYPE_CHECKING:
 ROBOT_ATTENDED = (Approach, Answer, Follow, Lead, WaitForCall, MakeWay)
 PUSH_ROUNDS = 8            # rounds of pushing overlaps apart before the fallback
 OVERLAP_SLACK = 1e-6       # m of overlap that counts as touching
+APPEAR_CLEAR = 0.3         # m from the robot's footprint (body and cart) within which nobody
+                           # appears: one appearing 1 cm from it was touched the next tick and
+                           # counted as driven into (PERSES crowd20 seed 11, issue 23)
 BLOCKED_SHARE = 0.25       # moved less than this share of the wish: held up by the crowd
 HEADWAY_WINDOW = 1.0       # s over which headway and wish are averaged for that
 TRAIT_STREAM = 0x7E1D      # seeds each person's trait generator with the run's seed and index
@@ -537,16 +542,16 @@ class Crowd:
         return [people[k] for k in sorted(stuck)]
 
     def _room_at(self, person: SimPerson, world: "World") -> bool:
-        """True when a person appearing now overlaps nobody (with their cart) and not the
-        robot."""
+        """True when a person appearing now overlaps nobody (with their cart) and is at least
+        APPEAR_CLEAR from the robot."""
         present = [p for p in world.people if p.in_world]
         circles = [(person.x, person.y, BODY_RADIUS)] + person.cart_circles()
-        others = [(p.x, p.y, BODY_RADIUS) for p in present]
-        others += [c for p in present for c in p.cart_circles()]
-        others.extend(tuple(c) for c in world.body.circles())
+        others = [(p.x, p.y, BODY_RADIUS - OVERLAP_SLACK) for p in present]
+        others += [(x, y, r - OVERLAP_SLACK) for p in present for x, y, r in p.cart_circles()]
+        others.extend((x, y, r + APPEAR_CLEAR) for x, y, r in world.body.circles())
         for x, y, r in circles:
             for ox, oy, orad in others:
-                if math.hypot(x - ox, y - oy) < r + orad - OVERLAP_SLACK:
+                if math.hypot(x - ox, y - oy) < r + orad:
                     return False
         return True
 
