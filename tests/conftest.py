@@ -19,6 +19,7 @@ STANDING_PERSON = """
 name = "standing"
 duration = 60.0
 robot = "robot_home"
+motion = "{motion}"
 [[person]]
 id = "sam"
 appear = 0.0
@@ -41,10 +42,11 @@ def tablet_pairing_secret(tmp_path_factory):
 
 @pytest.fixture
 def standing_person(tmp_path):
-    """A scenario file with one person standing at (x, y) from the start (robot at robot_home)."""
-    def write(x: float, y: float):
-        path = tmp_path / f"standing_{x}_{y}.toml"
-        path.write_text(STANDING_PERSON.format(x=x, y=y))
+    """A scenario file with one person standing at (x, y) from the start (robot at robot_home);
+    `motion="scripted"`: exactly there, whatever the robot does (social: they step aside)."""
+    def write(x: float, y: float, motion: str = "social"):
+        path = tmp_path / f"standing_{x}_{y}_{motion}.toml"
+        path.write_text(STANDING_PERSON.format(x=x, y=y, motion=motion))
         return path
     return write
 

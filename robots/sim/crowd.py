@@ -26,9 +26,10 @@ Forces below `comfort` m/s² are ignored (people do not drift apart while standi
 After the move, overlaps are pushed apart: bodies (0.2 m) and carts of different people, and
 anybody with the robot's footprint (which does not move), and bodies out of walls; a person
 whose overlap survives the pushing goes back to where they stood before the substep. A person
-appears only once their spot is free, and at least APPEAR_CLEAR from the robot (nobody steps
-out of thin air beside it: someone who walks in comes from farther off, where its sensors see
-them coming). So people never pass through one another or the robot.
+appears only once their spot is free, and, when due after the start, at least APPEAR_CLEAR
+from the robot (nobody steps out of thin air beside it: someone who walks in comes from farther
+off, where its sensors see them coming; who stands beside it at the start is where the scenario
+put them). So people never pass through one another or the robot.
 """
 from __future__ import annotations
 
@@ -542,13 +543,14 @@ class Crowd:
         return [people[k] for k in sorted(stuck)]
 
     def _room_at(self, person: SimPerson, world: "World") -> bool:
-        """True when a person appearing now overlaps nobody (with their cart) and is at least
-        APPEAR_CLEAR from the robot."""
+        """True when a person appearing now overlaps nobody (with their cart) and, when due
+        after the start, is at least APPEAR_CLEAR from the robot."""
         present = [p for p in world.people if p.in_world]
         circles = [(person.x, person.y, BODY_RADIUS)] + person.cart_circles()
         others = [(p.x, p.y, BODY_RADIUS - OVERLAP_SLACK) for p in present]
         others += [(x, y, r - OVERLAP_SLACK) for p in present for x, y, r in p.cart_circles()]
-        others.extend((x, y, r + APPEAR_CLEAR) for x, y, r in world.body.circles())
+        clear = APPEAR_CLEAR if person.plan.appear > 0.0 else 0.0
+        others.extend((x, y, r + clear - OVERLAP_SLACK) for x, y, r in world.body.circles())
         for x, y, r in circles:
             for ox, oy, orad in others:
                 if math.hypot(x - ox, y - oy) < r + orad:

@@ -34,29 +34,13 @@ def test_keep_distance_approaches_the_user_and_slows_down_near_people(standing_p
     assert max(v for v, _ in commands) > 0.0                  # it did drive towards the person
 
 
-STILL_PERSON = """
-[scenario]
-name = "standing still"
-duration = 60.0
-robot = "robot_home"
-motion = "scripted"      # she stands exactly where she is put, whatever the robot does
-[[person]]
-id = "sam"
-appear = 0.0
-at = [{x}, {y}]
-speed = 1.0
-steps = [ {{ pause = 100.0 }} ]
-"""
-
-
-def _turn_left_beside(tmp_path, side: float):
+def _turn_left_beside(standing_person, side: float):
     """HOROS (a box, at home facing +y) told to turn a quarter left with someone standing
     still `side` m to its left, just ahead of its axle: the box's front corner sweeps towards
     them. Returns the contacts with the robot moving, the turn made (rad) and the limits
     given."""
     # robot frame (0.12, side) in the world: the robot stands at (0, -0.75) facing +y
-    scenario = tmp_path / f"beside_{side}.toml"
-    scenario.write_text(STILL_PERSON.format(x=-side, y=-0.75 + 0.12))
+    scenario = standing_person(-side, -0.75 + 0.12, motion="scripted")
     skills = open_skills("horos", scenario=scenario, fast=True, seed=5)
     clock, world = skills.hardware.clock, skills.hardware.simulation.world
     try:
@@ -74,12 +58,12 @@ def _turn_left_beside(tmp_path, side: float):
         skills.close()
 
 
-def test_a_box_shaped_base_does_not_sweep_its_corner_into_someone_beside_it(tmp_path):
-    contacts, turned, limits = _turn_left_beside(tmp_path, 0.47)
+def test_a_box_shaped_base_does_not_sweep_its_corner_into_someone_beside_it(standing_person):
+    contacts, turned, limits = _turn_left_beside(standing_person, 0.47)
     assert contacts == []
     assert 0.0 < turned < math.pi / 2 - 0.2                  # it turned, and stopped short
     assert any("sweep a corner" in why for why in limits)
     # with the person a step farther away the corner passes clear: the whole turn is made
-    contacts, turned, limits = _turn_left_beside(tmp_path, 0.75)
+    contacts, turned, limits = _turn_left_beside(standing_person, 0.75)
     assert contacts == [] and turned == pytest.approx(math.pi / 2, abs=0.15)
     assert not any("sweep" in why for why in limits)
