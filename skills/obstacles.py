@@ -87,9 +87,10 @@ class ObstacleSensing(Skill):
         laser does not explain (on its sonar's axis, as for the free distances)."""
         if self.footprint.is_round:
             return math.inf, math.inf
-        xs, ys = self._sonar_points(ranges) if len(ranges) else (np.zeros(0), np.zeros(0))
-        points = np.vstack([laser_points, np.column_stack([xs, ys])])
-        return turn_room(self.footprint, points, 0.0, TURN_MARGIN)
+        if len(ranges):
+            xs, ys = self._sonar_points(ranges)
+            laser_points = np.concatenate([laser_points, np.column_stack([xs, ys])])
+        return turn_room(self.footprint, laser_points, 0.0, TURN_MARGIN)
 
     def _free_behind_sonar(self, ranges) -> float:
         """The free distance behind from the sonars; 0 without any facing backwards, or

@@ -102,11 +102,11 @@ TURN_STEP = math.radians(2)     # the turning sweep is checked at poses this far
 SHRINKING = 0.005               # m: a gap closes by more than this (laser noise is less)
 
 
-def turn_room(footprint: Footprint, points: np.ndarray, radii=0.0,
+def turn_room(footprint: Footprint, points: np.ndarray, radius: float = 0.0,
               margin: float = 0.0) -> tuple[float, float]:
     """(left, right): how far (rad) the body can turn on the spot, counter-clockwise and
     clockwise, before its outline comes within `margin` of a disc (centres `points` (k, 2) in
-    the body frame, `radii`) it now clears by more: a box's corners sweep out to its
+    the body frame, each of `radius`) it now clears by more: a box's corners sweep out to its
     circumscribed radius, so a turn alone may strike someone standing beside it (HOROS backing
     off from a shopper while turning to face them, issue 23). A disc already nearer than that
     stops only the turn that brings it nearer still. Infinite for a round base (its turn sweeps
@@ -114,23 +114,25 @@ def turn_room(footprint: Footprint, points: np.ndarray, radii=0.0,
     if footprint.is_round:
         return math.inf, math.inf
     points = np.asarray(points, float).reshape(-1, 2)
-    radii = np.broadcast_to(np.asarray(radii, float), (len(points),))
-    near = np.hypot(points[:, 0], points[:, 1]) - radii < footprint.circumscribed + margin
+    xs, ys = points[:, 0], points[:, 1]
+    reach = footprint.circumscribed + margin + radius
+    # most ticks nothing is this near: a squared distance per point, then done
+    near = xs * xs + ys * ys < reach * reach
     if not near.any():
         return math.inf, math.inf
-    xs, ys, radii = points[near, 0], points[near, 1], radii[near]
-    return (_room_turning_left(footprint, xs, ys, radii, margin),
-            _room_turning_left(footprint, xs, -ys, radii, margin))
+    xs, ys = xs[near], ys[near]
+    return (_room_turning_left(footprint, xs, ys, radius, margin),
+            _room_turning_left(footprint, xs, -ys, radius, margin))
 
 
-def _room_turning_left(footprint: Footprint, xs, ys, radii, margin: float) -> float:
+def _room_turning_left(footprint: Footprint, xs, ys, radius: float, margin: float) -> float:
     """`turn_room`'s counter-clockwise answer (the clockwise one is its mirror image)."""
     half_length, half_width = footprint.length / 2, footprint.width / 2
-    now = box_gap(xs, ys, half_length, half_width) - radii
+    now = box_gap(xs, ys, half_length, half_width) - radius
     turns = TURN_STEP * np.arange(1, int(round(math.pi / TURN_STEP)) + 1)[:, None]
     c, s = np.cos(turns), np.sin(turns)
     # the body turning by +t is each disc turning by -t about the body's centre
-    gaps = box_gap(c * xs + s * ys, c * ys - s * xs, half_length, half_width) - radii
+    gaps = box_gap(c * xs + s * ys, c * ys - s * xs, half_length, half_width) - radius
     struck = ((gaps < margin) & (gaps < now - SHRINKING)).any(axis=1)
     first = int(np.argmax(struck))
     return float(first * TURN_STEP) if struck[first] else math.inf
