@@ -26,10 +26,7 @@ Forces below `comfort` m/s² are ignored (people do not drift apart while standi
 After the move, overlaps are pushed apart: bodies (0.2 m) and carts of different people, and
 anybody with the robot's footprint (which does not move), and bodies out of walls; a person
 whose overlap survives the pushing goes back to where they stood before the substep. A person
-appears only once their spot is free, and, when that is after the start, at least
-APPEAR_CLEAR from the robot (nobody steps out of thin air beside it: someone who walks in
-comes from farther off, where its sensors see them coming; who stands beside it at the start
-is where the scenario put them). So people never pass through one another or the robot.
+appears only once their spot is free. So people never pass through one another or the robot.
 """
 from __future__ import annotations
 
@@ -50,10 +47,6 @@ if TYPE_CHECKING:
 ROBOT_ATTENDED = (Approach, Answer, Follow, Lead, WaitForCall, MakeWay)
 PUSH_ROUNDS = 8            # rounds of pushing overlaps apart before the fallback
 OVERLAP_SLACK = 1e-6       # m of overlap that counts as touching
-APPEAR_CLEAR = 0.3         # m from the robot's footprint within which nobody appears after the
-                           # start: a shopper whose spot had been taken appeared 21.7 s in with
-                           # their cart 1 cm from PERSES, and was counted as driven into the
-                           # same tick (crowd20 seed 11, issue 23)
 BLOCKED_SHARE = 0.25       # moved less than this share of the wish: held up by the crowd
 HEADWAY_WINDOW = 1.0       # s over which headway and wish are averaged for that
 TRAIT_STREAM = 0x7E1D      # seeds each person's trait generator with the run's seed and index
@@ -100,7 +93,6 @@ class Crowd:
         self._walls_memo: tuple | None = None     # (index, positions, `_walls_at`'s answer)
         self._strengths: dict[tuple, np.ndarray] = {}   # repulsion shares, by the groups
         self._cos_half_fov = math.cos(params.fov / 2)
-        self._started = False     # the first step done: whoever appears now walks in
 
     @classmethod
     def for_scenario(cls, people: list[SimPerson], scenario: "Scenario | None",
@@ -129,7 +121,6 @@ class Crowd:
                     and not self._room_at(person, world)):
                 continue        # their spot is taken: they appear once it is free
             person.step(h, world)
-        self._started = True
         walking = [p for p in people if p.in_world and id(p) in present_before]
         if walking:
             self._apply_forces(walking, before, h, world)
@@ -546,18 +537,16 @@ class Crowd:
         return [people[k] for k in sorted(stuck)]
 
     def _room_at(self, person: SimPerson, world: "World") -> bool:
-        """True when a person appearing now overlaps nobody (with their cart) and, after the
-        start, is at least APPEAR_CLEAR from the robot (someone whose spot was taken at the
-        start appears later, and not beside it: PERSES crowd20 seed 11)."""
+        """True when a person appearing now overlaps nobody (with their cart) and not the
+        robot."""
         present = [p for p in world.people if p.in_world]
         circles = [(person.x, person.y, BODY_RADIUS)] + person.cart_circles()
-        others = [(p.x, p.y, BODY_RADIUS - OVERLAP_SLACK) for p in present]
-        others += [(x, y, r - OVERLAP_SLACK) for p in present for x, y, r in p.cart_circles()]
-        clear = APPEAR_CLEAR if self._started else 0.0
-        others.extend((x, y, r + clear - OVERLAP_SLACK) for x, y, r in world.body.circles())
+        others = [(p.x, p.y, BODY_RADIUS) for p in present]
+        others += [c for p in present for c in p.cart_circles()]
+        others.extend(tuple(c) for c in world.body.circles())
         for x, y, r in circles:
             for ox, oy, orad in others:
-                if math.hypot(x - ox, y - oy) < r + orad:
+                if math.hypot(x - ox, y - oy) < r + orad - OVERLAP_SLACK:
                     return False
         return True
 

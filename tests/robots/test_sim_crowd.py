@@ -194,25 +194,6 @@ def test_someone_appears_only_once_their_spot_is_free():
     assert world.people[1].in_world and not overlaps(world)
 
 
-def test_nobody_appears_right_beside_the_robot_but_once_it_has_moved_off():
-    """Someone due to appear 5 cm from the robot's side (a cart beside a creeping robot was
-    touched the tick it appeared, and counted as driven into) waits until the robot is clear
-    by APPEAR_CLEAR."""
-    from robots.sim.crowd import APPEAR_CLEAR
-    # the robot (PERSES, round) at (0, -0.75) facing +y; she is due beside it on its left
-    beside = -(PERSES.radius + BODY_RADIUS + 0.05)
-    world = world_of([{"id": "her", "at": [beside, -0.75], "appear": 0.5,
-                       "steps": [{"pause": 30.0}]}])
-    world.step(1.0)
-    assert not world.people[0].in_world                       # not beside the robot
-    world.body.x += APPEAR_CLEAR                              # the robot moves off, to the right
-    world.step(0.5)
-    her = world.people[0]
-    assert her.in_world and not overlaps(world)
-    assert math.hypot(her.x - world.body.x, her.y - world.body.y) >= (
-        PERSES.radius + BODY_RADIUS + APPEAR_CLEAR - 1e-9)
-
-
 @settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(seed=st.integers(0, 10_000), count=st.integers(2, 12),
        drive=st.floats(-0.3, 0.6), turn=st.floats(-0.4, 0.4))

@@ -16,9 +16,9 @@ LIMITS = load_profile("horos").limits
 
 
 def _room_by_turning_the_body(footprint, point, radius, margin, sign):
-    """The first turn (a fine grid of them) at which the body's outline, turned about its
-    centre, comes within `margin` of the disc, nearer than now: the body is moved, not the
-    point, and its sampled outline stands for the box."""
+    """The first turn (a fine grid of them) at which the body, turned about its centre, comes
+    within `margin` of the disc, nearer than now: the body is turned (`gap_to_points` at each
+    heading), not the disc."""
     x, y = point
     now = footprint.gap_to_points(0.0, 0.0, 0.0, np.array([point]))[()] - radius
     for k in range(1, 1801):
