@@ -106,9 +106,15 @@ class Motion(Skill):
         state = self.localization.state
         if self.footprint.is_round or state is None or not self.perception.tracks:
             return left, right
+        # only someone within a corner's reach can be swept (turn_room would drop the rest)
+        reach = self.footprint.circumscribed + TURN_MARGIN + PERSON_BODY_RADIUS
+        near = [t for t in self.perception.tracks
+                if (t.x - state.x) ** 2 + (t.y - state.y) ** 2 < reach * reach]
+        if not near:
+            return left, right
         c, s = math.cos(state.th), math.sin(state.th)
         people = [(c * (t.x - state.x) + s * (t.y - state.y),
-                   -s * (t.x - state.x) + c * (t.y - state.y)) for t in self.perception.tracks]
+                   -s * (t.x - state.x) + c * (t.y - state.y)) for t in near]
         by_people = turn_room(self.footprint, people, PERSON_BODY_RADIUS, TURN_MARGIN)
         return min(left, by_people[0]), min(right, by_people[1])
 
