@@ -23,9 +23,8 @@ from robots.exceptions import FaultResetError
 from robots.profile import Limits
 from skills.perception import PeoplePerception
 from skills.localization import Localization
-from skills.navigation.footprint import Footprint, turn_room
-from skills.obstacles import TURN_MARGIN
-from skills.safety import LEFT_BEHIND, PERSON_MIN_DISTANCE, arbitrate
+from skills.navigation.footprint import Footprint, corner_reach, turn_room
+from skills.safety import LEFT_BEHIND, PERSON_MIN_DISTANCE, TURN_MARGIN, arbitrate
 from skills.skill import Skill
 from skills.status import IDLE, RUNNING, SUCCEEDED, failed
 
@@ -107,7 +106,7 @@ class Motion(Skill):
         if self.footprint.is_round or state is None or not self.perception.tracks:
             return left, right
         # only someone within a corner's reach can be swept (turn_room would drop the rest)
-        reach = self.footprint.circumscribed + TURN_MARGIN + PERSON_BODY_RADIUS
+        reach = corner_reach(self.footprint, PERSON_BODY_RADIUS, TURN_MARGIN)
         near = [t for t in self.perception.tracks
                 if (t.x - state.x) ** 2 + (t.y - state.y) ** 2 < reach * reach]
         if not near:

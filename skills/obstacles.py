@@ -27,6 +27,7 @@ from robots.profile import RobotProfile
 from skills.fastclip import clip as _clip
 from skills.localization import Localization
 from skills.navigation.footprint import Footprint, inside, turn_room
+from skills.safety import TURN_MARGIN
 from skills.skill import Skill
 
 
@@ -135,7 +136,6 @@ class ObstacleSensing(Skill):
         return float(max(0.0, xs[ahead].min() - self.front))
 
 
-TURN_MARGIN = 0.05          # m a turning corner keeps from any reading
 CORRIDOR_PAD = 0.05         # m beyond the half width counted as in the way ahead, at most
 PAD_DRIFT = math.radians(15)   # the pad widens as a drift of this heading would bring the body
 PAD_SLOPE = math.tan(PAD_DRIFT)

@@ -17,6 +17,8 @@ STOP_DISTANCE = 0.30        # m of free space ahead (behind) below which forward
 PERSON_MIN_DISTANCE = 0.6   # m, robot centre to a person's, inside which the robot never
                             # drives towards them (a follower sets its own minimum)
 SLOW_STOP = 0.10            # m: driving forward slowly, the free space needed beyond braking
+TURN_MARGIN = 0.05          # m a turning corner keeps from anything (skills.obstacles' readings,
+                            # motion's tracked people)
 TURN_LAG = 0.1              # s a turn goes on at the commanded rate before braking begins (a
                             # tick and the base's answer)
 LEFT_BEHIND = math.radians(100)  # a person farther than this off the way the robot drives
@@ -65,8 +67,9 @@ def arbitrate(v: float, w: float, *, link_fresh: bool, free_ahead: float, free_b
         v, reason = 0.0, (f"person {person_behind:.2f} m behind, inside the minimum "
                           f"{min_person_distance:.2f} m")
     side, room = ("left", turn_room[0]) if w > 0 else ("right", turn_room[1])
-    if w != 0 and abs(w) > turn_rate_within(room, limits):
-        w = math.copysign(turn_rate_within(room, limits), w)
+    allowed = turn_rate_within(room, limits) if w != 0 else math.inf
+    if abs(w) > allowed:
+        w = math.copysign(allowed, w)
         reason = reason or (f"turning {side} would sweep a corner into something "
                             f"{math.degrees(room):.0f} deg on")
     if nearest_person < limits.near_people_distance and abs(v) > limits.max_speed_near_people:

@@ -426,12 +426,11 @@ class Identity:
         position scores against where each was predicted (their motion when they came close
         predicts where; it is not scored again: a track that jumped in a tick while
         reporting walking pace then outweighed her fresh view, PERSES carts seed 4's test).
-        It is the other half of
-        the settle's question: her followed track 0.13 m from where she stood and the
-        look-alike's 0.7 m off fitted her alike (within the margin), though the look-alike
-        stood exactly where he had stood all along; scored on her alone, the settle waited,
-        and when she walked off took the look-alike for her by elimination and the robot
-        stood by him for 174 s (bench_follow lookalike seed 10, HOROS, issue 23)."""
+        It is the other half of the settle's question: her followed track 0.13 m from where
+        she stood and the look-alike's 0.7 m off fitted her alike (within the margin), though
+        the look-alike stood exactly where he had stood all along; scored on her alone, the
+        settle waited, and when she walked off took the look-alike for her by elimination and
+        the robot stood by him for 174 s (bench_follow lookalike seed 10, HOROS, issue 23)."""
         people = list(self._contest_others.values())
         if not rest or not people:
             return 0.0

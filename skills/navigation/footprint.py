@@ -102,6 +102,12 @@ TURN_STEP = math.radians(2)     # the turning sweep is checked at poses this far
 SHRINKING = 0.005               # m: a gap closes by more than this (laser noise is less)
 
 
+def corner_reach(footprint: Footprint, radius: float, margin: float) -> float:
+    """m from the centre within which a disc of `radius` may come within `margin` of the body
+    as it turns: farther off, `turn_room` never counts it."""
+    return footprint.circumscribed + margin + radius
+
+
 def turn_room(footprint: Footprint, points: np.ndarray, radius: float = 0.0,
               margin: float = 0.0) -> tuple[float, float]:
     """(left, right): how far (rad) the body can turn on the spot, counter-clockwise and
@@ -115,7 +121,7 @@ def turn_room(footprint: Footprint, points: np.ndarray, radius: float = 0.0,
         return math.inf, math.inf
     points = np.asarray(points, float).reshape(-1, 2)
     xs, ys = points[:, 0], points[:, 1]
-    reach = footprint.circumscribed + margin + radius
+    reach = corner_reach(footprint, radius, margin)
     # most ticks nothing is this near: a squared distance per point, then done
     near = xs * xs + ys * ys < reach * reach
     if not near.any():
