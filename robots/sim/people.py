@@ -38,6 +38,7 @@ STRIDE = 1.2             # m walked per full leg cycle
 ARRIVED = 0.02           # m, close enough to a waypoint
 CART_RADIUS = 0.28       # m; a cart is two circles ahead of the person who pushes it
 CART_OFFSETS = (0.5, 0.95)   # m ahead of the person's centre
+CART_TURN_RATE = math.radians(90.0)   # rad/s a pushed cart turns at most
 CALL_DISTANCE = 1.5      # m; what the robot says while the person is farther away is a call
 FOLLOW_GAIN = 1.0        # 1/s: a follower walks faster by this much per metre too far behind
 ROBOT_STILL = 1.0        # s the robot stands before a lagging follower closes up
@@ -103,7 +104,8 @@ class SimPerson:
         self.speed = 0.0
         if self.gone:
             return
-        if not self.in_world:
+        appearing = not self.in_world
+        if appearing:
             if not self.due(world.t):
                 return
             self.in_world = True
@@ -118,10 +120,21 @@ class SimPerson:
         done = handler(self, step, dt, world)
         if not self._looked:          # not walking on their own: a later wait starts afresh
             self.waiting_since = None
-        if self.speed > 0.0:
+        if appearing:
             self.cart_heading = self.heading
+        elif self.speed > 0.0:
+            self.steer_cart(dt)
         if done:
             self._begin(self.index + 1, world)
+
+    def steer_cart(self, dt: float) -> None:
+        """Turn the cart towards where the person walks, at most CART_TURN_RATE: a cart set
+        to the walking heading at once swung its far end 0.58 m in a tick when a swerve of
+        a few cm/s turned its pusher, into a robot braking beside it (bench_follow crowd20
+        seed 6, PERSES, issue 23)."""
+        turn = math.remainder(self.heading - self.cart_heading, math.tau)
+        most = CART_TURN_RATE * dt
+        self.cart_heading += max(-most, min(most, turn))
 
     def hold_back(self, x: float, y: float, heading: float, cart_heading: float) -> None:
         """Undo this substep's appearing (there was no room after all): back to not yet in

@@ -218,3 +218,27 @@ def test_random_crowds_never_overlap_each_other_or_the_robot(seed, count, drive,
     world.hooks.append(lambda w, h: seen.extend(overlaps(w)))
     world.step(12.0)
     assert seen == []
+
+
+@pytest.mark.parametrize("motion", ["social", "scripted"])
+def test_a_pushed_cart_turns_round_at_a_persons_pace_not_at_once(motion):
+    # a shopper walks east pushing a cart, then turns back west: the cart swings round at
+    # most CART_TURN_RATE, its far end moving a few cm a tick, not half a metre (crowd20
+    # seed 6, PERSES: a cart swung 0.58 m in a tick into the braking robot)
+    from robots.sim.people import CART_OFFSETS, CART_TURN_RATE
+    shopper = [{"id": "s", "at": [-3.0, 0.0], "cart": True, "speed": 0.8,
+                "steps": [{"walk": [[0.0, 0.0], [-4.0, 0.0]]}]}]
+    world = world_of(shopper, robot=(-9.0, -0.7, 0.0), motion=motion)
+    person = world.people[0]
+    far = None
+    while world.t < 12.0:
+        world.step(0.1)
+        if not person.in_world:
+            continue
+        end = person.cart_circles()[-1][:2]
+        if far is not None:
+            moved = math.hypot(end[0] - far[0], end[1] - far[1])
+            assert moved <= 0.1 * (person.plan.speed * 1.3 + CART_TURN_RATE * max(CART_OFFSETS))
+        far = end
+    assert person.current_step is None                          # she got back
+    assert abs(math.cos(person.cart_heading) + 1.0) < 1e-6     # the cart points west at last
