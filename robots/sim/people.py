@@ -67,6 +67,7 @@ class SimPerson:
         self.x, self.y = resolve(plan.at)
         self.heading = 0.0
         self.cart_heading = 0.0       # the cart points where the person last walked
+        self.cart_turn_way = 0        # +1 / -1: turning the cart the long way round (blocked)
         self._cart_circles: tuple | None = None   # (x, y, cart heading), circles
         self.speed = 0.0              # m/s, current
         self.in_world = False
@@ -131,10 +132,25 @@ class SimPerson:
         """Turn the cart towards where the person walks, at most CART_TURN_RATE: a cart set
         to the walking heading at once swung its far end 0.58 m in a tick when a swerve of
         a few cm/s turned its pusher, into a robot braking beside it (bench_follow crowd20
-        seed 6, PERSES, issue 23)."""
+        seed 6, PERSES, issue 23). After the short way swung the cart into somebody or the
+        robot (`block_cart_turn`), it turns the other way round, as a shopper whose cart is
+        against something does."""
         turn = math.remainder(self.heading - self.cart_heading, math.tau)
+        if self.cart_turn_way and turn * self.cart_turn_way < 0.0:
+            turn += math.tau * self.cart_turn_way            # the long way round
         most = CART_TURN_RATE * dt
-        self.cart_heading += max(-most, min(most, turn))
+        step = max(-most, min(most, turn))
+        self.cart_heading += step
+        if abs(turn - step) < 1e-9:
+            self.cart_turn_way = 0                          # the cart points her way again
+
+    def block_cart_turn(self, turned: float) -> None:
+        """The cart's turn of `turned` rad this substep swung it into something: turn the
+        other way round from now on; if that way is blocked too, try the short way again."""
+        if turned == 0.0:
+            return
+        way = -1 if turned > 0.0 else 1
+        self.cart_turn_way = way if self.cart_turn_way == 0 else 0
 
     def hold_back(self, x: float, y: float, heading: float, cart_heading: float) -> None:
         """Undo this substep's appearing (there was no room after all): back to not yet in
