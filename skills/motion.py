@@ -27,6 +27,7 @@ from skills.navigation.footprint import Footprint, corner_reach, turn_room
 from skills.safety import LEFT_BEHIND, PERSON_MIN_DISTANCE, TURN_MARGIN, arbitrate
 from skills.skill import Skill
 from skills.status import IDLE, RUNNING, SUCCEEDED, failed
+from skills.wedge import WedgeRecovery
 
 TURN_GAIN = 1.5            # rad/s per rad of heading error
 DISTANCE_GAIN = 0.8        # m/s per m of distance error
@@ -72,6 +73,7 @@ class Motion(Skill):
         # inside this (m, centre to centre) the arbiter never drives towards anybody; the
         # follower sets its own minimum while it follows
         self.min_person_distance = PERSON_MIN_DISTANCE
+        self.wedge = WedgeRecovery()     # backs a box-shaped base out when it cannot turn
 
     def start(self, goal: Goal, now: float) -> None:
         self.goal = goal
@@ -87,15 +89,26 @@ class Motion(Skill):
         link = self.blackboard.value("robot/link", False)
         free = self.blackboard.value("obstacles/front", math.inf)
         behind = self.blackboard.value("obstacles/rear", 0.0)      # unknown: not free
+        room = self._turn_room() if w else (math.inf, math.inf)
+        v, w, wedged = self._unwedged(v, w, room, free, behind, now)
+        if wedged:
+            room = (math.inf, math.inf)                             # backing straight out
         ahead, rear = self._people_ahead_and_behind()
         v, w, reason = arbitrate(v, w, link_fresh=link, free_ahead=free, free_behind=behind,
                                  nearest_person=self._nearest_person(v), limits=self.limits,
                                  person_ahead=ahead, person_behind=rear,
                                  min_person_distance=self.min_person_distance,
-                                 turn_room=self._turn_room() if w else (math.inf, math.inf))
+                                 turn_room=room)
         self.base.command(v, w)
         self.write("motion/command", (v, w), now)
-        self.write("motion/limit", reason, now)
+        self.write("motion/limit", reason or wedged, now)
+
+    def _unwedged(self, v: float, w: float, room, free: float, behind: float, now: float):
+        """The wanted (v, w), or the wedge recovery's back-out (`skills.wedge`) and why."""
+        state = self.localization.state
+        if self.footprint.is_round or state is None:
+            return v, w, ""
+        return self.wedge.command(v, w, room, free, behind, state.x, state.y, now)
 
     def _turn_room(self) -> tuple[float, float]:
         """rad the body may turn each way: the sensed readings' room, and each tracked

@@ -67,3 +67,51 @@ def test_a_box_shaped_base_does_not_sweep_its_corner_into_someone_beside_it(stan
     contacts, turned, limits = _turn_left_beside(standing_person, 0.75)
     assert contacts == [] and turned == pytest.approx(math.pi / 2, abs=0.15)
     assert not any("sweep" in why for why in limits)
+
+
+WEDGED = """
+[scenario]
+name = "wedged"
+duration = 60.0
+robot = [0.0, 0.0, 90.0]
+motion = "scripted"
+[[person]]
+id = "sam"
+appear = 0.0
+at = [{x}, {y}]
+speed = 1.0
+steps = [ {{ pause = 100.0 }} ]
+"""
+
+
+def test_a_box_shaped_base_held_from_turning_backs_out_and_then_turns(tmp_path):
+    # HOROS in the hallway's middle facing +y, someone standing still 0.47 m to its left just
+    # ahead of its axle: the turn a quarter left would sweep its front corner into them, so
+    # the arbiter holds it (the test above); after WEDGED_AFTER s held, the robot backs
+    # straight out until the corner clears them, then makes the whole turn, touching nobody
+    from skills.wedge import BACK_OUT_MAX, WEDGED_AFTER
+    scenario = tmp_path / "wedged.toml"
+    scenario.write_text(WEDGED.format(x=-0.47, y=0.12))
+    skills = open_skills("horos", scenario=scenario, fast=True, seed=5)
+    clock, world = skills.hardware.clock, skills.hardware.simulation.world
+    try:
+        for _ in range(10):                                   # the person is tracked
+            skills.sense(); skills.act(); clock.advance(0.1)
+        start, y0 = world.body.th, world.body.y
+        skills.motion.start(Goal("turn_to", bearing=start + math.pi / 2), skills.now())
+        limits, ys = [], []
+        for _ in range(150):
+            skills.sense(); skills.act(); clock.advance(0.1)
+            limits.append(skills.blackboard.value("motion/limit"))
+            ys.append(world.body.y)
+        turned = math.atan2(math.sin(world.body.th - start), math.cos(world.body.th - start))
+        contacts = [c for c in world.measures.contacts if c.robot_moving]
+    finally:
+        skills.close()
+    assert contacts == []
+    held = [k for k, why in enumerate(limits) if "sweep a corner" in why]
+    backing = [k for k, why in enumerate(limits) if why.startswith("backing out")]
+    assert held and backing and held[0] + WEDGED_AFTER * 10 - 1 <= backing[0]   # held first
+    assert 0.05 < y0 - min(ys) <= BACK_OUT_MAX + 0.05          # backed out, not far
+    assert turned == pytest.approx(math.pi / 2, abs=0.15)      # then made the whole turn
+    assert skills.motion.status.succeeded
