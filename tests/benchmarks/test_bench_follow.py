@@ -128,3 +128,19 @@ def test_the_seed_interval_holds_the_pooled_share_and_widens_with_the_spread(ben
     assert same == pytest.approx((0.9, 0.9))
     low, high = bench.seed_interval([50, 95, 90, 85, 92, 88], [100] * 6)
     assert low < 0.833 < high and high - low > 0.05 and high <= 0.95
+
+
+def test_she_is_out_of_view_behind_a_shelf_and_behind_somebody_not_beside_them(bench):
+    # "in view" (the misses, and how long a loss left her out of view) is the camera's line
+    # of sight: sampling nine points of the line against the walls' outlines saw through the
+    # 1 m deep shelf between aisles A3 and A4 (x 15..16, y 6.5..16.5)
+    from robots.sim.floor import load_floor
+    store = SimpleNamespace(_walls=load_floor("store").segments)
+    her = SimpleNamespace(x=15.5, y=16.9)
+    assert not bench.line_of_sight(store, (14.1, 13.9), (her.x, her.y), [her], her)
+    her = SimpleNamespace(x=14.0, y=14.0)                   # down aisle A4
+    assert bench.line_of_sight(store, (14.0, 8.0), (her.x, her.y), [her], her)
+    between = SimpleNamespace(x=14.0, y=11.0)
+    assert not bench.line_of_sight(store, (14.0, 8.0), (her.x, her.y), [her, between], her)
+    aside = SimpleNamespace(x=14.3, y=11.0)                 # 0.3 m off the line: not hiding her
+    assert bench.line_of_sight(store, (14.0, 8.0), (her.x, her.y), [her, aside], her)
