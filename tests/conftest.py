@@ -18,7 +18,7 @@ STANDING_PERSON = """
 [scenario]
 name = "standing"
 duration = 60.0
-robot = "robot_home"
+robot = {robot}
 motion = "{motion}"
 [[person]]
 id = "sam"
@@ -42,11 +42,13 @@ def tablet_pairing_secret(tmp_path_factory):
 
 @pytest.fixture
 def standing_person(tmp_path):
-    """A scenario file with one person standing at (x, y) from the start (robot at robot_home);
-    `motion="scripted"`: exactly there, whatever the robot does (social: they step aside)."""
-    def write(x: float, y: float, motion: str = "social"):
-        path = tmp_path / f"standing_{x}_{y}_{motion}.toml"
-        path.write_text(STANDING_PERSON.format(x=x, y=y, motion=motion))
+    """A scenario file with one person standing at (x, y) from the start (robot at robot_home,
+    or at `robot` = (x, y, heading in degrees)); `motion="scripted"`: exactly there, whatever
+    the robot does (social: they step aside)."""
+    def write(x: float, y: float, motion: str = "social", robot=None):
+        where = '"robot_home"' if robot is None else str([float(v) for v in robot])
+        path = tmp_path / f"standing_{x}_{y}_{motion}_{len(where)}.toml"
+        path.write_text(STANDING_PERSON.format(x=x, y=y, motion=motion, robot=where))
         return path
     return write
 

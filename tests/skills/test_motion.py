@@ -69,29 +69,14 @@ def test_a_box_shaped_base_does_not_sweep_its_corner_into_someone_beside_it(stan
     assert not any("sweep" in why for why in limits)
 
 
-WEDGED = """
-[scenario]
-name = "wedged"
-duration = 60.0
-robot = [0.0, 0.0, 90.0]
-motion = "scripted"
-[[person]]
-id = "sam"
-appear = 0.0
-at = [{x}, {y}]
-speed = 1.0
-steps = [ {{ pause = 100.0 }} ]
-"""
 
-
-def test_a_box_shaped_base_held_from_turning_backs_out_and_then_turns(tmp_path):
+def test_a_box_shaped_base_held_from_turning_backs_out_and_then_turns(standing_person):
     # HOROS in the hallway's middle facing +y, someone standing still 0.47 m to its left just
     # ahead of its axle: the turn a quarter left would sweep its front corner into them, so
     # the arbiter holds it (the test above); after WEDGED_AFTER s held, the robot backs
     # straight out until the corner clears them, then makes the whole turn, touching nobody
     from skills.wedge import BACK_OUT_MAX, WEDGED_AFTER
-    scenario = tmp_path / "wedged.toml"
-    scenario.write_text(WEDGED.format(x=-0.47, y=0.12))
+    scenario = standing_person(-0.47, 0.12, motion="scripted", robot=(0.0, 0.0, 90.0))
     skills = open_skills("horos", scenario=scenario, fast=True, seed=5)
     clock, world = skills.hardware.clock, skills.hardware.simulation.world
     try:
