@@ -40,9 +40,10 @@ def hashed_steps(digest):
         original(world, dt)
         body = world.body
         digest.update(struct.pack("<4d", world.t, body.x, body.y, body.th))
-        for person in world.people:
+        for person in world.people:        # a cart heading is only a pusher's
+            cart = person.cart_heading if person.plan.cart else 0.0
             digest.update(struct.pack("<5d?", person.x, person.y, person.heading, person.speed,
-                                      person.cart_heading or 0.0, person.in_world))
+                                      cart, person.in_world))
 
     World.step = step
     try:

@@ -163,8 +163,9 @@ class Crowd:
             person.x, person.y = x, y
             if swerves:                      # they face where they go
                 person.heading = math.atan2(vy, vx)
-                person.cart_heading = before[id(person)][3]    # one turn a substep
-                person.steer_cart(h)
+                if person.plan.cart:
+                    person.cart_heading = before[id(person)][3]    # one turn a substep
+                    person.steer_cart(h)
             person.speed = speed_k if speed_k * h > 1e-9 else 0.0
 
     def forces(self, people: list[SimPerson], positions: np.ndarray, wish: np.ndarray,

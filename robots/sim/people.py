@@ -121,10 +121,11 @@ class SimPerson:
         done = handler(self, step, dt, world)
         if not self._looked:          # not walking on their own: a later wait starts afresh
             self.waiting_since = None
-        if appearing:
-            self.cart_heading = self.heading
-        elif self.speed > 0.0:
-            self.steer_cart(dt)
+        if self.plan.cart:              # (nobody else has a cart to point)
+            if appearing:
+                self.cart_heading = self.heading
+            elif self.speed > 0.0:
+                self.steer_cart(dt)
         if done:
             self._begin(self.index + 1, world)
 
