@@ -8,7 +8,9 @@ the follower's search and by navigation (bench_follow crowd10 seed 8, issue 23).
 in its place steps back before turning. So: once a wanted turn has been held at zero, with
 the robot not driving forward, for WEDGED_AFTER s, the robot backs straight out at
 BACK_OUT_SPEED until that turn has TURN_FREED of room, or BACK_OUT_MAX is backed, or the
-goal no longer asks to turn. Backing passes the arbiter like any command (its rear check
+goal no longer asks to turn. One back-out a wedge: if the turn is still held after it, the
+robot stands (it does not back down a hallway 0.6 m at a time) until the turn has been free or
+the goal stopped asking to turn. Backing passes the arbiter like any command (its rear check
 stops it before anything behind); it starts only with the arbiter's stop distance behind
 free, plus a margin. A round base sweeps nothing: it is never wedged by its corners.
 """
@@ -33,10 +35,7 @@ class WedgeRecovery:
     def __init__(self) -> None:
         self._held_since: float | None = None
         self._backing_from: tuple[float, float] | None = None
-
-    @property
-    def backing(self) -> bool:
-        return self._backing_from is not None
+        self._spent = False          # backed out of this wedge already, still held
 
     def command(self, v: float, w: float, room: tuple[float, float], free_ahead: float,
                 free_behind: float, x: float, y: float, now: float
@@ -50,11 +49,14 @@ class WedgeRecovery:
             if (w == 0.0 or wanted_room >= TURN_FREED or backed >= BACK_OUT_MAX
                     or free_behind < STOP_DISTANCE):
                 self._backing_from = self._held_since = None
+                self._spent = w != 0.0 and wanted_room < HELD
                 return v, w, ""
             return -BACK_OUT_SPEED, 0.0, f"backing out of a wedge to turn ({backed:.2f} m)"
         driving_on = v > CREEPING and free_ahead >= STOP_DISTANCE
         if w == 0.0 or wanted_room >= HELD or driving_on:
-            self._held_since = None
+            self._held_since, self._spent = None, False
+            return v, w, ""
+        if self._spent:
             return v, w, ""
         if self._held_since is None:
             self._held_since = now
