@@ -46,8 +46,9 @@ def standing_person(tmp_path):
     or at `robot` = (x, y, heading in degrees)); `motion="scripted"`: exactly there, whatever
     the robot does (social: they step aside)."""
     def write(x: float, y: float, motion: str = "social", robot=None):
+        pose = "home" if robot is None else "_".join(f"{float(v):g}" for v in robot)
         where = '"robot_home"' if robot is None else str([float(v) for v in robot])
-        path = tmp_path / f"standing_{x}_{y}_{motion}_{len(where)}.toml"
+        path = tmp_path / f"standing_{x}_{y}_{motion}_{pose}.toml"
         path.write_text(STANDING_PERSON.format(x=x, y=y, motion=motion, robot=where))
         return path
     return write

@@ -425,11 +425,10 @@ class Crowd:
                 return
             for person in stuck:
                 if id(person) in present_before:
-                    turned = math.remainder(person.cart_heading - before[id(person)][3],
-                                            math.tau)
+                    if person.plan.cart:     # its turn this substep is undone: the other way
+                        person.block_cart_turn(math.remainder(
+                            person.cart_heading - before[id(person)][3], math.tau))
                     person.x, person.y, person.heading, person.cart_heading = before[id(person)]
-                    if person.plan.cart:
-                        person.block_cart_turn(turned)
                     person.speed = 0.0
                     self._deviation[id(person)] = _NO_DEVIATION
                 else:                 # appeared this substep (their cart swung into someone)
