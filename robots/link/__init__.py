@@ -5,6 +5,7 @@
 - `watchdog`: a command watchdog that sends zero on its own when commands stop coming.
 - `backoff`: the reconnect-with-back-off policy.
 - `pty`: a raw-mode pseudo-terminal pair, so firmware emulators speak over a real tty.
+- `port`: opening a driver's serial line, exclusively (one program on a line).
 - `host`: hosting a firmware emulator on a pty or TCP port (transports, reader thread, unplug).
 - `fault_reset`: a drive fault's reset, refused while motion is commanded, confirmed by the
   controller.

@@ -70,15 +70,29 @@ class PtyPair:
             raise
 
     def close(self) -> None:
-        """Unplug: close both ends. The driver's port then reports an error or hang-up."""
+        """Unplug: close both ends and remove the link, as a USB adapter's device node goes
+        when it is pulled. The driver's port then reports an error or hang-up. Why remove it:
+        the kernel hands a closed pty's number to the next pty made, so a link left behind
+        would lead a reconnecting driver into some other program's line."""
         if self.closed:
             return
         self.closed = True
+        self._remove_link()
         for fd in (self.master_fd, self._slave_fd):
             try:
                 os.close(fd)
             except OSError:
                 pass
+
+    def _remove_link(self) -> None:
+        """Remove the link unless it was re-pointed meanwhile (a replacement plugged in)."""
+        if self.link is None:
+            return
+        try:
+            if os.readlink(self.link) == self.slave_name:
+                self.link.unlink()
+        except OSError:
+            pass                            # gone already, or not ours any more
 
     def __enter__(self) -> "PtyPair":
         return self

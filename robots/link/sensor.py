@@ -30,6 +30,7 @@ import serial
 from robots.devices import LaserScan
 from robots.exceptions import LinkError
 from robots.link.arrival import read_arrived
+from robots.link.port import open_serial
 from robots.link.backoff import Backoff
 from robots.link.lockstep import LockStep
 
@@ -45,11 +46,8 @@ class SensorPort:
 
     def __init__(self, url: str, baud: int, write_timeout: float = 1.0,
                  lockstep: LockStep | None = None) -> None:
-        try:
-            self.serial = serial.serial_for_url(url, baudrate=baud, timeout=READ_QUANTUM,
-                                                write_timeout=write_timeout)
-        except (serial.SerialException, OSError, ValueError) as exc:
-            raise LinkError(f"{url}: cannot open the port: {exc}") from exc
+        self.serial = open_serial(url, "the port", baudrate=baud, timeout=READ_QUANTUM,
+                                  write_timeout=write_timeout)
         self.url = url
         self.lockstep = lockstep
         # a raw socket (socket://, e.g. a serial-to-Ethernet converter) has no line speed to set

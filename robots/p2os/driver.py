@@ -49,6 +49,7 @@ import serial
 from robots.base import Base, BaseState, clamp_velocity
 from robots.exceptions import FaultResetError, HandshakeError, LinkError
 from robots.link.arrival import read_arrived
+from robots.link.port import open_serial
 from robots.link.backoff import Backoff
 from robots.link.fault_reset import FaultReset
 from robots.link.lockstep import LockStep
@@ -283,11 +284,8 @@ class P2OSBase(Base):
     def _connect(self) -> None:
         """Open the port, handshake, OPEN, zero, ENABLE, sonar. Raises LinkError/HandshakeError."""
         self._drop_port()
-        try:
-            raw = serial.serial_for_url(self.url, baudrate=self.baud, timeout=self.reply_timeout,
-                                        write_timeout=1.0)
-        except (serial.SerialException, OSError, ValueError) as exc:
-            raise LinkError(f"{self.url}: cannot open the port: {exc}") from exc
+        raw = open_serial(self.url, "the port", baudrate=self.baud, timeout=self.reply_timeout,
+                          write_timeout=1.0)
         if self.lockstep is not None:
             self.lockstep.reset()
         port = _Port(raw, self.lockstep)

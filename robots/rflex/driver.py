@@ -41,6 +41,7 @@ from robots.base import Base, BaseState, clamp_velocity
 from robots.exceptions import FaultResetError, LinkError, ProfileError, ProtocolError
 from robots.link import Backoff, CommandWatchdog, LockStep
 from robots.link.arrival import read_arrived
+from robots.link.port import open_serial
 from robots.link.fault_reset import FaultReset
 from robots.profile import Limits
 from robots.rflex import protocol as p
@@ -323,12 +324,9 @@ class RFlexBase(Base):
         return self.clock.now() if self.clock is not None else time.monotonic()
 
     def _connect(self) -> None:
-        try:
-            port = serial.serial_for_url(self.url, baudrate=self.baud, bytesize=8, parity="N",
-                                         stopbits=1, xonxoff=False, rtscts=False,
-                                         timeout=0.02 if self.lockstep is None else 0)
-        except (serial.SerialException, OSError, ValueError) as exc:
-            raise LinkError(f"cannot open rFLEX port {self.url}: {exc}") from exc
+        port = open_serial(self.url, "the rFLEX port", baudrate=self.baud, bytesize=8,
+                           parity="N", stopbits=1, xonxoff=False, rtscts=False,
+                           timeout=0.02 if self.lockstep is None else 0)
         self.parser.reset()
         if self.lockstep is not None:
             self.lockstep.reset()

@@ -32,6 +32,7 @@ import serial
 from robots.devices import PanTiltHead
 from robots.exceptions import HandshakeError, LinkError, ProtocolError
 from robots.link.backoff import Backoff
+from robots.link.port import open_serial
 from robots.profile import HeadSpec
 from robots.visca import protocol as p
 
@@ -184,12 +185,8 @@ class ViscaHead(PanTiltHead):
     def _connect(self) -> None:
         """Open the port; AddressSet, IF_Clear, CAM_VersionInq, a position. Raises LinkError."""
         self._drop_port()
-        try:
-            self._port = serial.serial_for_url(self.url, baudrate=self.baud,
-                                               timeout=READ_QUANTUM,
-                                               write_timeout=self.write_timeout)
-        except (serial.SerialException, OSError, ValueError) as exc:
-            raise LinkError(f"{self.url}: cannot open the head's port: {exc}") from exc
+        self._port = open_serial(self.url, "the head's port", baudrate=self.baud,
+                                 timeout=READ_QUANTUM, write_timeout=self.write_timeout)
         self.parser.reset()
         try:
             self._start_up()

@@ -8,7 +8,9 @@ import threading
 import pytest
 import serial
 
+from robots.exceptions import LinkError
 from robots.link import Backoff, ByteCounter, CommandWatchdog, PtyPair
+from robots.link.port import open_serial
 
 
 def test_watchdog_check_fires_once_per_silence():
@@ -89,6 +91,45 @@ def test_pty_link_survives_a_replug(tmp_path):
         port.close()
     finally:
         second.close()
+
+
+def test_an_unplugged_ptys_link_goes_with_it_and_never_leads_into_another_line(tmp_path):
+    # the kernel gives a closed pty's number to the next one made (here or in another
+    # process): a link left behind led a reconnecting driver into a stranger's line
+    link = tmp_path / "ttyROBOT"
+    first = PtyPair(link=link)
+    first.close()
+    assert not os.path.lexists(link)
+    stranger = PtyPair()
+    try:
+        with pytest.raises(LinkError, match="cannot open"):
+            open_serial(str(link), "the port", baudrate=9600)
+    finally:
+        stranger.close()
+
+
+def test_an_old_ptys_close_leaves_a_replacements_link_alone(tmp_path):
+    link = tmp_path / "ttyROBOT"
+    old = PtyPair(link=link)
+    new = PtyPair(link=link)
+    try:
+        old.close()
+        assert os.path.realpath(link) == os.path.realpath(new.slave_name)
+    finally:
+        new.close()
+    assert not os.path.lexists(link)
+
+
+def test_a_second_driver_is_refused_a_line_already_in_use():
+    with PtyPair() as pty:
+        first = open_serial(pty.path, "the port", baudrate=9600, timeout=0)
+        try:
+            with pytest.raises(LinkError, match="another program has it open"):
+                open_serial(pty.path, "the port", baudrate=9600, timeout=0)
+        finally:
+            first.close()
+        again = open_serial(pty.path, "the port", baudrate=9600, timeout=0)   # free once closed
+        again.close()
 
 
 def test_byte_counter_waits_until_drained():
