@@ -56,6 +56,8 @@ VIEWS_KEPT = 20           # appearance scores of her track's views kept
 LEGS_TRUSTED_FOR = 1.0    # s unseen after which only the camera finds her again (see
                           # _confirmed_since_the_loss)
 STRANGER_MEMORY = 30.0    # s a stranger's last sighting is kept after their track is gone
+VIEW_SPEAKS_FOR = 1.0     # s: a track's camera view older than this says nothing about who
+                          # carries its id now (see _note_others)
 
 
 @dataclass
@@ -322,12 +324,18 @@ class Identity:
         close to them, whose identity the tracker may just have swapped with theirs, nor one
         who looks like her (her track may be the one that passed to somebody else) unless her
         own track's views scored as her within UNLIKE_FOR s: then a look-alike seen apart from
-        her is a stranger (`_strangers`), never taken for her, however like her it looks."""
+        her is a stranger (`_strangers`), never taken for her, however like her it looks.
+        Only a view of the last VIEW_SPEAKS_FOR s makes a track look like her: her old track,
+        carried by legs alone onto a shopper's cart while she walked on unseen, kept her last
+        view for 4 s beside her new track, stayed out of `_others`, and was taken for her when
+        she was hidden again (bench_follow rude seed 2, PERSES, issue 23)."""
         confirmed_her = self._look_known and now - self._matched_t <= UNLIKE_FOR
         for t in tracks:
             if t.id == target or t.status != CONFIRMED or t.id in self._contest_ids:
                 continue
-            if not (self._look_known and self._may_be_her(t)):
+            viewed_lately = (t.appearance_t is not None
+                             and now - t.appearance_t <= VIEW_SPEAKS_FOR)
+            if not (self._look_known and viewed_lately and self._may_be_her(t)):
                 self._others.add(t.id)
             elif confirmed_her:
                 self._others.add(t.id)

@@ -428,3 +428,32 @@ def test_a_look_alike_standing_beside_her_is_not_taken_for_her_when_she_walks_of
         perception.believed = (her, seen(6, 2.5, -0.5, t, RED))
         following.sense(t)
         assert following.state.target == 1 and not following.state.lost, (t, following.state)
+
+
+def test_her_old_track_left_on_somebody_else_while_she_is_followed_again_is_never_her():
+    # PERSES bench_follow rude seed 2: her followed track stayed on a shopper's cart (legs
+    # alone) while she walked on unseen; she was found again as a new track. The old track
+    # went on beside her with her last view, 4 s old: it counted as a look-alike who might be
+    # her, so it stayed out of the others, and when she was hidden again it was taken for her
+    following, perception, t = _her_standing_in_red()
+    last_view = t
+    for _ in range(15):                                  # her track is lost for 1.5 s
+        t = round(t + 0.1, 6)
+        perception.believed = ()
+        following.sense(t)
+    assert following.state.lost
+    found = round(t + 0.1, 6)                            # found again as track 5, seen by
+    for k in range(20):                                  # the camera once, then by legs
+        t = round(t + 0.1, 6)
+        hers = replace(seen(5, 2.0, 0.3, found, RED), last_seen=t)
+        old = _her_old_view_on(1, 1.0, t, 0.0, last_view)  # her old id, on legs, 1 m off
+        perception.believed = (hers, old) if k >= 8 else (hers,)
+        following.sense(t)
+        assert following.state.target == 5 and not following.state.lost, (t, following.state)
+    assert 1 in following._others
+    for k in range(1, 8):                                # she is hidden; the old id comes
+        t = round(t + 0.1, 6)                            # up beside where she should be
+        perception.believed = (_her_old_view_on(1, 2.0 - 0.1 * k, t, 0.0, last_view),)
+        following.sense(t)
+        assert following.state.lost, (t, following.state)
+
