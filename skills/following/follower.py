@@ -139,6 +139,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._contest: _Belief | None = None          # the customer before someone came close
         self._contest_ids: set[int] = set()
         self._contest_others: dict[int, _Belief] = {}  # the others as they came close to her
+        self._contest_views: dict[int, list[tuple[float, float]]] = {}   # id: (view t, score)
         self._unsettled = False       # a contest ended with two fitting alike: decided each tick
         self._first_seen: dict[int, tuple[float, float, float]] = {}   # id: (t, x, y)
         self._usual_pace = USUAL_PACE

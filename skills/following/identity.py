@@ -56,6 +56,8 @@ VIEWS_KEPT = 20           # appearance scores of her track's views kept
 LEGS_TRUSTED_FOR = 1.0    # s unseen after which only the camera finds her again (see
                           # _confirmed_since_the_loss)
 STRANGER_MEMORY = 30.0    # s a stranger's last sighting is kept after their track is gone
+CAMERA_SETTLES = 3        # views in a row, during a close pass, that swap her back (see
+                          # _camera_settles)
 VIEW_SPEAKS_FOR = 1.0     # s: a track's camera view older than this says nothing about who
                           # carries its id now (see _note_others)
 
@@ -357,11 +359,55 @@ class Identity:
                 if t.id in near and t.id not in self._contest_ids:
                     self._contest_others[t.id] = self._as_they_came(t, now)
             self._contest_ids |= near
-            return target
+            return self._camera_settles(target, tracks, now)
         if self._contest is None:
             return target
         self._contest_ids.add(target.id)
         return self._settle(tracks, now)
+
+    def _camera_settles(self, target, tracks, now: float):
+        """While someone is close to her, one view may be of either of them, so no single view
+        counts (`_followed_score`); but CAMERA_SETTLES fresh views in a row of her followed
+        track unlike her (by score.MARGIN), while exactly one other contestant's last as many
+        are all like her, say that the ids swapped: she is taken back at once. A crosser
+        standing 0.4 m from her took her id as she walked up to the robot, and the robot
+        waited on him for 2.6 s while every view of him said somebody else and every view of
+        her new track said her (bench_follow crowd20 seed 2, HOROS, issue 23). Never with a
+        look-alike (a stranger) among them: his views are like her too, and her own track's
+        views had turned unlike her for three views while he stood by; he was taken for her
+        for 9 s (bench_follow lookalike seed 2, PERSES)."""
+        if not self._look_known or self._contest_ids & self._strangers:
+            return target
+        ids = self._contest_ids | {target.id}
+        for t in tracks:
+            if t.id in ids:
+                self._note_contest_view(t)
+        if not self._all_views(target.id, lambda s: s <= -score.MARGIN):
+            return target
+        like = [t for t in tracks if t.id in self._contest_ids and t.id != target.id
+                and t.status == CONFIRMED
+                and self._all_views(t.id, lambda s: s >= score.MARGIN)]
+        if len(like) != 1:
+            return target
+        self._others.add(target.id)
+        self._recent = []                      # the pace so far was somebody else's
+        self.state = replace(self.state, swaps=self.state.swaps + 1)
+        self._end_contest()
+        return like[0]
+
+    def _note_contest_view(self, track) -> None:
+        """Keep a contestant's camera views (their time and appearance score), each once."""
+        if track.appearance is None or track.appearance_t is None:
+            return
+        views = self._contest_views.setdefault(track.id, [])
+        if views and views[-1][0] == track.appearance_t:
+            return
+        views.append((track.appearance_t, score.appearance_score(track, self._look)))
+        del views[:-CAMERA_SETTLES]
+
+    def _all_views(self, track_id: int, test) -> bool:
+        views = self._contest_views.get(track_id, [])
+        return len(views) >= CAMERA_SETTLES and all(test(s) for _, s in views)
 
     def _settle(self, tracks, now: float):
         """After a close pass, the contestant nearest where she should be (see `_untangle`),
@@ -456,6 +502,7 @@ class Identity:
 
     def _end_contest(self) -> None:
         self._contest, self._contest_ids, self._contest_others = None, set(), {}
+        self._contest_views = {}
 
     def _pace(self, track, now: float) -> float:
         """The customer's speed: the smaller of the track's (a constant-velocity Kalman filter
