@@ -30,9 +30,9 @@ import serial
 from robots.devices import LaserScan
 from robots.exceptions import LinkError
 from robots.link.arrival import read_arrived
-from robots.link.port import open_serial
 from robots.link.backoff import Backoff
 from robots.link.lockstep import LockStep
+from robots.link.port import open_serial
 
 log = logging.getLogger(__name__)
 

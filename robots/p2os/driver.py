@@ -49,10 +49,10 @@ import serial
 from robots.base import Base, BaseState, clamp_velocity
 from robots.exceptions import FaultResetError, HandshakeError, LinkError
 from robots.link.arrival import read_arrived
-from robots.link.port import open_serial
 from robots.link.backoff import Backoff
 from robots.link.fault_reset import FaultReset
 from robots.link.lockstep import LockStep
+from robots.link.port import open_serial
 from robots.link.watchdog import CommandWatchdog
 from robots.p2os import protocol as p
 from robots.profile import Limits

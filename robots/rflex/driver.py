@@ -41,8 +41,8 @@ from robots.base import Base, BaseState, clamp_velocity
 from robots.exceptions import FaultResetError, LinkError, ProfileError, ProtocolError
 from robots.link import Backoff, CommandWatchdog, LockStep
 from robots.link.arrival import read_arrived
-from robots.link.port import open_serial
 from robots.link.fault_reset import FaultReset
+from robots.link.port import open_serial
 from robots.profile import Limits
 from robots.rflex import protocol as p
 
