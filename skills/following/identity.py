@@ -212,12 +212,21 @@ class Identity:
         views (the last MISMATCHES and any within UNLIKE_FOR s: two people at one spot make
         one track whose views alternate, and she is there while some look like her). While
         she is followed a view like her adds nothing (she is believed to be her already; a
-        view cannot make an impossible jump possible); views unlike her count against."""
+        view cannot make an impossible jump possible); views unlike her count against. Her
+        old id back after a loss is judged by its newest view instead, taken since the loss
+        (a view from before counts only against), with someone close or not."""
         p = self.params
         self._note_view(track, now)
         b = self._belief
         position_and_motion = (score.position_score(track, predicted, max(gate, p.jump))
                                + score.motion_score(track, (b.vx, b.vy)))
+        if self.state.lost and self._look_known:
+            # her old id back after a loss: its newest view, if taken since, is evidence even
+            # with someone close (the id came back 1 s after the loss on a crosser's legs, the
+            # camera saw him, and the muted view let him be taken for her: bench_follow
+            # crowd10 seed 9, PERSES, issue 23); a view from before the loss only against
+            looks = score.appearance_score(track, self._look, since=b.t)
+            return position_and_motion + min(looks, 0.0), looks < 0.0
         looks = self._recent_view_score(now)
         if looks is None or self._contest is not None:
             return position_and_motion, False   # no fresh view, or someone close: no evidence

@@ -508,3 +508,30 @@ def test_the_camera_never_settles_a_close_pass_for_a_look_alike():
         perception.believed = (seen(1, 2.0, 0.0, t, BLUE), seen(6, 2.4, -0.3, t, RED))
         following.sense(t)
         assert following.state.target != 6, (t, following.state)
+
+
+def test_her_old_id_back_after_a_loss_on_a_man_the_camera_sees_is_not_taken_back():
+    # PERSES bench_follow crowd10 seed 9: a crosser was close to her when she was lost; 1 s
+    # later her old id came back on his legs, and the camera saw him. With someone close the
+    # followed track's views are muted, and he was taken back for her. Once she is lost, a
+    # view of her old id taken since counts, close pass or not.
+    following, perception, t = _her_standing_in_red()
+    for _ in range(3):                                   # a man in blue comes close
+        t = round(t + 0.1, 6)
+        perception.believed = (seen(1, 2.0, 0.0, t, RED), seen(7, 2.5, 0.3, t, BLUE))
+        following.sense(t)
+    for _ in range(4):                                   # both unseen: she is lost
+        t = round(t + 0.1, 6)
+        perception.believed = ()
+        following.sense(t)
+    assert following.state.lost
+    for _ in range(5):                                   # her old id back on his legs,
+        t = round(t + 0.1, 6)                            # beside his own track
+        perception.believed = (seen(1, 2.45, 0.3, t, BLUE), seen(7, 2.6, 0.45, t, BLUE))
+        following.sense(t)
+        assert following.state.lost, (t, following.state)
+    t = round(t + 0.1, 6)                                # she comes back as a new track
+    perception.believed = (seen(1, 2.45, 0.3, t, BLUE), seen(7, 2.6, 0.45, t, BLUE),
+                           seen(9, 2.0, -0.1, t, RED))
+    following.sense(t)
+    assert following.state.target == 9 and not following.state.lost
