@@ -17,7 +17,8 @@ threshold decide each tick whether her track is still her (`_followed_score`). W
 born after the loss outside the gate of that moment (someone who came from elsewhere) is not
 her either. Two people passing close may swap track ids: `_untangle` puts her back on the
 track that best explains where she should be, together with where the others who came close
-should be (`_settle`).
+should be (`_settle`); while they are still close, the camera settles it only when its views
+of both tracks agree for several views in a row (`_camera_settles`).
 
 A part of `Following` (`skills.following.follower`); it reads `params`, `perception`,
 `navigation`, `state` and keeps the belief, her look, her trail and pace, and the ids known to
