@@ -18,6 +18,6 @@ def open_serial(url: str, what: str, **settings) -> serial.SerialBase:
     try:
         return serial.serial_for_url(url, exclusive=True, **settings)
     except (serial.SerialException, OSError, ValueError) as exc:
-        held = "lock" in str(exc)
+        held = "exclusively lock" in str(exc)       # pyserial's words for a held flock
         hint = "; another program has it open (only one driver may use a line)" if held else ""
         raise LinkError(f"{url}: cannot open {what}: {exc}{hint}") from exc

@@ -399,9 +399,7 @@ class Identity:
                 and self._all_views(t.id, lambda s: s >= score.MARGIN)]
         if len(like) != 1:
             return target
-        self._others.add(target.id)
-        self._recent = []                      # the pace so far was somebody else's
-        self.state = replace(self.state, swaps=self.state.swaps + 1)
+        self._swapped_from(target.id)
         self._end_contest()
         return like[0]
 
@@ -471,11 +469,16 @@ class Identity:
             self._belief = before
             return None
         if best.id != followed:
-            self._recent = []                  # the pace so far was somebody else's
-            if followed is not None:
-                self._others.add(followed)
-            self.state = replace(self.state, swaps=self.state.swaps + 1)
+            self._swapped_from(followed)
         return best
+
+    def _swapped_from(self, followed: int | None) -> None:
+        """Her id passed to somebody else: that id is somebody else now, and the pace
+        measured on it was theirs."""
+        self._recent = []
+        if followed is not None:
+            self._others.add(followed)
+        self.state = replace(self.state, swaps=self.state.swaps + 1)
 
     def _as_they_came(self, track, now: float) -> _Belief:
         """Where a contestant was and how it moved when it came close to her (standing still
