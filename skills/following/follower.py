@@ -117,6 +117,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self.state = FollowState(setpoint=params.distance)
         self._belief: _Belief | None = None
         self._others: set[int] = set()
+        self._shadowed: dict[int, float] = {}  # id: when it was found somebody's shadow
         self._strangers: set[int] = set()     # look-alikes seen apart from her: never her
         self._stranger_seen: dict[int, _Belief] = {}   # id: a stranger's last sighting
         self._lost_since: float | None = None
@@ -361,6 +362,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
     def _reset(self) -> None:
         self._belief = None
         self._others = set()
+        self._shadowed = {}
         self._strangers = set()
         self._stranger_seen = {}
         self._lost_since = None

@@ -12,6 +12,7 @@ from skills.events import EventLog
 from skills.following import Following
 from skills.following import FOLLOWING, HIDDEN, WAITING
 from skills.following.follower import UNSURE
+from skills.following.identity import VIEW_SPEAKS_FOR
 from skills.people.track import TENTATIVE
 
 
@@ -535,3 +536,77 @@ def test_her_old_id_back_after_a_loss_on_a_man_the_camera_sees_is_not_taken_back
                            seen(9, 2.0, -0.1, t, RED))
     following.sense(t)
     assert following.state.target == 9 and not following.state.lost
+
+
+def _legs_only(tid, x, y, t, viewed_at, look=RED):
+    """Track `tid` at (x, y) kept alive by the laser at `t`; the camera last saw it at
+    `viewed_at`."""
+    return replace(seen(tid, x, y, viewed_at, look), last_seen=t, confirmed_seen=viewed_at)
+
+
+def test_her_track_kept_by_legs_beside_a_man_the_camera_sees_is_his_shadow():
+    # HOROS bench_follow crowd20 seed 3 and PERSES rude seed 2: the camera lost sight of her,
+    # and her id, kept alive by the laser alone, slid onto a crosser's legs (a shopper's
+    # cart) right beside his own track, which the camera saw as somebody else; the robot
+    # followed him for about a second each time
+    following, perception, t = _her_standing_in_red()
+    last_view = t
+    for k in range(12):                    # unseen by the camera, legs only: still her, and
+        t = round(t + 0.1, 6)              # a man in blue walks up to 0.6 m (a close pass)
+        perception.believed = (_legs_only(1, 2.0, 0.0, t, last_view),
+                               seen(7, 2.0 + max(0.6, 1.6 - 0.1 * k), 0.0, t, BLUE))
+        following.sense(t)
+        assert following.state.target == 1 and not following.state.lost, (t, following.state)
+    for _ in range(3):                     # her id slides onto him: 0.35 m from his track
+        t = round(t + 0.1, 6)
+        perception.believed = (_legs_only(1, 2.25, 0.0, t, last_view),
+                               seen(7, 2.6, 0.0, t, BLUE))
+        following.sense(t)
+    assert following.state.lost and 1 in following._others
+    for k in range(5):                     # they part again: her old id stays somebody else's
+        t = round(t + 0.1, 6)
+        perception.believed = (_legs_only(1, 2.25 + 0.1 * k, 0.0, t, last_view),
+                               seen(7, 2.6 + 0.2 * k, 0.3, t, BLUE))
+        following.sense(t)
+        assert following.state.lost, (t, following.state)
+    t = round(t + 0.1, 6)                  # the camera sees her again, as a new track
+    perception.believed = (seen(9, 2.0, 0.0, t, RED),)
+    following.sense(t)
+    assert following.state.target == 9 and not following.state.lost
+
+
+def test_her_track_beside_a_man_while_the_camera_still_sees_her_is_hers():
+    # the same close pass with the camera's views of her fresh: no shadow
+    following, perception, t = _her_standing_in_red()
+    for _ in range(15):
+        t = round(t + 0.1, 6)
+        perception.believed = (seen(1, 2.0, 0.0, t, RED), seen(7, 2.35, 0.0, t, BLUE))
+        following.sense(t)
+        assert following.state.target == 1 and not following.state.lost, (t, following.state)
+
+
+def test_a_view_of_her_taken_during_the_close_pass_does_not_bring_her_shadow_back():
+    # PERSES bench_follow crowd20 seed 3: the camera's last view of her track, like her, came
+    # while a crosser was already close (the close pass opened before it); found to be his
+    # shadow, she was sought from before the pass, and that view, newer than the belief,
+    # took the shadow back for her
+    following, perception, t = _her_standing_in_red()
+    for x in (3.0, 2.8, 2.7):                   # a man in blue comes within 0.8 m of her
+        t = round(t + 0.1, 6)
+        perception.believed = (seen(1, 2.0, 0.0, t, RED), seen(7, x, 0.0, t, BLUE))
+        following.sense(t)
+    last_view = t                               # her track's last view (like her), in the pass
+    for _ in range(12):                         # legs alone keep her id, 0.35 m from him;
+        t = round(t + 0.1, 6)                   # unseen by the camera for over 1 s, it is his
+        perception.believed = (_legs_only(1, 2.35, 0.0, t, last_view),
+                               seen(7, 2.7, 0.0, t, BLUE))
+        following.sense(t)
+        if t - last_view > VIEW_SPEAKS_FOR + 1e-9:
+            assert following.state.lost, (t, following.state)
+    assert 1 in following._others
+    for k in range(6):                          # he walks off; her old id stays on legs
+        t = round(t + 0.1, 6)
+        perception.believed = (_legs_only(1, 2.35, 0.0, t, last_view),
+                               seen(7, 2.9 + 0.2 * k, 0.3, t, BLUE))
+        following.sense(t)
+        assert following.state.lost, (t, following.state)
