@@ -140,6 +140,7 @@ class Identity:
             if seen_score >= score.THRESHOLD:
                 same = self._untangle(same, tracks, now)
                 if same is not None:
+                    same = self._her_view_elsewhere(same, tracks, predicted, gate, now) or same
                     self._note_others(tracks, same.id, now)
                     return same
                 if self.ambiguous:
@@ -401,6 +402,34 @@ class Identity:
                    and math.hypot(t.x - target.x, t.y - target.y) < SHADOW_NEAR
                    and score.appearance_score(t, self._look) <= -score.MARGIN
                    for t in tracks)
+
+    def _her_view_elsewhere(self, followed, tracks, predicted, gate: float, now: float):
+        """While legs alone keep her followed track (no camera view for VIEW_SPEAKS_FOR s), a
+        fresh view like her on another track near where she should be (as far as `jump`) is
+        the better evidence: that track, when the one score prefers it by the margin, else
+        None. Her old id, taken back on a crosser's legs after a short loss, was followed for
+        0.9 s while the camera saw her, as a new track, 1 m from it (bench_follow crowd20
+        seed 0, PERSES, issue 23). Never a stranger (a look-alike seen apart from her)."""
+        if not self._look_known or (followed.appearance_t is not None
+                                    and now - followed.appearance_t <= VIEW_SPEAKS_FOR):
+            return None
+        reach = max(gate, self.params.jump)
+        rivals = [t for t in tracks if t.id != followed.id and t.status == CONFIRMED
+                  and t.appearance_t is not None and now - t.appearance_t <= FRESH
+                  and t.id not in self._strangers and t.id not in self._others
+                  and math.hypot(t.x - predicted[0], t.y - predicted[1]) <= reach]
+        if not rivals:
+            return None
+        b = self._belief
+        velocity = (b.vx, b.vy) if now - b.t < self.params.predict_for else (0.0, 0.0)
+        choice, _ = score.decide(
+            [(score.identity_score(t, predicted, velocity, reach, self._look, since=b.t), t)
+             for t in (followed, *rivals)])
+        if choice is None or choice is followed:
+            return None
+        self._swapped_from(followed.id)
+        self._end_contest()
+        return choice
 
     def _lost_to_shadow(self, target, now: float):
         """Her id is somebody else's shadow: she is hidden, sought from where she was before

@@ -610,3 +610,38 @@ def test_a_view_of_her_taken_during_the_close_pass_does_not_bring_her_shadow_bac
                                seen(7, 2.9 + 0.2 * k, 0.3, t, BLUE))
         following.sense(t)
         assert following.state.lost, (t, following.state)
+
+
+def test_a_fresh_view_of_her_elsewhere_outweighs_her_id_kept_by_legs_alone():
+    # PERSES bench_follow crowd20 seed 0: her old id, taken back on a crosser's legs after a
+    # short loss, went unseen by the camera while the camera saw her, as a new track, 1 m
+    # from it; the robot followed the crosser for 0.9 s
+    following, perception, t = _her_standing_in_red()
+    last_view = t
+    for _ in range(10):                    # the camera loses sight of her track; legs keep it
+        t = round(t + 0.1, 6)
+        perception.believed = (_legs_only(1, 2.0, 0.0, t, last_view),)
+        following.sense(t)
+        assert following.state.target == 1 and not following.state.lost
+    for _ in range(3):                     # still unseen, and the camera sees her 1 m off
+        t = round(t + 0.1, 6)
+        perception.believed = (_legs_only(1, 2.0, 0.0, t, last_view), seen(8, 2.0, 1.0, t, RED))
+        following.sense(t)
+    assert following.state.target == 8 and not following.state.lost
+    assert 1 in following._others
+
+
+def test_a_fresh_view_of_a_stranger_like_her_does_not_take_her_id_kept_by_legs():
+    # the same with a look-alike known as a stranger (seen apart from her): legs keep her
+    following, perception, t = _her_standing_in_red()
+    for x in (3.5, 3.3, 3.1):              # he is seen apart from her while her views are hers
+        t = round(t + 0.1, 6)
+        perception.believed = (seen(1, 2.0, 0.0, t, RED), seen(6, x, 1.0, t, RED))
+        following.sense(t)
+    assert 6 in following._strangers
+    last_view = t
+    for _ in range(14):
+        t = round(t + 0.1, 6)
+        perception.believed = (_legs_only(1, 2.0, 0.0, t, last_view), seen(6, 2.9, 1.0, t, RED))
+        following.sense(t)
+        assert following.state.target == 1, (t, following.state)
