@@ -15,10 +15,12 @@ stranger a new id does not make her someone who may be taken for her).
 While she is followed, the same identity score (`skills.following.score`) and its one
 threshold decide each tick whether her track is still her (`_followed_score`). Without
 appearance, a track born after the loss outside the gate of that moment (someone who came from
-elsewhere) is not her either. Two people passing close may swap track ids: `_untangle` puts her back on the
-track that best explains where she should be, together with where the others who came close
-should be (`_settle`); while they are still close, the camera settles it only when its views
-of both tracks agree for several views in a row (`_camera_settles`). Her track, unseen by the
+elsewhere) is not her either. Two people passing close may swap track ids: `_untangle` puts
+her back on the track that best explains where she should be, together with where the others
+who came close should be (`_settle`); while they are still close, the camera settles it only
+when its views of both tracks agree for several views in a row (`_camera_settles`). While
+legs alone keep her id, a fresh camera view of her on another track is weighed against it
+(`_her_view_elsewhere`). Her track, unseen by the
 camera for a second, right beside a track the camera sees as somebody else is that person's
 shadow (the laser split one person into two tracks), not she (`_shadows_another`).
 
