@@ -20,9 +20,9 @@ her back on the track that best explains where she should be, together with wher
 who came close should be (`_settle`); while they are still close, the camera settles it only
 when its views of both tracks agree for several views in a row (`_camera_settles`). While
 legs alone keep her id, a fresh camera view of her on another track is weighed against it
-(`_her_view_elsewhere`). Her track, unseen by the
-camera for a second, right beside a track the camera sees as somebody else is that person's
-shadow (the laser split one person into two tracks), not she (`_shadows_another`).
+(`_her_view_elsewhere`). Her track, unseen by the camera for a second, right beside a track
+the camera sees as somebody else is that person's shadow (the laser split one person into two
+tracks), not she (`_shadows_another`).
 
 A part of `Following` (`skills.following.follower`); it reads `params`, `perception`,
 `navigation`, `state` and keeps the belief, her look, her trail and pace, and the ids known to
