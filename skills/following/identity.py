@@ -119,7 +119,6 @@ class Identity:
         """The customer's track this tick: the same id while it is seen and near the
         prediction, else a gated candidate (see the module's docstring), else None."""
         self.ambiguous = False
-        p = self.params
         tracks = self.perception.believed
         predicted, gate = self._prediction(now)
         followed = None if self.state.lost else self.state.target
@@ -166,13 +165,23 @@ class Identity:
                       and t.id not in self._strangers
                       and (not lost or self._confirmed_since_the_loss(t, now))
                       and (t.id not in self._others or self._seen_as_her_since_the_loss(t))]
-        velocity = ((self._belief.vx, self._belief.vy)
-                    if now - self._belief.t < p.predict_for else (0.0, 0.0))
+        velocity = self._her_velocity(now)
         look = self._look if self._look_known else None
         choice, self.ambiguous = score.decide(
             [(score.identity_score(t, predicted, velocity, gate, look, since=self._belief.t), t)
              for t in candidates])
         return choice                    # None when two fit alike: wait, do not guess
+
+    def _her_velocity(self, now: float) -> tuple[float, float]:
+        """Her velocity as believed, for as long as the prediction uses it (`predict_for`)."""
+        b = self._belief
+        return (b.vx, b.vy) if now - b.t < self.params.predict_for else (0.0, 0.0)
+
+    def _legs_alone(self, track, now: float) -> bool:
+        """Her look is known and the camera has not seen this track for VIEW_SPEAKS_FOR s:
+        only the laser says who carries it."""
+        return self._look_known and (track.appearance_t is None
+                                     or now - track.appearance_t > VIEW_SPEAKS_FOR)
 
     def _prediction(self, now: float) -> tuple[tuple[float, float], float]:
         """Where the belief puts her now, and the gate round it: it grows as far as she can
@@ -396,10 +405,9 @@ class Identity:
         stood unseen 0.6 m away (bench_follow crowd20 seed 3, HOROS), and onto a rude
         shopper's cart beside him while she walked off (rude seed 2, PERSES, issue 23); the
         robot followed each for about a second."""
-        if not self._look_known or (target.appearance_t is not None
-                                    and now - target.appearance_t <= VIEW_SPEAKS_FOR):
+        if not self._legs_alone(target, now):
             return False
-        return any(t.id != target.id and t.status == CONFIRMED and t.appearance is not None
+        return any(t.id != target.id and t.status == CONFIRMED
                    and t.appearance_t is not None and now - t.appearance_t <= VIEW_SPEAKS_FOR
                    and math.hypot(t.x - target.x, t.y - target.y) < SHADOW_NEAR
                    and score.appearance_score(t, self._look) <= -score.MARGIN
@@ -412,8 +420,7 @@ class Identity:
         None. Her old id, taken back on a crosser's legs after a short loss, was followed for
         0.9 s while the camera saw her, as a new track, 1 m from it (bench_follow crowd20
         seed 0, PERSES, issue 23). Never a stranger (a look-alike seen apart from her)."""
-        if not self._look_known or (followed.appearance_t is not None
-                                    and now - followed.appearance_t <= VIEW_SPEAKS_FOR):
+        if not self._legs_alone(followed, now):
             return None
         reach = max(gate, self.params.jump)
         rivals = [t for t in tracks if t.id != followed.id and t.status == CONFIRMED
@@ -422,10 +429,9 @@ class Identity:
                   and math.hypot(t.x - predicted[0], t.y - predicted[1]) <= reach]
         if not rivals:
             return None
-        b = self._belief
-        velocity = (b.vx, b.vy) if now - b.t < self.params.predict_for else (0.0, 0.0)
+        velocity, since = self._her_velocity(now), self._belief.t
         choice, _ = score.decide(
-            [(score.identity_score(t, predicted, velocity, reach, self._look, since=b.t), t)
+            [(score.identity_score(t, predicted, velocity, reach, self._look, since=since), t)
              for t in (followed, *rivals)])
         if choice is None or choice is followed:
             return None
