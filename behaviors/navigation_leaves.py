@@ -21,7 +21,6 @@ RESUME_SLACK = 0.5       # m beyond the following distance at which the guide dr
 WAIT_SLACK = 1.5         # m beyond the following distance at which the guide stops
 NO_PLACE = ("no place to go: the parameter 'place' was not set (its percept had no value or "
             "the database no row for it)")
-IN_A_WALL = 0.15         # m: a "person" closer than this to a wall is a door jamb's echo
 STALL_CLEARED = 0.5      # m further along its path after which a blocked robot is past the stall
 
 
@@ -67,10 +66,10 @@ class AskToPass(SkillLeaf):
         self._last: float | None = None
 
     def update(self) -> Status:
-        state = self.skills.navigation.state
-        if state.phase != BLOCKED or not self._person_at(state.blocker):
-            if state.phase != BLOCKED:
-                self._last = None
+        navigation = self.skills.navigation
+        if navigation.state.phase != BLOCKED:
+            self._last = None
+        if navigation.person_blocking(self.near) is None:
             return Status.RUNNING
         now = self.now
         speaking = self.skills.speech is not None and self.skills.speech.status.running
@@ -79,20 +78,6 @@ class AskToPass(SkillLeaf):
             if self.skills.speech is not None:
                 self.skills.speech.say(self.text, now)
         return Status.RUNNING
-
-
-    def _person_at(self, blocker) -> bool:
-        if blocker is None:
-            return False
-        pose = self.skills.localization.state
-        if pose is None:
-            return False
-        ahead = (math.cos(pose.th), math.sin(pose.th))
-        grid = self.skills.map
-        return any(math.hypot(t.x - blocker[0], t.y - blocker[1]) <= self.near
-                   and (t.x - pose.x) * ahead[0] + (t.y - pose.y) * ahead[1] > 0
-                   and (grid is None or float(grid.clearance(t.x, t.y)) > IN_A_WALL)
-                   for t in self.skills.perception.tracks)
 
 
 class Lead(SkillLeaf):

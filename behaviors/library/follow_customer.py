@@ -14,6 +14,7 @@ from behaviors.leaves import LookAtUser, SkillLeaf
 from behaviors.library.common import together
 from behaviors.parameters import ParameterSpec
 from behaviors.registry import BehaviorContext, BehaviorSpec, Realization
+from skills.navigation.navigation import EXCUSE
 
 CALL = "Where are you? I cannot see you any more."
 
@@ -31,7 +32,7 @@ class Follow(SkillLeaf):
         self.skills.require("following").follow(
             self.now, distance=p.param("distance", 1.2), min_distance=p.param("min_distance", 0.8),
             give_up_after=p.param("give_up", 30.0), search_after=p.param("search_after", 4.0),
-            call=p.param("call", CALL))
+            call=p.param("call", CALL), excuse=p.param("excuse", EXCUSE))
 
     def update(self) -> Status:
         status = self.skills.following.status
@@ -71,5 +72,6 @@ FOLLOW_CUSTOMER = BehaviorSpec(
         "give_up": ParameterSpec("duration", "not found for this long, the behavior fails",
                                  default=30.0),
         "call": ParameterSpec("text", "what the robot calls out while searching", default=CALL),
+        "excuse": ParameterSpec("text", "said to people standing in the way", default=EXCUSE),
     },
 )

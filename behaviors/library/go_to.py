@@ -11,8 +11,7 @@ from behaviors.leaves import Say
 from behaviors.navigation_leaves import AskToPass, Drive
 from behaviors.parameters import ParameterSpec
 from behaviors.registry import BehaviorContext, BehaviorSpec, Realization
-
-EXCUSE = "Excuse me, may I pass, please?"
+from skills.navigation.navigation import EXCUSE
 
 
 def build(ctx: BehaviorContext):

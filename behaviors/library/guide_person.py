@@ -20,9 +20,9 @@ from py_trees.common import ParallelPolicy
 from behaviors.leaves import Say
 from behaviors.library.common import HEAD
 from behaviors.navigation_leaves import AskToPass, CallWhileWaiting, Lead, LookBack
-from behaviors.library.go_to import EXCUSE
 from behaviors.parameters import ParameterSpec
 from behaviors.registry import BehaviorContext, BehaviorSpec, Realization
+from skills.navigation.navigation import EXCUSE
 
 START = "Please follow me."
 ARRIVAL = "Here we are."

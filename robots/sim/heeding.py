@@ -3,10 +3,12 @@ of each person, drawn from the scenario's distribution, as their yielding is
 (`robots.sim.crowd`) and as passers-by's propensities are (`robots.sim.visitors`).
 
 The simulated world learns what the robot said as visitors do: every utterance is in
-`world.utterances`, and any of them counts. While a person leads the robot (a `lead` step)
-and walks on, what the robot says from farther than `people.CALL_DISTANCE` (nearer, it is
-talking to her face to face) and within `visitors.HEAR` (the range visitors hear a call from)
-she takes as "wait for me"; farther away she does not hear it. How she answers is her trait:
+`world.utterances`, and any of them counts but one asking people in the way to let the
+robot pass (`robots.sim.understanding`: that is not for her). While a person leads the robot
+(a `lead` step) and walks on, what the robot says from farther than `people.CALL_DISTANCE`
+(nearer, it is talking to her face to face) and within `visitors.HEAR` (the range visitors
+hear a call from) she takes as "wait for me"; farther away she does not hear it. How she
+answers is her trait:
 
 - ``never``: she walks on as before (she did not hear it over the store, or does not care);
 - ``slow``: she walks at her slowed `pace` for `slow_for` s, then at her own pace again;
@@ -35,6 +37,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
+
+from robots.sim.understanding import asks_to_pass
 
 if TYPE_CHECKING:
     from robots.sim.people import SimPerson
@@ -102,7 +106,7 @@ class Listener:
         """The speed to lead at now: None her own, 0.0 stand (waiting for the robot).
         `in_earshot`: what the robot says now reaches her as a call (`robots.sim.people`)."""
         distance = math.hypot(world.body.x - person.x, world.body.y - person.y)
-        said = len(world.utterances) - self._seen
+        said = [text for _, text in world.utterances[self._seen:] if not asks_to_pass(text)]
         self._seen = len(world.utterances)
         if said and in_earshot:
             self.heard += 1

@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
-from robots.sim import visitors
+from robots.sim import letting_pass, visitors
 from robots.sim.scenario import (Answer, Approach, Follow, Lead, Leave, MakeWay, Pause,
                                  PersonPlan, Point, Shop, Sync, Walk, WaitForCall)
 
@@ -88,6 +88,7 @@ class SimPerson:
         self.blocked_for = 0.0        # s held up by others (robots.sim.crowd)
         self.wished = 0.0             # m/s the script wanted to walk in the last substep
         self.heeding = None           # robots.sim.heeding.Listener: does she wait when asked
+        self.aside: letting_pass.Aside | None = None     # letting the robot pass
 
     @property
     def current_step(self):
@@ -111,14 +112,18 @@ class SimPerson:
                 return
             self.in_world = True
             self._begin(0, world)
-        self._listen(world)
+        heard = self._listen(world)
         step = self.current_step
         if step is None:
             self._face_robot(world)
             return
-        handler = _HANDLERS[type(step)]
+        if heard and self.yielding >= YIELDS:
+            letting_pass.listen(self, heard, world)
         self._looked = False
-        done = handler(self, step, dt, world)
+        if letting_pass.carry_on(self, dt, world):
+            done = False
+        else:
+            done = _HANDLERS[type(step)](self, step, dt, world)
         if not self._looked:          # not walking on their own: a later wait starts afresh
             self.waiting_since = None
         if self.plan.cart:              # (nobody else has a cart to point)
@@ -136,6 +141,8 @@ class SimPerson:
         seed 6, PERSES, issue 23). After the short way swung the cart into somebody or the
         robot (`block_cart_turn`), it turns the other way round, as a shopper whose cart is
         against something does."""
+        if self.aside is not None:
+            return                    # pushed aside to let the robot pass: it keeps its heading
         turn = math.remainder(self.heading - self.cart_heading, math.tau)
         if self.cart_turn_way and turn * self.cart_turn_way < 0.0:
             turn += math.tau * self.cart_turn_way            # the long way round
@@ -184,14 +191,32 @@ class SimPerson:
 
     # -- helpers ---------------------------------------------------------------------------
 
-    def _listen(self, world: "World") -> None:
-        """Count what the robot said while the person was away (a call); near it, forget."""
-        said = len(world.utterances) - self._utterances_seen
+    def circles(self, cart_heading: float | None = None) -> list[tuple[float, float, float]]:
+        """Their body and their cart's circles, (x, y, r); with `cart_heading`, the cart's
+        as if it pointed there."""
+        if cart_heading is None or not self.plan.cart:
+            return [(self.x, self.y, BODY_RADIUS), *self.cart_circles()]
+        c, s = math.cos(cart_heading), math.sin(cart_heading)
+        return [(self.x, self.y, BODY_RADIUS),
+                *((self.x + c * d, self.y + s * d, CART_RADIUS) for d in CART_OFFSETS)]
+
+    def turn_cart_to(self, heading: float, dt: float) -> None:
+        """Turn the cart towards `heading`, at most CART_TURN_RATE (pulled in along the
+        robot's lane to let it pass, `robots.sim.letting_pass`)."""
+        most = CART_TURN_RATE * dt
+        turn = math.remainder(heading - self.cart_heading, math.tau)
+        self.cart_heading += max(-most, min(most, turn))
+
+    def _listen(self, world: "World") -> list[tuple[float, str]]:
+        """Count what the robot said while the person was away (a call); near it, forget.
+        What was said since the last substep, (sim s, words)."""
+        heard = world.utterances[self._utterances_seen:]
         self._utterances_seen = len(world.utterances)
         if self._distance_to_robot(world) <= CALL_DISTANCE:
             self.calls_heard = 0
         else:
-            self.calls_heard += said
+            self.calls_heard += len(heard)
+        return heard
 
     def _begin(self, index: int, world: "World") -> None:
         self.index = index

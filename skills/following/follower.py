@@ -32,6 +32,7 @@ from skills.following.room import Room
 from skills.following.searching import Searching
 from skills.localization import Localization
 from skills.motion import Motion
+from skills.navigation.navigation import EXCUSE
 from skills.perception import PeoplePerception
 from skills.safety import PERSON_MIN_DISTANCE
 from skills.skill import Skill
@@ -77,6 +78,7 @@ class FollowParams:
     max_gate: float = 12.0         # m: ... up to this (a search reaches that far)
     jump: float = 1.5              # m: the target track this far off the prediction is a swap
     call: str = CALL
+    excuse: str = EXCUSE           # said to somebody standing in the robot's way
 
 
 @dataclass(frozen=True)
@@ -135,6 +137,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._view_t: float | None = None     # ... counted up to this time
         self._way = None                      # (search goal, nearest yet, since when)
         self._looking_since: float | None = None
+        self._asked_at: float | None = None   # somebody in the way last asked to let it pass
         self._recent: list[tuple[float, float, float]] = []    # (t, x, y) seen, newest last
         self._waiting_since: float | None = None
         self._contest: _Belief | None = None          # the customer before someone came close
@@ -217,6 +220,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
             self._on_unseen(robot, now)
         if self.active:
             self._give_way(robot, now)
+            self._ask_to_pass(now)
         self._publish(now)
 
     def _pose_lost(self, now: float) -> None:
@@ -377,6 +381,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._looking_since = None
         self._recent = []
         self._waiting_since = None
+        self._asked_at = None
         self._end_contest()
         self._unsettled = False
         self._first_seen = {}
@@ -406,4 +411,7 @@ def _checked(params: FollowParams) -> FollowParams:
                          f"distance = {params.distance} m; make it at most the distance")
     if not params.call.strip():
         raise ValueError("following call is empty; give the words the robot calls out with")
+    if not params.excuse.strip():
+        raise ValueError("following excuse is empty; give the words the robot asks people "
+                         "in its way to let it pass with")
     return params

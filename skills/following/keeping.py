@@ -10,6 +10,12 @@ stands, and give way to anybody who walks at the robot.
   and anybody (the customer too) walking at the robot inside it makes it back off
   (`skills.giving_way`); somebody whose course passes the robot's body by (`_walking_at`) is
   passing, not walking at it.
+- **asking to pass**: while somebody else stands in its way (navigation blocked by a
+  person for `ASK_AFTER` s), the robot asks them to let it pass (`excuse`), at most once
+  every `ASK_EVERY` s (in a crowd the way is blocked and clear by turns): people who crossed
+  its way have passed by then, and a shopper standing at a shelf with her cart across the
+  aisle, or waiting for the robot to move while it waits for her, does not otherwise know
+  she is in the way.
 - **waiting**: she stands (or comes closer) within reach: the robot faces her and closes in
   slowly to half its stopping distance inside `distance` (backing off to it, where it can see
   behind, when a search left it closer).
@@ -29,6 +35,10 @@ BRAKE = 0.8               # share of the base's max_accel counted on for stoppin
 LATENCY_MARGIN = 0.1      # m covered before a stop command takes effect (a tick or two)
 CREEP = 0.2               # m/s at most, closing in on a customer who stands
 PASS_HORIZON = 1.5        # s a person's course is run on to see whether it meets the robot
+ASK_AFTER = 3.0           # s blocked by a person before asking them to let the robot pass
+ASK_EVERY = 10.0          # s between two asks while the way stays blocked
+ASK_NEAR = 1.3            # m from what blocks the way to a person who is asked: a shopper's
+                          # cart reaches 1.2 m ahead of her, and it is the cart that blocks
 PASS_CLEAR = 0.6          # m, centre to centre: a course that stays this far off passes the
                           # robot by (its 0.26 m radius, a person's 0.25 m and 0.1 m)
 
@@ -48,6 +58,25 @@ class Keeping:
             return
         self._hold(now)
         self.motion.start(giving_way.back_off(intruder, robot), now)
+
+    def _ask_to_pass(self, now: float) -> None:
+        """Somebody other than her has stood in the robot's way for `ASK_AFTER` s: ask them
+        to let it pass (not while the robot is speaking, nor within `ASK_EVERY` s of the last
+        ask)."""
+        nav = self.navigation
+        if nav is None or self.speech is None:
+            return
+        if nav.state.phase != "blocked":
+            return
+        if nav.state.blocked_for < ASK_AFTER or self.speech.status.running:
+            return
+        if self._asked_at is not None and now - self._asked_at < ASK_EVERY:
+            return
+        her = frozenset() if self.state.target is None else frozenset({self.state.target})
+        if nav.person_blocking(ASK_NEAR, ignore=her) is None:
+            return
+        self._asked_at = now
+        self.speech.say(self.params.excuse, now)
 
     def _drive_behind(self, track, robot, d: float, now: float) -> None:
         """Drive towards the customer (led a little by their velocity) at their pace plus the

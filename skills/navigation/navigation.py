@@ -60,6 +60,9 @@ READING_SIZE = 0.25          # m drawn around an off-map reading when planning a
 SONAR_RANGE = 1.5            # m: farther sonar echoes are too wide to steer by
 IGNORED_RADIUS = 0.45        # m around an ignored person whose readings do not block
 ON_MAP = 0.09                # m: a reading this near a mapped wall (cell centre) is that wall
+EXCUSE = "Excuse me, may I pass, please?"   # the words a robot asks `person_blocking` with
+PERSON_AT_BLOCKER = 0.6     # m: a track this near what blocks the way is a person in it
+IN_A_WALL = 0.15             # m: a "person" closer than this to a wall is a door jamb's echo
 CONFIRM_RADIUS = 0.05        # m: a laser reading counts when the previous scan had one this near
 
 
@@ -217,6 +220,24 @@ class Navigation(Skill):
         self.set_status(IDLE, now)
         self.write("navigation/path", (), now)
         self._publish(now)
+
+    def person_blocking(self, near: float = PERSON_AT_BLOCKER, ignore=frozenset()):
+        """The person standing in the way while the way is blocked: a track within `near` m
+        of what blocks it, ahead of the robot and off the walls (a door jamb's echo the leg
+        detector took for legs is no one to ask), not one of `ignore` (track ids); else
+        None. Who to ask to let the robot pass."""
+        blocker = self.state.blocker if self.state.phase == BLOCKED else None
+        pose = self.localization.state
+        if blocker is None or pose is None:
+            return None
+        ahead = (math.cos(pose.th), math.sin(pose.th))
+        for track in self.perception.tracks:
+            if (track.id not in ignore
+                    and math.hypot(track.x - blocker[0], track.y - blocker[1]) <= near
+                    and (track.x - pose.x) * ahead[0] + (track.y - pose.y) * ahead[1] > 0
+                    and self.grid.clearance_at(track.x, track.y) > IN_A_WALL):
+                return track
+        return None
 
     # -- the tick --------------------------------------------------------------------------
 

@@ -324,3 +324,30 @@ def test_open_skills_takes_another_map_and_places_come_from_it(tmp_path):
         assert "places: lift" in nav.status.reason
     finally:
         skills.close()
+
+
+def test_the_person_blocking_is_a_track_at_the_blocker_ahead_and_off_the_walls():
+    """Who a robot asks to let it pass (`Navigation.person_blocking`): nobody while the way is
+    not blocked, nor a track behind the robot, farther than `near` from what blocks it, one of
+    `ignore`, or one on a wall (a door jamb the leg detector took for legs)."""
+    from types import SimpleNamespace as Namespace
+    from skills.navigation.navigation import BLOCKED, Navigation
+
+    def person(tid, x, y):
+        return Namespace(id=tid, x=x, y=y)
+
+    nav = Navigation.__new__(Navigation)
+    nav.localization = Namespace(state=Namespace(x=0.0, y=0.0, th=0.0))   # facing +x
+    nav.grid = Namespace(clearance_at=lambda x, y: 0.05 if y > 2.5 else 1.0)
+    nav.perception = Namespace(tracks=[person(1, -1.0, 0.0), person(2, 1.6, 0.1),
+                                       person(3, 2.9, 0.0), person(4, 1.4, 2.8)])
+    nav.state = NavigationState(phase=BLOCKED, blocker=(1.2, 0.0))
+    assert nav.person_blocking(0.6).id == 2
+    assert nav.person_blocking(0.6, ignore=frozenset({2})) is None     # her, say
+    assert nav.person_blocking(2.0, ignore=frozenset({2})).id == 3     # a cart's reach
+    nav.state = NavigationState(phase=BLOCKED, blocker=(1.3, 2.7))
+    assert nav.person_blocking(0.6) is None                             # on a wall
+    nav.state = NavigationState(phase=BLOCKED, blocker=(-1.0, 0.3))
+    assert nav.person_blocking(0.6) is None                             # behind it
+    nav.state = NavigationState(phase="driving", blocker=(1.2, 0.0))
+    assert nav.person_blocking(0.6) is None

@@ -142,3 +142,69 @@ def test_walking_it_trails_only_what_a_dead_stop_would_take_beyond_the_tolerance
     assert d == pytest.approx(params.distance + max(stopping - params.tolerance, 0.0), abs=0.01)
     assert d - stopping >= params.distance - params.tolerance - 0.01   # a dead stop: in band
     assert d <= params.distance + params.tolerance                       # walking: in band
+
+
+class _BlockedNavigation:
+    """Blocked since `since` by whoever `person_blocking` names (None: nobody, a box)."""
+    def __init__(self, blocker=None):
+        self.phase, self.since, self.blocker, self.ignored = "blocked", 0.0, blocker, []
+        self.now = 0.0
+
+    @property
+    def state(self):
+        blocked_for = self.now - self.since if self.phase == "blocked" else 0.0
+        return type("State", (), {"phase": self.phase, "blocked_for": blocked_for})()
+
+    def person_blocking(self, near, ignore=frozenset()):
+        self.ignored.append(ignore)
+        return self.blocker
+
+
+class _Speech:
+    def __init__(self):
+        self.said = []
+        self.status = type("Status", (), {"running": False})()
+
+    def say(self, text, now):
+        self.said.append((now, text))
+
+
+def _asks(nav, times, blocker_from=None):
+    speech = _Speech()
+    following, _ = follower(speech)
+    following.navigation = nav
+    following.state = following.state.__class__(phase="following", target=1)
+    for now in times:
+        nav.now = now
+        following._ask_to_pass(now)
+    return [t for t, _ in speech.said], following
+
+
+def test_somebody_standing_in_its_way_is_asked_to_let_it_pass_once_then_every_ask_every():
+    from skills.following.keeping import ASK_AFTER, ASK_EVERY
+    nav = _BlockedNavigation(blocker=track(7, 1.5, 0.0, 0.0))
+    times = [k * 0.1 for k in range(0, 250)]
+    asked, following = _asks(nav, times)
+    assert asked == pytest.approx([ASK_AFTER, ASK_AFTER + ASK_EVERY, ASK_AFTER + 2 * ASK_EVERY])
+    assert all(ignore == frozenset({1}) for ignore in nav.ignored)    # never her
+
+
+def test_asks_stay_ask_every_apart_across_blocked_episodes_and_nobody_is_not_asked():
+    from skills.following.keeping import ASK_AFTER, ASK_EVERY
+    nav = _BlockedNavigation(blocker=track(7, 1.5, 0.0, 0.0))
+    speech = _Speech()
+    following, _ = follower(speech)
+    following.navigation = nav
+    for now in (0.0, ASK_AFTER, 3.0):
+        nav.now = now
+        following._ask_to_pass(now)
+    nav.phase, nav.now = "driving", 3.5                   # the way cleared
+    following._ask_to_pass(3.5)
+    nav.phase, nav.since = "blocked", 4.0                 # blocked again (a crowd)
+    for now in (4.0, 4.0 + ASK_AFTER, ASK_AFTER + ASK_EVERY):
+        nav.now = now
+        following._ask_to_pass(now)
+    assert [t for t, _ in speech.said] == pytest.approx([ASK_AFTER, ASK_AFTER + ASK_EVERY])
+    assert speech.said[0][1] == following.params.excuse
+    box = _BlockedNavigation(blocker=None)                # a box, or a wall's echo
+    assert _asks(box, [k * 0.1 for k in range(60)])[0] == []
