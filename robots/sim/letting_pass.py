@@ -20,7 +20,8 @@ have no room); a cart in the lane is first pulled in along it (turned, at a push
 turn rate, to the robot's heading or its opposite, whichever is nearer; not when the turn
 would sweep it into the robot), then pushed aside with them. Without room to step aside and
 without a cart to pull in, they go on as before. They stand aside until the robot has passed
-(they are behind its centre along its heading), is farther than PASSED m, or PATIENCE s have
+(they are behind it along its heading by more than a cart's reach, SWING), is farther than
+PASSED m, or PATIENCE s have
 gone by, then go on with their step (a shopper at a shelf dwells on, a walker walks on);
 arrived at their spot but still in its lane (pushed there, or the robot turned), they go on
 at once: standing there helps nobody.
@@ -43,6 +44,7 @@ LANE_MARGIN = 0.15      # m beside the robot's and their width that still counts
 ASIDE_MOST = 0.9        # m at most stepped aside
 REACTION = 1.0          # s between hearing the ask and stepping aside
 PASSED = 3.0            # m: the robot this far off has gone elsewhere
+SWING = 1.25            # m a cart reaches from its pusher's centre (people.CART_OFFSETS, radius)
 PATIENCE = 6.0          # s they stand aside at most (as long as people give way, people.py)
 CLEAR = 0.05            # m stepped beyond the lane's edge
 MIN_SHARE = 0.25        # of the step aside that must be clear of walls, or they stay
@@ -182,8 +184,10 @@ def _aside_spot(person: "SimPerson", shift: tuple[float, float], world: "World"
 
 
 def _passed(person: "SimPerson", world: "World") -> bool:
+    """The robot is past them by more than their cart's swing (a cart turned back to the
+    walking heading beside a robot just past swung into its flank), or has gone elsewhere."""
     body = world.body
     rx, ry = person.x - body.x, person.y - body.y
     along = rx * math.cos(body.th) + ry * math.sin(body.th)
-    return along < 0.0 or math.hypot(rx, ry) > PASSED
+    return along < -(body.radius + SWING) or math.hypot(rx, ry) > PASSED
 

@@ -7,7 +7,7 @@ import pytest
 
 from robots.profile import load_profile
 from robots.sim.floor import load_floor
-from robots.sim.letting_pass import LANE_MARGIN, PATIENCE, REACTION
+from robots.sim.letting_pass import LANE_MARGIN, PATIENCE, REACTION, SWING
 from robots.sim.people import BODY_RADIUS, CART_RADIUS
 from robots.sim.scenario import parse_scenario
 from robots.sim.understanding import asks_to_pass
@@ -58,9 +58,12 @@ def test_a_person_who_yields_steps_out_of_the_lane_and_goes_on_once_the_robot_pa
     assert person.aside is not None and person.y == pytest.approx(AISLE_Y)   # not yet
     run_until(world, lambda w: out_of_lane(w, person), limit=world.t + 3.0)
     assert person.y > AISLE_Y                          # to the robot's right, dead ahead
-    world.body.set_command(0.4, 0.0)                   # the robot drives past her
-    run_until(world, lambda w: person.aside is None, limit=world.t + 6.0)
-    assert world.body.x < person.x                     # she went on once it had passed
+    world.body.x = person.x - 0.5                      # the robot just past her: she waits
+    world.step(0.5)                                    # (a cart would swing into its flank)
+    assert person.aside is not None
+    world.body.x = person.x - PERSES.radius - SWING - 0.05   # past by more than a cart's reach
+    world.step(0.2)
+    assert person.aside is None                        # she goes on
     assert [c for c in world.measures.contacts if c.kind == "person"] == []
 
 
