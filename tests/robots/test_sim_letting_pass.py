@@ -8,7 +8,6 @@ import pytest
 from robots.profile import load_profile
 from robots.sim.floor import load_floor
 from robots.sim.letting_pass import LANE_MARGIN, PATIENCE, REACTION, SWING
-from robots.sim.people import BODY_RADIUS, CART_RADIUS
 from robots.sim.scenario import parse_scenario
 from robots.sim.understanding import asks_to_pass
 from robots.sim.world import World
@@ -105,7 +104,6 @@ def test_a_cart_across_the_lane_is_pulled_in_along_it():
     along = math.remainder(person.cart_heading - world.body.th, math.pi)
     assert abs(along) < math.radians(2)                # the cart lies along the lane
     assert person.y < AISLE_Y                           # on her side of it
-    assert CART_RADIUS > BODY_RADIUS                    # (the cart sets the width to clear)
 
 
 def test_a_customer_leading_the_robot_neither_steps_aside_nor_takes_it_for_wait():
