@@ -97,8 +97,8 @@ def _refuse_name_continuation(text: str, match: re.Match) -> None:
     rest = text[end + 1:]
     if text[end] == "." and rest.strip() == "":
         raise ConditionError("a condition does not end with '.': delete it", end, text)
-    if text[end] == "." and rest[:1].isspace() and rest.lstrip()[:1].isalpha():
-        following = _NAME.match(rest.lstrip())
+    following = _NAME.match(rest.lstrip()) if text[end] == "." and rest[:1].isspace() else None
+    if following is not None:        # (a letter outside A-Z, as 'é', starts no name: below)
         raise ConditionError(f"no spaces inside a name: write {word}.{following.group()}",
                              end, text)
     raise ConditionError(

@@ -7,7 +7,7 @@ from __future__ import annotations
 from fractions import Fraction
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from applications.conditions import ConditionError, compile_condition
@@ -278,6 +278,7 @@ SLIP_PIECES = sorted({*SYMBOLS, *UNIT_ALIASES, *(" ".join(p) for p in WORD_OPERA
 @settings(max_examples=500, deadline=None)
 @given(st.lists(st.tuples(st.sampled_from(SLIP_PIECES), st.sampled_from(["", " ", "  "])),
                 max_size=10))
+@example([("AND", ""), (".", " "), ("é", "")])   # a letter outside A-Z after "NAME. " (crashed)
 def test_any_mix_of_slips_compiles_or_raises_condition_error(pieces) -> None:
     text = "".join(piece + space for piece, space in pieces)
     try:
@@ -323,3 +324,13 @@ def test_any_mangled_number_compiles_or_raises_condition_error(tail) -> None:
         compile_condition(text, declarations=DECLARATIONS)
     except ConditionError as problem:
         assert 0 <= problem.offset <= len(text) and problem.reason
+
+
+@pytest.mark.parametrize("text, reason", [
+    ("user. distance > 1 m", "no spaces inside a name: write user.distance"),
+    ("user. é", "'.' cannot follow 'user' here"),
+])
+def test_a_space_after_a_names_dot_says_what_to_write(text, reason) -> None:
+    with pytest.raises(ConditionError) as raised:
+        compile_condition(text, declarations=DECLARATIONS)
+    assert reason in raised.value.reason and raised.value.offset == 4
