@@ -439,12 +439,9 @@ class Crowd:
         """Every body and cart circle (m, 3) with its owner's index; the robot is owner -1."""
         rows, owners = [], []
         for k, person in enumerate(people):
-            rows.append((person.x, person.y, BODY_RADIUS))
-            owners.append(k)
-            if person.plan.cart:
-                carts = person.cart_circles()
-                rows.extend(carts)
-                owners.extend([k] * len(carts))
+            circles = person.circles()
+            rows.extend(circles)
+            owners.extend([k] * len(circles))
         footprint = world.body.circles()    # one circle, or a rectangle's
         owners.extend([-1] * len(footprint))
         rows.extend(footprint.tolist())
@@ -545,7 +542,7 @@ class Crowd:
         """True when a person appearing now overlaps nobody (with their cart) and not the
         robot."""
         present = [p for p in world.people if p.in_world]
-        circles = [(person.x, person.y, BODY_RADIUS)] + person.cart_circles()
+        circles = person.circles()
         others = [(p.x, p.y, BODY_RADIUS) for p in present]
         others += [c for p in present for c in p.cart_circles()]
         others.extend(tuple(c) for c in world.body.circles())

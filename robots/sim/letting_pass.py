@@ -128,21 +128,22 @@ def _lane(body, x: float, y: float, radius: float) -> tuple[float, float, float]
     return rx * hx + ry * hy, hx * ry - hy * rx, body.radius + radius + LANE_MARGIN
 
 
+def _across(body, x: float, y: float, radius: float) -> bool:
+    """The circle lies across the line the robot faces (ahead of it or not)."""
+    _, across, lane = _lane(body, x, y, radius)
+    return abs(across) < lane
+
+
 def _in_lane(circles, body) -> bool:
     """A circle in the robot's lane, ahead of it within ASKED_NEAR."""
-    for x, y, radius in circles:
-        along, across, lane = _lane(body, x, y, radius)
-        if along > 0.0 and math.hypot(x - body.x, y - body.y) <= ASKED_NEAR and abs(across) < lane:
-            return True
-    return False
+    return any(_lane(body, x, y, r)[0] > 0.0 and _across(body, x, y, r)
+               and math.hypot(x - body.x, y - body.y) <= ASKED_NEAR for x, y, r in circles)
 
 
 def _tucked(person: "SimPerson", body) -> float | None:
     """The heading along the robot's lane (of its two ways, the nearer the cart's) to pull a
     cart in to when a circle of the cart is in the lane; None without one there."""
-    carts = person.cart_circles()
-    if not carts or not any(abs(_lane(body, x, y, r)[1]) < _lane(body, x, y, r)[2]
-                            for x, y, r in carts):
+    if not any(_across(body, x, y, r) for x, y, r in person.cart_circles()):
         return None
     ahead = math.remainder(body.th - person.cart_heading, math.tau)
     tuck = body.th if abs(ahead) <= math.pi / 2 else body.th + math.pi
@@ -187,7 +188,7 @@ def _passed(person: "SimPerson", world: "World") -> bool:
     """The robot is past them by more than their cart's swing (a cart turned back to the
     walking heading beside a robot just past swung into its flank), or has gone elsewhere."""
     body = world.body
-    rx, ry = person.x - body.x, person.y - body.y
-    along = rx * math.cos(body.th) + ry * math.sin(body.th)
-    return along < -(body.radius + SWING) or math.hypot(rx, ry) > PASSED
+    along = _lane(body, person.x, person.y, 0.0)[0]
+    return (along < -(body.radius + SWING)
+            or math.hypot(person.x - body.x, person.y - body.y) > PASSED)
 

@@ -184,21 +184,21 @@ class SimPerson:
             return []
         key = (self.x, self.y, self.cart_heading)    # asked for several times a substep
         if self._cart_circles is None or self._cart_circles[0] != key:
-            c, s = math.cos(self.cart_heading), math.sin(self.cart_heading)
-            self._cart_circles = (key, [(self.x + c * d, self.y + s * d, CART_RADIUS)
-                                        for d in CART_OFFSETS])
+            self._cart_circles = (key, self._cart_at(self.cart_heading))
         return self._cart_circles[1]
+
+    def _cart_at(self, heading: float) -> list[tuple[float, float, float]]:
+        c, s = math.cos(heading), math.sin(heading)
+        return [(self.x + c * d, self.y + s * d, CART_RADIUS) for d in CART_OFFSETS]
 
     # -- helpers ---------------------------------------------------------------------------
 
     def circles(self, cart_heading: float | None = None) -> list[tuple[float, float, float]]:
         """Their body and their cart's circles, (x, y, r); with `cart_heading`, the cart's
         as if it pointed there."""
-        if cart_heading is None or not self.plan.cart:
-            return [(self.x, self.y, BODY_RADIUS), *self.cart_circles()]
-        c, s = math.cos(cart_heading), math.sin(cart_heading)
-        return [(self.x, self.y, BODY_RADIUS),
-                *((self.x + c * d, self.y + s * d, CART_RADIUS) for d in CART_OFFSETS)]
+        carts = (self.cart_circles() if cart_heading is None or not self.plan.cart
+                 else self._cart_at(cart_heading))
+        return [(self.x, self.y, BODY_RADIUS), *carts]
 
     def turn_cart_to(self, heading: float, dt: float) -> None:
         """Turn the cart towards `heading`, at most CART_TURN_RATE (pulled in along the

@@ -64,6 +64,7 @@ def follower(speech=None):
 class Speech:
     def __init__(self):
         self.said = []
+        self.status = SimpleNamespace(running=False)     # never still speaking
 
     def say(self, text, now):
         self.said.append((now, text))

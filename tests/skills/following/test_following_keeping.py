@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from follow_fakes import follower, track
+from follow_fakes import Speech, follower, track
 from skills.following import WAITING
 from skills.following.keeping import BRAKE, LATENCY_MARGIN
 
@@ -160,17 +160,8 @@ class _BlockedNavigation:
         return self.blocker
 
 
-class _Speech:
-    def __init__(self):
-        self.said = []
-        self.status = type("Status", (), {"running": False})()
-
-    def say(self, text, now):
-        self.said.append((now, text))
-
-
-def _asks(nav, times, blocker_from=None):
-    speech = _Speech()
+def _asks(nav, times):
+    speech = Speech()
     following, _ = follower(speech)
     following.navigation = nav
     following.state = following.state.__class__(phase="following", target=1)
@@ -184,7 +175,7 @@ def test_somebody_standing_in_its_way_is_asked_to_let_it_pass_once_then_every_as
     from skills.following.keeping import ASK_AFTER, ASK_EVERY
     nav = _BlockedNavigation(blocker=track(7, 1.5, 0.0, 0.0))
     times = [k * 0.1 for k in range(0, 250)]
-    asked, following = _asks(nav, times)
+    asked, _ = _asks(nav, times)
     assert asked == pytest.approx([ASK_AFTER, ASK_AFTER + ASK_EVERY, ASK_AFTER + 2 * ASK_EVERY])
     assert all(ignore == frozenset({1}) for ignore in nav.ignored)    # never her
 
@@ -192,7 +183,7 @@ def test_somebody_standing_in_its_way_is_asked_to_let_it_pass_once_then_every_as
 def test_asks_stay_ask_every_apart_across_blocked_episodes_and_nobody_is_not_asked():
     from skills.following.keeping import ASK_AFTER, ASK_EVERY
     nav = _BlockedNavigation(blocker=track(7, 1.5, 0.0, 0.0))
-    speech = _Speech()
+    speech = Speech()
     following, _ = follower(speech)
     following.navigation = nav
     for now in (0.0, ASK_AFTER, 3.0):
