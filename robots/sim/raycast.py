@@ -61,6 +61,9 @@ def _rays(origins, angles) -> tuple:
     return origins[:, 0], origins[:, 1], angles
 
 
+_SMALLEST_NORMAL = np.finfo(float).tiny
+
+
 def _segment_hits(px, py, dx, dy, segments: np.ndarray) -> np.ndarray:
     """Nearest ray parameter t >= 0 where each ray crosses a segment (inf when none)."""
     ax = segments[:, 0:1]
@@ -77,7 +80,9 @@ def _segment_hits(px, py, dx, dy, segments: np.ndarray) -> np.ndarray:
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         t = t_num / denom
         s = s_num / denom
-    hit = (t >= 0.0) & (s >= 0.0) & (s <= 1.0)
+    # a cross product below the smallest normal float has lost its digits (a wall nearly
+    # along the ray, given in subnormal coordinates): its t and s say nothing, no hit
+    hit = (np.abs(denom) >= _SMALLEST_NORMAL) & (t >= 0.0) & (s >= 0.0) & (s <= 1.0)
     return np.where(hit, t, np.inf).min(axis=0)
 
 

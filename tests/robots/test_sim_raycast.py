@@ -2,7 +2,7 @@
 import math
 
 import numpy as np
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from robots.sim.raycast import cast_rays, point_segment_distances, segment_distances
@@ -74,6 +74,7 @@ coordinate = st.floats(-5.0, 5.0)
 @settings(max_examples=150, deadline=None)
 @given(x1=coordinate, y1=coordinate, x2=coordinate, y2=coordinate,
        ox=coordinate, oy=coordinate, angle=st.floats(-math.pi, math.pi))
+@example(x1=0.5, y1=5e-324, x2=0.0, y2=0.0, ox=1.0, oy=0.0, angle=0.0)   # behind it (was hit)
 def test_hits_lie_on_the_wall_and_ray(x1, y1, x2, y2, ox, oy, angle):
     if math.hypot(x2 - x1, y2 - y1) < 1e-3:
         return
