@@ -287,3 +287,18 @@ def test_a_shopper_whose_cart_is_against_the_robot_turns_it_the_other_way_and_wa
     # only: 20.4, 7.6 and 15.7 s in 30 s on seeds 8, 18 and 23, 0.1-0.2 s on 0 and 29).
     # Crowd20 seeds 4 and 6 of bench_follow held PERSES so for 12 and 22 s.
     assert _cart_held_turning_at_the_robot(seed) < 1.0
+
+
+def test_two_people_held_up_facing_each_other_do_not_stand_frozen():
+    # the follow benchmark's crowd10 seed 1 at 47 s: each walks to a spot near the other, both
+    # held up beside the standing robot; seeing each other by their wishes, each kept seeing
+    # the other rush at them and they stood 2.4 m apart, 0.85 m short of their spots, for 29 s
+    people = [{"id": "a", "at": [15.35, 5.79], "speed": 1.24, "yielding": 0.2,
+               "steps": [{"walk": [[14.58, 6.2]]}, {"pause": 100.0}]},
+              {"id": "b", "at": [13.26, 6.9], "speed": 1.0, "yielding": 0.46,
+               "steps": [{"walk": [[14.0, 6.5]]}, {"pause": 100.0}]}]
+    world = world_of(people, robot=(14.72, 5.22, 21.0), floor=STORE)
+    while world.t < 10.0:
+        world.step(0.1)
+        assert not overlaps(world)
+    assert [p.index for p in world.people] == [1, 1]       # both on with their scripts
