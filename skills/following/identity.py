@@ -154,6 +154,7 @@ class Identity:
                 self._others.add(same.id)
                 self._views, self._views_of = [], None
                 self._belief = self._matched or self._belief
+                self._unmake_strangers_since(self._matched_t)
                 predicted, gate = self._prediction(now)
         # who may be her: fresh confirmed tracks inside the gate (where she can have walked),
         # not seen as somebody else beside her (unless seen looking like her since), and
@@ -308,7 +309,7 @@ class Identity:
             if t.id not in self._first_seen:
                 self._first_seen[t.id] = (now, t.x, t.y)
                 if self._born_as_a_stranger(t, tracks, now):
-                    self._strangers.add(t.id)
+                    self._make_stranger(t.id, now)
                     self._others.add(t.id)
         for gone in set(self._first_seen) - ids:
             del self._first_seen[gone]
@@ -371,7 +372,25 @@ class Identity:
                 self._others.add(t.id)
             elif confirmed_her:
                 self._others.add(t.id)
-                self._strangers.add(t.id)
+                self._make_stranger(t.id, now)
+
+    def _make_stranger(self, track_id: int, now: float) -> None:
+        self._strangers.add(track_id)
+        self._made_stranger.setdefault(track_id, now)
+
+    def _unmake_strangers_since(self, since: float) -> None:
+        """Her followed track turned out to be somebody else: the tracks taken for strangers
+        since her track's last view like her were judged against a track that was no longer
+        hers, and one of them may be she. Her id passed to a crosser as he walked past her;
+        for 0.3 s the camera's last view of that id was still of her, her own new track was
+        taken for a look-alike seen apart from her, and the robot searched 26 s with her
+        1.6-3.3 m away in view (bench_follow crowd10 seed 11, PERSES, issue 23)."""
+        for track_id, when in list(self._made_stranger.items()):
+            if when > since:
+                del self._made_stranger[track_id]
+                self._strangers.discard(track_id)
+                self._others.discard(track_id)
+                self._stranger_seen.pop(track_id, None)
 
     def _untangle(self, target, tracks, now: float):
         """Two people passing within CONTEST_NEAR of each other can swap track ids. While

@@ -645,3 +645,29 @@ def test_a_fresh_view_of_a_stranger_like_her_does_not_take_her_id_kept_by_legs()
         perception.believed = (_legs_only(1, 2.0, 0.0, t, last_view), seen(6, 2.9, 1.0, t, RED))
         following.sense(t)
         assert following.state.target == 1, (t, following.state)
+
+
+
+def test_her_new_track_taken_for_a_look_alike_while_her_id_was_on_a_crosser_is_her_again():
+    # bench_follow crowd10 seed 11, PERSES: a crosser walked past her close and her id slid
+    # onto him; while the camera's last view of that id was still of her, her own new track,
+    # like her, counted as a look-alike seen apart from her (a stranger: never her), and the
+    # robot searched 26 s with her 1.6-3.3 m away in view
+    following, perception = follower()
+    t = learn_her(following, perception)
+    x = 2.0 + 0.5 * t
+    for k in range(3):                  # her id on the crosser, its last view still of her
+        t = round(t + 0.1, 6)
+        crosser = replace(track(1, x + 0.05 * (k + 1), 0.0, t, vx=0.5),
+                          appearance=RED, appearance_t=1.0)
+        perception.believed = (crosser, seen(8, x, 0.9, t, RED))
+        following.sense(t)
+    assert following.state.target == 1 and 8 in following._strangers
+    crosser_x = x + 0.15
+    for _ in range(10):                 # the camera sees the crosser now: not her
+        t = round(t + 0.1, 6)
+        crosser_x += 0.05
+        perception.believed = (seen(1, crosser_x, 0.0, t, BLUE, vx=0.5), seen(8, x, 0.9, t, RED))
+        following.sense(t)
+    assert following.state.target == 8 and not following.state.lost, following.state
+    assert 8 not in following._strangers and 1 in following._others
