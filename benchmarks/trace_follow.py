@@ -21,7 +21,12 @@ the benchmark's. Causes, first that applies:
 Also the metres the robot fell behind her, per cause: her speed less its own, summed over
 the ticks she walks, it is more than 0.15 m beyond the setpoint, and slower than she.
 
+With `--who ID`, each printed tick also shows that simulated person: where they are, their
+step, how long they have been held up by others, their speed, their cart's heading and the
+gaps from the robot's outline to their body and cart circles (the benchmark's `_gap`).
+
     python benchmarks/trace_follow.py FAMILY SEED [--robot perses|horos] [--ticks FROM TO]
+                                      [--who ID]
     python benchmarks/trace_follow.py FAMILY --seeds N [--first K] [--robot ...]
 """
 from __future__ import annotations
@@ -78,8 +83,9 @@ def _walk_cause(row: dict) -> str:
     return "other"
 
 
-def trace(family: str, seed: int, robot: str) -> list[dict]:
-    """One benchmark run, a row per tick from the start of following (or to giving up)."""
+def trace(family: str, seed: int, robot: str, who: str | None = None) -> list[dict]:
+    """One benchmark run, a row per tick from the start of following (or to giving up);
+    `who`: a person whose state each row also holds (`_person`)."""
     text, _ = bf.scenario(seed, None, family)
     path = Path(tempfile.mkdtemp()) / f"trace_follow_{seed}.toml"
     path.write_text(text, encoding="utf-8")
@@ -100,6 +106,8 @@ def trace(family: str, seed: int, robot: str) -> list[dict]:
             if started is None or customer is None:
                 continue
             rows.append(_row(skills, world, customer, now, now - started >= 5.0, last))
+            if who is not None:
+                rows[-1]["who"] = _person(world, who)
             last = (customer.x, customer.y)
             if rows[-1]["phase"] == "gave_up":
                 break
@@ -130,6 +138,20 @@ def _row(skills, world, customer, now: float, counted: bool, last) -> dict:
                   if p is not customer), default=math.inf),
         ctrl="" if command is None else command.reason,
         arbiter=skills.blackboard.value("motion/limit", "") or "")
+
+
+def _person(world, who: str) -> dict | None:
+    """One person's state and gaps to the robot's outline (None while not in the store)."""
+    person = next((p for p in world.present_people() if p.plan.id == who), None)
+    if person is None:
+        return None
+    body = world.body
+    pose = (body.x, body.y, body.th)
+    radii = [bf.BODY_RADIUS] + [r for _, _, r in person.cart_circles()]
+    return dict(id=who, at=(person.x, person.y), step=type(person.current_step).__name__,
+                held=person.blocked_for, v=person.speed,
+                cart=math.degrees(person.cart_heading) if person.plan.cart else None,
+                gaps=[bf._gap(body, pose, c, r) for c, r in zip(bf._circles(person), radii)])
 
 
 def _on_her(skills, state, people, customer) -> bool:
@@ -171,7 +193,16 @@ def print_tick(r: dict) -> None:
           f"track={r['target']} on_her={int(r['on_her'])} pose_err={r['pose_err']:.2f} "
           f"robot=({r['robot'][0]:.1f},{r['robot'][1]:.1f}) "
           f"her=({r['her'][0]:.1f},{r['her'][1]:.1f}) [{classify(r)}] "
-          f"ctrl='{r['ctrl']}' arbiter='{r['arbiter']}' {r['reason']}")
+          f"ctrl='{r['ctrl']}' arbiter='{r['arbiter']}' {r['reason']}" + _who(r.get("who")))
+
+
+def _who(person: dict | None) -> str:
+    if person is None:
+        return ""
+    cart = "" if person["cart"] is None else f" cart={person['cart']:.0f}deg"
+    gaps = ",".join(f"{g:.2f}" for g in person["gaps"])
+    return (f" | {person['id']} ({person['at'][0]:.2f},{person['at'][1]:.2f}) {person['step']}"
+            f" held={person['held']:.1f} v={person['v']:.2f}{cart} gaps={gaps}")
 
 
 def main() -> None:
@@ -183,12 +214,13 @@ def main() -> None:
     parser.add_argument("--robot", default="perses")
     parser.add_argument("--ticks", type=float, nargs=2, metavar=("FROM", "TO"),
                         help="print every tick between these times (s)")
+    parser.add_argument("--who", help="a simulated person shown in the printed ticks")
     options = parser.parse_args()
     seeds = ([options.seed] if options.seed is not None
              else range(options.first, options.first + options.seeds))
     pooled, total, behind = Counter(), 0, Counter()
     for seed in seeds:
-        rows = trace(options.family, seed, options.robot)
+        rows = trace(options.family, seed, options.robot, options.who)
         ticks, n = causes(rows)
         print_causes(f"{options.robot} {options.family} seed {seed}", ticks, n)
         if rows and rows[-1]["phase"] == "gave_up":

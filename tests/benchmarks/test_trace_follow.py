@@ -2,6 +2,8 @@
 first that applies, so a held-up robot, a lost customer and a jam of people are told apart."""
 from __future__ import annotations
 
+import math
+
 import pytest
 
 from tests.benchmarks import benchmark_script
@@ -44,3 +46,25 @@ def test_metres_fallen_behind_count_only_while_she_walks_and_it_trails_slower(to
     behind = tool.fallen_behind(rows)
     assert dict(behind) == pytest.approx({"too far/walks/other": 0.02,
                                           "too far/walks/ctrl:people near": 0.02})
+
+
+
+def test_a_person_shown_beside_the_ticks_has_the_gaps_from_the_robot_to_body_and_cart(tool):
+    from robots.profile import load_profile
+    from robots.sim.floor import load_floor
+    from robots.sim.people import BODY_RADIUS
+    from robots.sim.scenario import parse_scenario
+    from robots.sim.world import World
+    scenario = parse_scenario({"scenario": {"robot": [14.0, 4.75, 0.0], "floor": "store"},
+                               "person": [{"id": "p", "at": [16.0, 4.75], "cart": True,
+                                           "steps": [{"pause": 9.0}]}]})
+    world = World(load_floor("store"), load_profile("perses"), scenario, seed=0)
+    world.step(0.05)
+    person, body = world.people[0], world.body
+    shown = tool._person(world, "p")
+    assert shown["gaps"][0] == pytest.approx(
+        math.hypot(person.x - body.x, person.y - body.y) - body.radius - BODY_RADIUS)
+    assert len(shown["gaps"]) == 1 + len(person.cart_circles())
+    assert shown["step"] == "Pause" and " | p (16.00,4.75) Pause" in tool._who(shown)
+    assert "cart=" in tool._who(shown)
+    assert tool._person(world, "nobody") is None and tool._who(None) == ""
