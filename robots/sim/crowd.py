@@ -135,14 +135,15 @@ class Crowd:
                       world: "World") -> None:
         """Move each person from where they stood by (wish + deviation) * h."""
         # one table, one conversion: where they stood, where their script put them, their
-        # deviation and scripted speed
+        # deviation, scripted speed and how long they have been held up
         table = np.array([(*before[id(person)][:2], person.x, person.y,
-                           *self._deviation.get(id(person), _NO_DEVIATION), person.plan.speed)
+                           *self._deviation.get(id(person), _NO_DEVIATION), person.plan.speed,
+                           person.blocked_for)
                           for person in people])
         start, deviation, scripted = table[:, 0:2], table[:, 4:6], table[:, 6]
         wish = (table[:, 2:4] - start) / h
         wished = np.hypot(wish[:, 0], wish[:, 1])
-        held = np.array([person.blocked_for >= BLOCKED_PATIENCE for person in people])
+        held = table[:, 7] >= BLOCKED_PATIENCE
         walk = np.where(held[:, None], wish + deviation, wish)
         force = self.forces(people, start, wish, world, wished, walk)
         p = self.params
