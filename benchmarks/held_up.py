@@ -4,8 +4,8 @@ the walk wished, robots.sim.crowd) of SPELL s or more, and how far from the robo
 at the closest during it. People who stand frozen for half a minute facing each other are
 not people who move like people (issue 23, docs/shopping.md, section *held1*).
 
-The runs are `bench_follow.py`'s (its `scenario`, the same `open_skills` call and follow
-command, to the end or giving up), sampled once a second.
+The runs are `bench_follow.py`'s, tick by tick as `trace_follow.py` runs them (to the end or
+giving up), sampled once a second.
 
     python benchmarks/held_up.py crowd10 crowd20 --seeds 3 [--first K] [--robot perses|horos]
 """
@@ -14,12 +14,12 @@ from __future__ import annotations
 import argparse
 import math
 import sys
-import tempfile
+from contextlib import closing
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-import bench_follow as bf  # noqa: E402  (the benchmark's scenario and rules)
-from skills.skillset import open_skills  # noqa: E402
+import bench_follow as bf  # noqa: E402  (the benchmark's families)
+from trace_follow import ticks  # noqa: E402  (the benchmark's run, tick by tick)
 
 SPELL = 5.0         # s: a held-up spell this long is counted
 
@@ -27,27 +27,13 @@ SPELL = 5.0         # s: a held-up spell this long is counted
 def spells(family: str, seed: int, robot: str) -> dict[str, tuple[float, float]]:
     """Person id -> (their longest held-up spell of SPELL s or more, their least distance to
     the robot's centre while held up that long) over one benchmark run."""
-    text, _ = bf.scenario(seed, None, family)
-    path = Path(tempfile.mkdtemp()) / f"held_up_{seed}.toml"
-    path.write_text(text, encoding="utf-8")
-    skills = open_skills(robot, scenario=path, fast=True, seed=seed)
     longest: dict[str, tuple[float, float]] = {}
-    try:
-        clock, world = skills.hardware.clock, skills.hardware.simulation.world
-        started = None
-        for tick in range(int(world.scenario.duration * 10)):
-            now = skills.sense()
-            if started is None and skills.perception.user is not None and now >= 1.0:
-                skills.following.follow(now, give_up_after=30.0)
-                started = now
-            skills.act()
-            clock.advance(0.1)
+    with closing(ticks(family, seed, robot)) as run:
+        for tick, (skills, world, _, _) in enumerate(run):
             if tick % 10 == 0:
                 _note(world, longest)
             if skills.following.state.phase == "gave_up":
                 break
-    finally:
-        skills.close()
     return longest
 
 

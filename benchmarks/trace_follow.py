@@ -36,6 +36,7 @@ import math
 import sys
 import tempfile
 from collections import Counter
+from contextlib import closing
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -83,17 +84,17 @@ def _walk_cause(row: dict) -> str:
     return "other"
 
 
-def trace(family: str, seed: int, robot: str, who: str | None = None) -> list[dict]:
-    """One benchmark run, a row per tick from the start of following (or to giving up);
-    `who`: a person whose state each row also holds (`_person`)."""
+def ticks(family: str, seed: int, robot: str):
+    """The benchmark's run of `seed` of `family`: after each tick's act, yields (skills,
+    world, now, started), `started` the time following began (None before), to the
+    scenario's end unless the caller stops first (close the generator to close the robot)."""
     text, _ = bf.scenario(seed, None, family)
     path = Path(tempfile.mkdtemp()) / f"trace_follow_{seed}.toml"
     path.write_text(text, encoding="utf-8")
     skills = open_skills(robot, scenario=path, fast=True, seed=seed)
-    rows: list[dict] = []
     try:
         clock, world = skills.hardware.clock, skills.hardware.simulation.world
-        started, last = None, None
+        started = None
         for _ in range(int(world.scenario.duration * 10)):
             now = skills.sense()
             if started is None and skills.perception.user is not None and now >= 1.0:
@@ -101,6 +102,18 @@ def trace(family: str, seed: int, robot: str, who: str | None = None) -> list[di
                 started = now
             skills.act()
             clock.advance(0.1)
+            yield skills, world, now, started
+    finally:
+        skills.close()
+
+
+def trace(family: str, seed: int, robot: str, who: str | None = None) -> list[dict]:
+    """One benchmark run, a row per tick from the start of following (or to giving up);
+    `who`: a person whose state each row also holds (`_person`)."""
+    rows: list[dict] = []
+    last = None
+    with closing(ticks(family, seed, robot)) as run:
+        for skills, world, now, started in run:
             customer = next((p for p in world.present_people() if p.plan.id == "customer"),
                             None)
             if started is None or customer is None:
@@ -111,8 +124,6 @@ def trace(family: str, seed: int, robot: str, who: str | None = None) -> list[di
             last = (customer.x, customer.y)
             if rows[-1]["phase"] == "gave_up":
                 break
-    finally:
-        skills.close()
     return rows
 
 
