@@ -23,13 +23,14 @@ without a cart to pull in, they go on as before. They stand aside until the robo
 (they are behind it along its heading by more than a cart's reach, SWING), is farther than
 PASSED m, or PATIENCE s have
 gone by, then go on with their step (a shopper at a shelf dwells on, a walker walks on);
-arrived at their spot but still in its lane (pushed there, or the robot turned), they go on
-at once: standing there helps nobody.
+arrived at their spot but still in its lane (pushed there, or the robot turned), they step
+out of it again as it lies now, or go on at once where they have no room: standing there
+helps nobody.
 """
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 from robots.sim.scenario import Follow, Lead, Leave, Pause, Shop, Walk
@@ -100,8 +101,22 @@ def carry_on(person: "SimPerson", dt: float, world: "World") -> bool:
             aside.cart_heading is None
             or abs(math.remainder(aside.cart_heading - person.cart_heading, math.tau)) < 1e-6)
         if there and _in_lane(person.circles(), world.body):
-            person.aside = None          # still in its way (pushed, or the robot turned):
-            return False                 # standing there helps nobody, they go on
+            return _step_further(person, world)
+    return True
+
+
+def _step_further(person: "SimPerson", world: "World") -> bool:
+    """Arrived aside but in the robot's lane again (it turned, or they were pushed): out of
+    its lane as it faces now, if there is room; else they go on (False), as standing there
+    helps nobody. Going on, a stand-in who gives way stood 0.8 m ahead of a robot that had
+    turned towards her after asking, and each waited for the other 7 s (bench_follow
+    turnback seed 15, HOROS, issue 23)."""
+    shift = _out_of_lane(person.circles(), world.body)
+    spot = None if shift is None else _aside_spot(person, shift, world)
+    if spot is None:
+        person.aside = None
+        return False
+    person.aside = replace(person.aside, to=spot)
     return True
 
 

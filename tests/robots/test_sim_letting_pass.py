@@ -125,3 +125,17 @@ def test_somebody_walking_across_its_lane_walks_on():
     world.step(REACTION + 1.0)
     assert person.aside is None
     assert person.y - y0 == pytest.approx(0.3 * (REACTION + 1.1), abs=0.1)
+
+
+def test_a_person_aside_steps_further_when_the_robot_turns_towards_her():
+    # bench_follow turnback seed 15, HOROS: the robot turned towards a stand-in who had just
+    # stepped aside; she went on standing 0.8 m ahead of it and each waited for the other 7 s
+    world, person = world_with({})
+    world.say(EXCUSE)
+    run_until(world, lambda w: out_of_lane(w, person), limit=world.t + REACTION + 3.0)
+    world.step(0.5)
+    body = world.body
+    body.th = math.atan2(person.y - body.y, person.x - body.x)       # the robot turns to her
+    assert not out_of_lane(world, person)
+    run_until(world, lambda w: out_of_lane(w, person), limit=world.t + 3.0)
+    assert person.aside is not None                    # still letting it pass, out of its way
