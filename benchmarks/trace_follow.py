@@ -158,11 +158,10 @@ def _person(world, who: str) -> dict | None:
         return None
     body = world.body
     pose = (body.x, body.y, body.th)
-    radii = [bf.BODY_RADIUS] + [r for _, _, r in person.cart_circles()]
     return dict(id=who, at=(person.x, person.y), step=type(person.current_step).__name__,
                 held=person.blocked_for, v=person.speed,
                 cart=math.degrees(person.cart_heading) if person.plan.cart else None,
-                gaps=[bf._gap(body, pose, c, r) for c, r in zip(bf._circles(person), radii)])
+                gaps=[bf._gap(body, pose, (x, y), r) for x, y, r in person.circles()])
 
 
 def _on_her(skills, state, people, customer) -> bool:

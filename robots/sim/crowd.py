@@ -172,11 +172,9 @@ class Crowd:
             person.speed = speed_k if speed_k * h > 1e-9 else 0.0
 
     def forces(self, people: list[SimPerson], positions: np.ndarray, wish: np.ndarray,
-               world: "World", wished: np.ndarray, walk: np.ndarray | None = None
-               ) -> np.ndarray:
+               world: "World", wished: np.ndarray, walk: np.ndarray) -> np.ndarray:
         """Social force (m/s²) on each person, (n, 2). `wished`: the length of each wish;
-        `walk`: each one's walk as the others see it (default: the wish)."""
-        walk = wish if walk is None else walk
+        `walk`: each one's walk as the others see it (`_walker_forces`)."""
         from_people, from_robot = self._walker_forces(people, positions, wish, walk, world)
         force = (from_people
                  + self._wall_forces(positions, wished, world)

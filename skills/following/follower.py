@@ -120,8 +120,8 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._belief: _Belief | None = None
         self._others: set[int] = set()
         self._shadowed: dict[int, float] = {}  # id: when it was found somebody's shadow
-        self._strangers: set[int] = set()     # look-alikes seen apart from her: never her
-        self._made_stranger: dict[int, float] = {}   # id: when it was taken for a stranger
+        # look-alikes seen apart from her, never her: id -> when it was taken for a stranger
+        self._strangers: dict[int, float] = {}
         self._stranger_seen: dict[int, _Belief] = {}   # id: a stranger's last sighting
         self._lost_since: float | None = None
         self._last_call = -math.inf
@@ -368,8 +368,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         self._belief = None
         self._others = set()
         self._shadowed = {}
-        self._strangers = set()
-        self._made_stranger = {}
+        self._strangers = {}
         self._stranger_seen = {}
         self._lost_since = None
         self._last_call = -math.inf

@@ -375,8 +375,7 @@ class Identity:
                 self._make_stranger(t.id, now)
 
     def _make_stranger(self, track_id: int, now: float) -> None:
-        self._strangers.add(track_id)
-        self._made_stranger.setdefault(track_id, now)
+        self._strangers.setdefault(track_id, now)
 
     def _unmake_strangers_since(self, since: float) -> None:
         """Her followed track turned out to be somebody else: the tracks taken for strangers
@@ -385,10 +384,9 @@ class Identity:
         for 0.3 s the camera's last view of that id was still of her, her own new track was
         taken for a look-alike seen apart from her, and the robot searched 26 s with her
         1.6-3.3 m away in view (bench_follow crowd10 seed 11, PERSES, issue 23)."""
-        for track_id, when in list(self._made_stranger.items()):
+        for track_id, when in list(self._strangers.items()):
             if when > since:
-                del self._made_stranger[track_id]
-                self._strangers.discard(track_id)
+                del self._strangers[track_id]
                 self._others.discard(track_id)
                 self._stranger_seen.pop(track_id, None)
 
@@ -479,7 +477,7 @@ class Identity:
         look-alike (a stranger) among them: his views are like her too, and her own track's
         views had turned unlike her for three views while he stood by; he was taken for her
         for 9 s (bench_follow lookalike seed 2, PERSES)."""
-        if not self._look_known or self._contest_ids & self._strangers:
+        if not self._look_known or self._contest_ids & self._strangers.keys():
             return target
         ids = self._contest_ids | {target.id}
         for t in tracks:
