@@ -250,6 +250,7 @@ class DriveStartUp:
             travel = c.travel_metres(wrap_delta(positions[node], start), node)
             self.self_check_result[node] = {"commanded_mps": SELF_CHECK_SPEED, "velocity_mps": velocity,
                                             "expected_m": expected, "travel_m": travel}
+            self._refuse_a_drive_gone_off(node)
             self._judge_self_check(node, velocity, travel, expected)
             if scan is not None:
                 after = self._scan_after(self._now())
@@ -362,6 +363,19 @@ class DriveStartUp:
     def _sdo_velocity(self, node: int) -> float:
         units = self._sdo_read(node, p.VELOCITY_ACTUAL, 0, "velocity actual value", signed=True)
         return self.config.velocity_mps(units, node)
+
+    def _refuse_a_drive_gone_off(self, node: int) -> None:
+        """A drive that left operation enabled while its wheel was to turn (a fault: over-current,
+        its heartbeat time-out while this host stalled) moved as far as it could, which says
+        nothing of the units or the mirroring: name what it says instead."""
+        state = self._state_of_node_quiet(node)
+        if state is S.OPERATION_ENABLED:
+            return
+        shown = state.value if state else "no CiA 402 state"
+        why = self._fault_text(node) if state in (S.FAULT, S.FAULT_REACTION_ACTIVE) else "no fault"
+        raise StartupError(f"{self._who(node)} left operation enabled during the start-up self-check "
+                           f"({shown}; {why}): its travel says nothing of the units; find the cause, "
+                           f"call reset_faults(), then open again")
 
     def _judge_self_check(self, node: int, velocity: float, travel: float, expected: float) -> None:
         c = self.config

@@ -243,3 +243,23 @@ def test_the_laser_check_runs_in_a_real_time_simulation_too():
             assert turn["laser_deg"] == pytest.approx(turn["predicted_deg"], rel=0.15)
     finally:
         hardware.close()
+
+
+def test_a_drive_that_faults_during_the_self_check_is_named_not_its_units(opened):
+    """A drive that leaves operation enabled while its wheel is meant to turn (a host that
+    stalled past the drive's heartbeat time-out, an over-current) says nothing about the
+    profile's units or mirroring: the error names the fault, not the polarity."""
+    base, emulator, *_ = opened()
+    pause = base._pause
+
+    def fault_while_turning(seconds):
+        if emulator.drives[1].target:                 # the left wheel's turn has begun
+            emulator.inject_fault(1, 0x8130)          # heartbeat / life guard error
+        pause(seconds)
+    base._pause = fault_while_turning
+    with pytest.raises(StartupError) as refused:
+        base.open()
+    text = str(refused.value)
+    assert "node 1 (left wheel)" in text and "left operation enabled during the start-up self-check" in text
+    assert "0x8130" in text
+    assert "polarity" not in text and "units disagree" not in text
