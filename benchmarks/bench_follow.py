@@ -70,6 +70,7 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import sys
 import tempfile
 import time
 from dataclasses import dataclass, field
@@ -77,11 +78,13 @@ from pathlib import Path
 
 import numpy as np
 
-from robots.sim.people import BODY_RADIUS
-from robots.sim.raycast import cast_rays
-from skills.following import HIDDEN, SEARCHING, pace
-from skills.safety import LEFT_BEHIND
-from skills.skillset import open_skills
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from machine import numpy_kernels  # noqa: E402  (per-seed lines are exact between machines alike)
+from robots.sim.people import BODY_RADIUS  # noqa: E402
+from robots.sim.raycast import cast_rays  # noqa: E402
+from skills.following import HIDDEN, SEARCHING, pace  # noqa: E402
+from skills.safety import LEFT_BEHIND  # noqa: E402
+from skills.skillset import open_skills  # noqa: E402
 
 SETPOINT = 1.2
 POSE_OFF = 0.5      # m: the robot's own position estimate this far off the truth is wrong
@@ -472,6 +475,7 @@ def main() -> None:
         families = list(FAMILIES)
     print(f"{options.robot}, {options.seeds} seed(s) from {options.first} per family, giving "
           f"up after {options.give_up:g} s unseen")
+    print(numpy_kernels())
     for family in families:
         start = time.perf_counter()
         results = []

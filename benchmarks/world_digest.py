@@ -1,5 +1,7 @@
 """A digest of every substep of the simulated world over `bench_tick.py`'s workloads, and the
 CPU time each run took: to show that a cut meant to change nothing changes nothing.
+Compare digests of one machine, or of machines whose first line (numpy's SIMD kernels,
+`machine.py`) is the same: another CPU gives other digests for the same code.
 
 The digest hashes, after every substep, each person's pose, speed and presence and the robot's
 true pose, as exact bytes. Two commits that give the same digest for a workload moved every
@@ -26,6 +28,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from bench_tick import workloads  # noqa: E402
+from machine import numpy_kernels  # noqa: E402
 
 from applications.cli import main as interbot  # noqa: E402
 from robots.sim.world import World  # noqa: E402
@@ -67,6 +70,7 @@ def main() -> None:
     parser.add_argument("--minutes-scale", type=float, default=0.1)
     parser.add_argument("--only", help="comma-separated workloads")
     options = parser.parse_args()
+    print(numpy_kernels())             # digests are exact between machines alike here
     with tempfile.TemporaryDirectory() as folder:
         jobs = workloads(Path(folder), options.minutes_scale)
         for name in (options.only.split(",") if options.only else list(jobs)):
