@@ -22,10 +22,10 @@ def pytest_collection(session):
     reach (gc.freeze) and collect as before. Importing every test module makes ~190 000 objects
     that never become garbage; the collector walked them again and again as they came (a
     worker's collection: 6.8 s, 5.2 s without), and every full collection during the tests
-    walked them once more: 184 ms on one quiet core, 0.3-0.7 s in a loaded worker, twenty-odd
-    times a run, stalling every thread of the process at once. A real-time test whose driver
-    gives a device 0.3 s to answer (tests/faults) then saw the device 'silent'. Only pauses
-    go: what the tests create is collected as before."""
+    walked them once more: about 0.2 s on one quiet core (benchmarks/suite_gc.py), 0.3-0.7 s in
+    a loaded worker, several times a run, stalling every thread of the process at once. A
+    real-time test whose driver gives a device 0.3 s to answer (tests/faults) then saw the
+    device 'silent'. Only pauses go: what the tests create is collected as before."""
     gc.disable()
     try:
         return (yield)

@@ -60,7 +60,7 @@ def test_a_drive_without_the_optional_objects_starts_and_says_what_it_skipped(op
     base.open()                          # a write to an absent object would abort 0x06020000
     notes = "\n".join(base.startup_notes)
     for key in ("0x1016:01", "0x605c:00", "0x605a:00", "0x6007:00", "0x6083:00", "0x1401:01"):
-        assert f"node 1 (left wheel): no" in notes and key in notes, notes
+        assert "node 1 (left wheel): no" in notes and key in notes, notes
     assert "does not stop by itself when the host dies" in notes
     drive(base, simulation, clock, 0.3, 0.0, 2.0)
     body = simulation.world.body
