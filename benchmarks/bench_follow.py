@@ -70,7 +70,6 @@ from __future__ import annotations
 import argparse
 import math
 import os
-import sys
 import tempfile
 import time
 from dataclasses import dataclass, field
@@ -78,13 +77,11 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from machine import numpy_kernels  # noqa: E402  (per-seed lines are exact between machines alike)
-from robots.sim.people import BODY_RADIUS  # noqa: E402
-from robots.sim.raycast import cast_rays  # noqa: E402
-from skills.following import HIDDEN, SEARCHING, pace  # noqa: E402
-from skills.safety import LEFT_BEHIND  # noqa: E402
-from skills.skillset import open_skills  # noqa: E402
+from robots.sim.people import BODY_RADIUS
+from robots.sim.raycast import cast_rays
+from skills.following import HIDDEN, SEARCHING, pace
+from skills.safety import LEFT_BEHIND
+from skills.skillset import open_skills
 
 SETPOINT = 1.2
 POSE_OFF = 0.5      # m: the robot's own position estimate this far off the truth is wrong
@@ -475,7 +472,8 @@ def main() -> None:
         families = list(FAMILIES)
     print(f"{options.robot}, {options.seeds} seed(s) from {options.first} per family, giving "
           f"up after {options.give_up:g} s unseen")
-    print(numpy_kernels())
+    from machine import numpy_kernels    # this script's folder: per-seed lines are exact
+    print(numpy_kernels())               # between machines whose line here is the same
     for family in families:
         start = time.perf_counter()
         results = []

@@ -48,7 +48,6 @@ def test_metres_fallen_behind_count_only_while_she_walks_and_it_trails_slower(to
                                           "too far/walks/ctrl:people near": 0.02})
 
 
-
 def test_a_person_shown_beside_the_ticks_has_the_gaps_from_the_robot_to_body_and_cart(tool):
     from robots.profile import load_profile
     from robots.sim.floor import load_floor
