@@ -182,6 +182,16 @@ class Motion(Skill):
             self.set_status(SUCCEEDED if abs(error) < ALIGNED else RUNNING, now)
         return TURN_GAIN * error if abs(error) >= ALIGNED / 2 else 0.0
 
+    def top_speed(self) -> float:
+        """m/s: the fastest the arbiter lets the robot drive forward now: the profile's
+        `max_speed_near_people` while someone the near-people cap is for is within
+        `near_people_distance`, else its `max_speed`. A follower among shoppers may drive no
+        faster than the cap, whatever its top speed on an empty floor."""
+        limits = self.limits
+        if self._nearest_person(1.0) < limits.near_people_distance:
+            return min(limits.max_speed, limits.max_speed_near_people)
+        return limits.max_speed
+
     def _nearest_person(self, v: float = 0.0) -> float:
         """m to the nearest person the near-people cap is for: not one the robot leaves
         behind (more than LEFT_BEHIND off the way it drives: driving on can only widen that

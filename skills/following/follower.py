@@ -266,7 +266,7 @@ class Following(Identity, Keeping, Searching, Room, Skill):
         d = math.hypot(track.x - robot[0], track.y - robot[1])
         speed = self._pace(track, now)
         self._say(self._pace_watch.seen(now, d - p.distance, min(speed, self._usual_pace),
-                                        self.motion.limits.max_speed), now)
+                                        self.motion.top_speed()), now)
         if self.state.phase == WAITING:     # hysteresis: the tracks' velocity noise is ~0.1 m/s
             stay = d <= p.distance + 0.3 and (speed < 2 * p.standing
                                                 or _approaching(track, robot))

@@ -5,7 +5,8 @@ A person following somebody who walks off too fast for them says so. The robot d
 (its words are captioned on the touch screen too, `skills.speech`):
 
 - **falling behind**: she is seen, more than BEHIND m beyond the setpoint, walking at least
-  as fast as the robot's top speed (so no speed of its own closes the gap) now and as she
+  as fast as the robot may drive now (so no speed of its own closes the gap: its top speed,
+  or the near-people cap while other people are near it, `Motion.top_speed`) now and as she
   usually walks (the follower's running average of her pace: a shopper catching up after
   being held up is not a fast walker), and the gap has grown by GROWING m or more over the
   last WINDOW s: it asks ASK. Then not again for
@@ -14,10 +15,12 @@ A person following somebody who walks off too fast for them says so. The robot d
   within RECENT s of her outpacing it: it says LOST as soon as it may, once per loss (the
   search's own call, "Where are you?", comes only after `search_after`).
 
-Any two of these are QUIET s apart at least. A customer who walks no faster than the robot is
+Any two of these are QUIET s apart at least. A customer who walks no faster than the robot may drive is
 never asked (the robot can close that gap; a blocked way, a search that left it behind, are
-not hers to wait for). `PaceWatch` decides; the follower says the words
-(`skills.following.follower`).
+not hers to wait for). Among shoppers the robot may drive no faster than the near-people cap
+(0.3 m/s on PERSES) while she strolls on at 0.5: it fell 3 m behind her in 15 s and lost her
+for good without a word (crowd10 seed 0, issue 23). `PaceWatch` decides; the follower says
+the words (`skills.following.follower`).
 """
 from __future__ import annotations
 

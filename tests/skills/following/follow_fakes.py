@@ -35,6 +35,12 @@ class Motion:
         self.goal = None
         self.followed = None
         self.limits = limits()
+        self.people_near = False      # someone the near-people cap is for is near the robot
+
+    def top_speed(self):
+        if self.people_near:
+            return min(self.limits.max_speed, self.limits.max_speed_near_people)
+        return self.limits.max_speed
 
     def start(self, goal, now):
         self.goal = goal

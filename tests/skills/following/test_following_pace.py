@@ -91,3 +91,14 @@ def test_the_watch_alone_counts_the_gap_beyond_the_setpoint_and_the_top_speed():
     assert 0.8 * 0.1 * said.index(ASK) >= 1.0          # only once 1 m behind
     faster_robot = PaceWatch()
     assert all(faster_robot.seen(0.1 * k, 0.8 * 0.1 * k, 1.4, 1.5) is None for k in range(40))
+
+
+def test_asks_a_customer_who_strolls_on_while_people_near_hold_the_robot_to_their_cap():
+    # she walks at 0.5 m/s, which PERSES could match on an empty floor (the test above), but
+    # shoppers near it hold it to the near-people cap, 0.3 m/s: no speed of its own closes
+    # the gap (crowd10 seed 0: 3 m behind in 15 s, then lost for good without a word)
+    following, perception, speech = started(0.5)
+    following.motion.people_near = True
+    walk_away(following, perception, 0.5, 12.0)
+    said = asks(speech)
+    assert len(said) == 1 and said[0] <= 4.0
