@@ -64,6 +64,8 @@ LOOKOUT_PREFIX = "aisle"  # the map's places that are aisle ends and crossings
 STOP_PREFIX = "shelf"     # the map's places where shoppers stand (searched once ends are seen)
 INTO = 2.0                # m into the aisle the robot must see for an aisle end to count
 HEADING_BASE = 1.5        # m of her trail her heading is taken over
+TRAIL_GAP = 1.0           # m between two points of her trail (0.3 m apart as she is seen):
+                          # she was lost in between, and her heading is not taken across it
 ALIGNED = 0.15            # rad: a turn this close to its bearing is done
 SEE_FROM = 3.0            # m: a place of the plan this near, in view and not hidden, is looked at
 IN_VIEW = math.radians(100)   # rad either side of the robot's heading a place counts in view
@@ -175,13 +177,31 @@ def _tour(places, start, walk_from=None, cost=None) -> list[Lookout]:
 
 def _fill(plan, candidates, size) -> list[Lookout]:
     """`plan` with the cheapest candidates appended up to `size` places, leaving out any
-    within MERGE of one already planned (seen from there)."""
+    seen from one already planned (`_seen_from`)."""
     for _, lookout in sorted((c for c in candidates if c[0] is not None), key=lambda c: c[0]):
         if len(plan) >= size:
             break
-        if all(math.hypot(lookout.x - q.x, lookout.y - q.y) >= MERGE for q in plan):
+        if not any(_seen_from(lookout, q) for q in plan):
             plan.append(lookout)
     return plan
+
+
+def _seen_from(lookout: Lookout, planned: Lookout) -> bool:
+    """`lookout` is seen from a place already planned: within MERGE of it, and for an aisle
+    end, that place inside the aisle beyond its mouth or itself looking into the same aisle
+    (their INTO points within MERGE). Beside the mouth, in the cross aisle, a shelf's corner
+    hides the aisle: the aisle A5 end 1.2 m from where she should have been was left out as
+    seen from there; the robot looked at that place from the back aisle while she walked
+    down A5, and searched the aisles behind (crowd10 seed 0, issue 23)."""
+    if math.hypot(lookout.x - planned.x, lookout.y - planned.y) >= MERGE:
+        return False
+    if lookout.into is None:
+        return True
+    if planned.into is not None:
+        return math.hypot(lookout.into[0] - planned.into[0],
+                          lookout.into[1] - planned.into[1]) < MERGE
+    into_x, into_y = lookout.into[0] - lookout.x, lookout.into[1] - lookout.y
+    return (planned.x - lookout.x) * into_x + (planned.y - lookout.y) * into_y >= 0.0
 
 
 def _along(heading):
@@ -507,13 +527,17 @@ class Searching:
 
     def _heading(self):
         """The direction her trail last took (a unit vector), else her velocity's; None when
-        she stood."""
-        if len(self._trail) >= 2:
-            x1, y1 = self._trail[-1]
+        she stood. Not across a loss: found again 5 m up an aisle and lost 1.3 m on as she
+        turned into the back aisle, her heading reached back to where she had been lost and
+        pointed up the aisle, and the search looked north of the back aisle and in the aisle
+        the robot had just come up while she walked into the next one (crowd10 seed 0)."""
+        trail = _since_last_gap(self._trail)
+        if len(trail) >= 2:
+            x1, y1 = trail[-1]
             # over HEADING_BASE of trail at least: a track fading out at the edge of the
             # detector's range drifts over its last few points
-            x0, y0 = next(((x, y) for x, y in reversed(self._trail)
-                           if math.hypot(x1 - x, y1 - y) >= HEADING_BASE), self._trail[0])
+            x0, y0 = next(((x, y) for x, y in reversed(trail)
+                           if math.hypot(x1 - x, y1 - y) >= HEADING_BASE), trail[0])
             step = math.hypot(x1 - x0, y1 - y0)
             if step >= 0.2:
                 return (x1 - x0) / step, (y1 - y0) / step
@@ -551,6 +575,14 @@ class Searching:
     def searched(self) -> list[str]:
         """The places of the current plan looked at so far."""
         return list(self._searched)
+
+
+def _since_last_gap(trail: list) -> list:
+    """The points of her trail since its last gap (two points more than TRAIL_GAP apart)."""
+    for k in range(len(trail) - 1, 0, -1):
+        if math.hypot(trail[k][0] - trail[k - 1][0], trail[k][1] - trail[k - 1][1]) > TRAIL_GAP:
+            return trail[k:]
+    return trail
 
 
 def _wrap(angle: float) -> float:

@@ -311,3 +311,39 @@ def test_the_place_on_along_her_way_is_up_the_aisle_she_turned_into_not_through_
     assert ahead is not None, [(lookout.why, lookout.x, lookout.y) for lookout in plan]
     assert abs(ahead.x - 14.0) < 0.8 and ahead.y > 8.5          # up aisle A4
     assert abs(ahead.bearings[0] - NORTH) < math.radians(20)    # looking on up it
+
+
+def test_an_aisle_end_beside_where_she_should_be_is_planned_when_only_the_mouth_is_seen():
+    """Crowd10 seed 0 (issue 23): she walked east along the back aisle (y = 16.8) past the
+    north end of aisle A5 (x = 17) and turned down it. Where she should be, 1.2 m from that
+    end, lies in the back aisle: from there a shelf's corner hides the aisle, so its end is
+    planned as a place of its own, next after where she should be. From inside an aisle (the
+    first test) its end is seen."""
+    plan = search_plan((16.0, 17.1), (15.2, 16.8), (0.95, 0.3), ENDS)
+    assert names(plan)[:2] == ["where she should be", "aisle5_north"]
+    assert plan[1].bearings == (SOUTH,)                  # looking down the aisle
+
+
+def test_her_heading_after_a_loss_is_taken_from_where_she_was_found_again():
+    """Crowd10 seed 0 (issue 23): lost walking north up aisle A4, found again at its north
+    end and lost 1.3 m on as she walked east along the back aisle. Her heading reached back
+    across the loss to aisle A4 and pointed north: the search looked north of the back aisle
+    and in aisle A4 while she walked on east. Her trail's points before the loss do not count
+    for her heading."""
+    following, perception = follower(Speech())
+    for k in range(31):                                  # north up aisle A4 to y = 11.5
+        t = 0.1 * k
+        perception.believed = (track(1, 14.0, 10.0 + 0.5 * t, t, vy=0.5),)
+        if k == 0:
+            following.follow(0.0, target=1, give_up_after=60.0)
+        following.sense(t)
+    perception.believed = ()
+    for k in range(1, 40):                               # lost for 4 s
+        following.sense(3.0 + 0.1 * k)
+    assert following.state.lost
+    for k in range(27):                                  # found again: east along y = 16.8
+        t = 10.0 + 0.1 * k
+        perception.believed = (track(1, 13.9 + 0.5 * (t - 10.0), 16.8, t, vx=0.5),)
+        following.sense(t)
+    hx, hy = following._heading()
+    assert abs(math.atan2(hy, hx)) < math.radians(10)    # east, not up aisle A4
