@@ -169,7 +169,7 @@ def test_a_place_in_view_is_looked_at_from_where_the_robot_is_and_passed():
     within 3 m, in the detector's field and with the map's line to it clear is looked at from
     there; the search goes on to the next place without driving to it."""
     following, _ = _searching_from((12.0, 4.75, 0.0), [(12.5, 4.75), (14.0, 6.5), (20.0, 6.5)])
-    now = _search_for(following, 5.0, 2.0)
+    _search_for(following, 5.0, 2.0)
     assert following.state.phase == SEARCHING
     assert following._searched[:2] == ["place0", "place1"]      # both in view from here
     assert following._plan_index == 2
