@@ -15,12 +15,12 @@ A person following somebody who walks off too fast for them says so. The robot d
   within RECENT s of her outpacing it: it says LOST as soon as it may, once per loss (the
   search's own call, "Where are you?", comes only after `search_after`).
 
-Any two of these are QUIET s apart at least. A customer who walks no faster than the robot may drive is
-never asked (the robot can close that gap; a blocked way, a search that left it behind, are
-not hers to wait for). Among shoppers the robot may drive no faster than the near-people cap
-(0.3 m/s on PERSES) while she strolls on at 0.5: it fell 3 m behind her in 15 s and lost her
-for good without a word (crowd10 seed 0, issue 23). `PaceWatch` decides; the follower says
-the words (`skills.following.follower`).
+Any two of these are QUIET s apart at least. A customer who walks no faster than the robot
+may drive is never asked (the robot can close that gap; a blocked way, a search that left it
+behind, are not hers to wait for). Among shoppers the robot may drive no faster than the
+near-people cap (0.3 m/s on PERSES) while she strolls on at 0.5: it fell 3 m behind her in
+15 s and lost her for good without a word (crowd10 seed 0, issue 23). `PaceWatch` decides;
+the follower says the words (`skills.following.follower`).
 """
 from __future__ import annotations
 

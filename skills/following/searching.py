@@ -527,10 +527,10 @@ class Searching:
 
     def _heading(self):
         """The direction her trail last took (a unit vector), else her velocity's; None when
-        she stood. Not across a loss: found again 5 m up an aisle and lost 1.3 m on as she
-        turned into the back aisle, her heading reached back to where she had been lost and
-        pointed up the aisle, and the search looked north of the back aisle and in the aisle
-        the robot had just come up while she walked into the next one (crowd10 seed 0)."""
+        she stood. Not across a loss: lost in an aisle, found again 5 m on at its end and lost
+        again 1.3 m along the back aisle, her heading reached back to where she had first been
+        lost and pointed up the aisle; the search looked north of the back aisle and in the
+        aisle the robot had just come up while she walked into the next (crowd10 seed 0)."""
         trail = _since_last_gap(self._trail)
         if len(trail) >= 2:
             x1, y1 = trail[-1]
