@@ -7,6 +7,7 @@ from robots.profile import load_profile
 from robots.sim.floor import load_floor
 from robots.sim.scenario import parse_scenario
 from robots.sim.world import World
+from sim_driver import run_until
 
 HOROS = load_profile("horos")
 FLOOR = load_floor("office")
@@ -16,14 +17,6 @@ def world_with(steps, at=(3.0, 0.0), appear=0.0, speed=1.0, **extra):
     person = {"id": "p", "at": list(at), "appear": appear, "speed": speed, "steps": steps, **extra}
     scripted = {"motion": "scripted"}     # these tests are about the script, not the crowd
     return World(FLOOR, HOROS, parse_scenario({"scenario": scripted, "person": [person]}), seed=0)
-
-
-def run_until(world, condition, limit=60.0, dt=0.1):
-    while world.t < limit:
-        world.step(dt)
-        if condition(world):
-            return world.t
-    raise AssertionError(f"condition not met within {limit} s")
 
 
 def distance(world, person):
