@@ -64,8 +64,9 @@ LOOKOUT_PREFIX = "aisle"  # the map's places that are aisle ends and crossings
 STOP_PREFIX = "shelf"     # the map's places where shoppers stand (searched once ends are seen)
 INTO = 2.0                # m into the aisle the robot must see for an aisle end to count
 HEADING_BASE = 1.5        # m of her trail her heading is taken over
-TRAIL_GAP = 1.0           # m between two points of her trail (0.3 m apart as she is seen):
-                          # she was lost in between, and her heading is not taken across it
+TRAIL_GAP = 1.0           # m between two points of her trail (identity.TRAIL_STEP apart as
+                          # she is seen): she was lost in between; her heading is not taken
+                          # across it
 ALIGNED = 0.15            # rad: a turn this close to its bearing is done
 SEE_FROM = 3.0            # m: a place of the plan this near, in view and not hidden, is looked at
 IN_VIEW = math.radians(100)   # rad either side of the robot's heading a place counts in view

@@ -12,7 +12,8 @@ ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_the_collected_suite_is_frozen_before_the_tests_run():
-    done = subprocess.run([sys.executable, "benchmarks/suite_gc.py", "tests/benchmarks/test_machine.py"],
+    done = subprocess.run([sys.executable, "benchmarks/suite_gc.py",
+                           "tests/benchmarks/test_machine.py"],
                           cwd=ROOT, capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
     before = re.search(r"collected (\d+) tests: (\d+) objects the collector walks, a full "
