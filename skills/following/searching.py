@@ -81,6 +81,9 @@ FURTHER = "further along her way"
 WALK_ON_SPREAD = math.radians(30)   # directions tried either side of her heading (a trail's
 WALK_ON_STEP = math.radians(5)      # heading runs some degrees off the aisle she walked up)
 WALK_ON_MAX = 10.0        # m at most beyond the place looked at
+TURNING_OFF = 3.5         # m at most from her way to the mouth of an aisle she may have turned
+                          # into (the store's cross aisles are 3.5 m wide)
+TURNING_ACROSS = 0.5      # |cos| at most between her way and that aisle (60 to 120 degrees)
 AHEAD_SPREAD = math.radians(60)   # directions tried either side of her heading for the place
                                   # SEARCH_AHEAD on (turning into an aisle, her heading lags)
 
@@ -88,13 +91,17 @@ AHEAD_SPREAD = math.radians(60)   # directions tried either side of her heading 
 @dataclass(frozen=True)
 class Lookout:
     """A place of the search plan: where to stand, where to look on arrival (None: round in
-    thirds), why it is in the plan, and the point the robot must see for the place to count
-    as looked at (None: the place itself; an aisle end: INTO m into the aisle)."""
+    thirds), why it is in the plan, the point the robot must see for the place to count as
+    looked at (None: the place itself; an aisle end: INTO m into the aisle), and for an aisle
+    she may have turned into from her way, the point of her way abreast of it and her way's
+    direction ((x, y, rad): the walk on goes on from there; None: from the place, along its
+    first bearing)."""
     x: float
     y: float
     bearings: tuple[float, ...] | None
     why: str
     into: tuple[float, float] | None = None
+    way: tuple[float, float, float] | None = None
 
 
 def search_plan(predicted, seen, heading, ends, walk=None, ahead=None,
@@ -319,29 +326,62 @@ class Searching:
         she can have walked since she vanished (her usual pace) and a straight line the
         robot fits on runs, along the direction within WALK_ON_SPREAD of her heading that runs
         furthest (up an aisle she walked into: the detector sees 5 m of a 10 m aisle, and the
-        robot looked from its mouth while she walked on beyond, crowd20 seeds 0 and 2). No
-        place is added when she stood, or when it would not lie MERGE beyond this one."""
+        robot looked from its mouth while she walked on beyond, crowd20 seeds 0 and 2), or,
+        when her way passes the mouth of an aisle she may have turned into, that aisle first
+        (`_first_turning`). No place is added when she stood, or when it would not lie MERGE
+        beyond this one."""
         heading = self._heading()
         if self.navigation is None or heading is None or self._lost_since is None \
                 or self._belief.speed < self.params.standing:
             return
         seen = (self._belief.x, self._belief.y)
         now = self._view_t if self._view_t is not None else self._lost_since
+        start = lookout.way[:2] if lookout.way else (lookout.x, lookout.y)
         reach = self._usual_pace * max(now - self._lost_since, 0.0) \
-            - math.hypot(lookout.x - seen[0], lookout.y - seen[1])
+            - math.hypot(start[0] - seen[0], start[1] - seen[1])
         reach = min(reach, WALK_ON_MAX)
         if reach < MERGE:
             return
         # on along the way looked along there (the place on her way: the direction she can
         # walk on, `_walkable_ahead`), else her heading
-        base = (lookout.bearings[0] if lookout.bearings else math.atan2(heading[1], heading[0]))
-        best = self._longest_run((lookout.x, lookout.y), base, WALK_ON_SPREAD, reach)
+        if lookout.way:
+            base = lookout.way[2]
+        else:
+            base = (lookout.bearings[0] if lookout.bearings
+                    else math.atan2(heading[1], heading[0]))
+        best = self._longest_run(start, base, WALK_ON_SPREAD, reach)
         if best is None:
             return
         (x, y), th = best
         at = self._plan_index + 1
-        self._plan.insert(at, Lookout(x, y, (th,), FURTHER))
+        further = self._first_turning(start, (x, y), th) or Lookout(x, y, (th,), FURTHER)
+        self._plan.insert(at, further)
         self._viewed = {k if k < at else k + 1: v for k, v in self._viewed.items()}
+
+    def _first_turning(self, start, end, th: float):
+        """The first aisle her way from `start` to `end` (along `th`) passes the mouth of, as
+        a place on her way (looked into from its mouth, the walk on going on from abreast of
+        it); None when it passes none not yet looked at. Walked on 10 m along the back aisle,
+        the robot passed the end of aisle A5, 3 m aside, where she had turned in, and came
+        back to it only after the next 10 m (fast seed 11, issue 23)."""
+        length = math.hypot(end[0] - start[0], end[1] - start[1])
+        ux, uy = math.cos(th), math.sin(th)
+        looked = [q.into for k, q in enumerate(self._plan) if q.into and self._looked_at(k)]
+        turnings = []
+        for name, x, y, aisle in self._lookouts():
+            along = (x - start[0]) * ux + (y - start[1]) * uy
+            aside = (x - start[0]) * -uy + (y - start[1]) * ux
+            into = (x + INTO * math.cos(aisle), y + INTO * math.sin(aisle))
+            abreast = (start[0] + along * ux, start[1] + along * uy)
+            if not ARRIVE < along <= length or abs(aside) > TURNING_OFF \
+                    or abs(math.cos(aisle - th)) > TURNING_ACROSS \
+                    or (x - abreast[0]) * math.cos(aisle) + (y - abreast[1]) * math.sin(aisle) < 0 \
+                    or any(math.hypot(into[0] - a, into[1] - b) < MERGE for a, b in looked) \
+                    or not self._clear_line(abreast, into):
+                continue
+            turnings.append((along, Lookout(x, y, (aisle,), FURTHER, into,
+                                            (abreast[0], abreast[1], th))))
+        return min(turnings, key=lambda t: t[0])[1] if turnings else None
 
     def _clear_run(self, start, th: float, reach: float):
         """(metres, (x, y)): how far from `start` along `th`, up to `reach`, the robot fits
@@ -565,12 +605,21 @@ class Searching:
         return places
 
     def _clear_line(self, a, b) -> bool:
-        """The map's straight line from a to b is clear of walls and shelves."""
+        """The map's straight line from a to b is clear of walls and shelves: sampled every
+        0.1 m or less (its ends left out), each sample clear, and each two neighbours' clear
+        discs overlapping by a grid cell (the map's clearance is a cell's, up to a cell more
+        than the point's), which covers the line between them. Sampled alone, a line passed
+        between the grid cells of a wall one cell thick: the display closing aisle A6 did not
+        hide the aisle from the back aisle, nor a shelf unit aisle A4 from A5's mouth."""
         d = math.hypot(b[0] - a[0], b[1] - a[1])
-        steps = max(int(d / 0.1), 1)
-        xs = np.array([a[0] + (b[0] - a[0]) * k / steps for k in range(1, steps)])
-        ys = np.array([a[1] + (b[1] - a[1]) * k / steps for k in range(1, steps)])
-        return not (xs.size and (self.navigation.grid.clearance(xs, ys) <= 0.0).any())
+        steps = max(int(math.ceil(d / 0.1)), 1)
+        if steps < 2:
+            return True
+        k = np.arange(1, steps) / steps
+        grid = self.navigation.grid
+        clear = grid.clearance(a[0] + (b[0] - a[0]) * k, a[1] + (b[1] - a[1]) * k)
+        return bool((clear > 0.0).all()
+                    and (clear[:-1] + clear[1:] >= d / steps + grid.resolution).all())
 
     @property
     def searched(self) -> list[str]:

@@ -223,6 +223,22 @@ def test_an_aisle_end_counts_as_looked_at_only_when_the_robot_sees_into_the_aisl
     assert above._searched == ["aisle1_north"]                # in view down the aisle
 
 
+def test_an_aisle_behind_a_shelf_unit_or_a_display_is_not_looked_at_through_it():
+    """The map draws a shelf unit's sides and the display closing aisle A6 one grid cell
+    thick; a line of sight sampled every 0.1 m passed between their cells, so aisle A4 was
+    looked at from A5's mouth through the shelf between them, and A6 from the back aisle
+    through its display (fast seed 11, issue 23)."""
+    next_aisle = _searching_map_ends((17.0, 16.5, SOUTH), ["aisle4_north"])
+    _search_for(next_aisle, 5.0, 2.0)
+    assert next_aisle._searched == []
+    display = _searching_map_ends((20.0, 18.5, SOUTH), ["aisle6_north"])
+    _search_for(display, 5.0, 2.0)
+    assert display._searched == []
+    down_it = _searching_map_ends((14.0, 17.0, SOUTH), ["aisle4_north"])
+    _search_for(down_it, 5.0, 2.0)
+    assert down_it._searched == ["aisle4_north"]         # seen from its own mouth
+
+
 def test_a_dead_end_is_looked_at_up_the_aisle_not_at_its_closed_end():
     following, _ = _searching_from((11.0, 9.0, 0.0), [])
     ends = {name: th for name, x, y, th in following._lookouts()}
@@ -347,3 +363,37 @@ def test_her_heading_after_a_loss_is_taken_from_where_she_was_found_again():
         following.sense(t)
     hx, hy = following._heading()
     assert abs(math.atan2(hy, hx)) < math.radians(10)    # east, not up aisle A4
+
+
+def test_on_along_her_way_the_search_looks_into_each_aisle_she_may_have_turned_into():
+    """Fast seed 11 (issue 23): she vanished walking west along the back aisle and turned down
+    aisle A5. The place further along her way lay 10 m west, past A5's mouth 3 m aside: the
+    robot drove past it and came back to it only after the next 10 m. Walking on along her
+    way, the search looks into each aisle whose mouth it passes, in turn, going on along her
+    way from abreast of each (the dead end A6, closed to the back aisle, is not one)."""
+    following, perception = follower(Speech())
+    following.navigation = Navigation()
+    following.localization.state = Pose(26.0, 18.5, math.pi)
+    for k in range(41):                             # west along the back aisle, 0.5 m/s
+        t = 0.1 * k
+        perception.believed = (track(1, 25.0 - 0.5 * t, 18.5, t, vx=-0.5),)
+        if k == 0:
+            following.follow(0.0, target=1, give_up_after=120.0)
+        following.sense(t)
+    perception.believed = ()
+    now = _search_for(following, 4.0, 4.5)
+    assert following.state.phase == SEARCHING and following._plan_index == 0
+    following._lost_since -= 20.0                   # as if held 20 s longer
+    where = following._plan[0]
+    following.localization.state = Pose(where.x, where.y, math.pi)
+    now = _search_for(following, now, 2.0)
+    turning = following._plan[following._plan_index]
+    assert (turning.why, turning.x, turning.y) == ("further along her way", 17.0, 16.5)
+    assert turning.bearings == (SOUTH,) and turning.into == (17.0, 14.5)   # down aisle A5
+    assert abs(turning.way[0] - 17.0) < 0.3 and turning.way[1] > 17.5     # abreast of it
+    assert following._search_goal == (17.0, 16.5)
+    following.localization.state = Pose(17.0, 16.5, SOUTH)
+    _search_for(following, now, 2.0)
+    after = following._plan[following._plan_index]
+    assert (after.why, after.x, after.y, after.bearings) == ("further along her way", 14.0,
+                                                             16.5, (SOUTH,))
