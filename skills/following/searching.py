@@ -24,6 +24,12 @@
      and goes round again, until she comes back into view or the application's
      `give_up_after` runs out (the phase machine's; the reason names the places searched).
 
+  A place on her way (the predicted place, the place on along her way) looked at without her
+  leads on along her way (`_walk_on`): as far as she can have walked since she vanished, or,
+  where her way passes the mouth of an aisle she may have turned into, into that aisle first
+  and on from abreast of it, one aisle at a time, as a person looking for somebody glances
+  down each aisle they pass.
+
   The further places are visited as a walk (`_tour`): each next the one whose walk from the
   last plus its walk from where she vanished is least, so the robot does not go to and fro
   across the store.
