@@ -374,20 +374,27 @@ class Searching:
         ux, uy = math.cos(th), math.sin(th)
         looked = [q.into for k, q in enumerate(self._plan) if q.into and self._looked_at(k)]
         turnings = []
-        for name, x, y, aisle in self._lookouts():
+        for _, x, y, aisle in self._lookouts():
             along = (x - start[0]) * ux + (y - start[1]) * uy
-            aside = (x - start[0]) * -uy + (y - start[1]) * ux
-            into = (x + INTO * math.cos(aisle), y + INTO * math.sin(aisle))
             abreast = (start[0] + along * ux, start[1] + along * uy)
-            if not ARRIVE < along <= length or abs(aside) > TURNING_OFF \
-                    or abs(math.cos(aisle - th)) > TURNING_ACROSS \
-                    or (x - abreast[0]) * math.cos(aisle) + (y - abreast[1]) * math.sin(aisle) < 0 \
-                    or any(math.hypot(into[0] - a, into[1] - b) < MERGE for a, b in looked) \
-                    or not self._clear_line(abreast, into):
-                continue
-            turnings.append((along, Lookout(x, y, (aisle,), FURTHER, into,
-                                            (abreast[0], abreast[1], th))))
+            into = (x + INTO * math.cos(aisle), y + INTO * math.sin(aisle))
+            if ARRIVE < along <= length and self._turns_off(abreast, th, (x, y), aisle, into,
+                                                            looked):
+                turnings.append((along, Lookout(x, y, (aisle,), FURTHER, into,
+                                                (abreast[0], abreast[1], th))))
         return min(turnings, key=lambda t: t[0])[1] if turnings else None
+
+    def _turns_off(self, abreast, th: float, mouth, aisle: float, into, looked) -> bool:
+        """The aisle whose mouth is at `mouth` (looking into it along `aisle`, up to `into`)
+        turns off her way at `abreast` (along `th`): within TURNING_OFF aside, across her way
+        (TURNING_ACROSS), opening away from it, not looked into yet (an `into` of `looked`
+        within MERGE) and seen into from her way (a dead end closed towards her is not)."""
+        dx, dy = mouth[0] - abreast[0], mouth[1] - abreast[1]
+        return (math.hypot(dx, dy) <= TURNING_OFF
+                and abs(math.cos(aisle - th)) <= TURNING_ACROSS
+                and dx * math.cos(aisle) + dy * math.sin(aisle) >= 0.0
+                and all(math.hypot(into[0] - a, into[1] - b) >= MERGE for a, b in looked)
+                and self._clear_line(abreast, into))
 
     def _clear_run(self, start, th: float, reach: float):
         """(metres, (x, y)): how far from `start` along `th`, up to `reach`, the robot fits
