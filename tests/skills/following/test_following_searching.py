@@ -88,15 +88,22 @@ def test_walking_distances_go_round_the_store_shelves():
     assert walk(40.0, 10.0) is None                                # outside the store
 
 
-def _she_walks_east_and_vanishes(following, perception, x0, y, give_up_after):
-    """Follow her for 1 s walking east at 0.5 m/s from (x0, y); then nobody is in view."""
-    for k in range(11):
+def _she_walks_and_vanishes(following, perception, start, velocity, seconds, give_up_after):
+    """Follow her for `seconds` walking from `start` (x, y) at `velocity` (vx, vy), sensed
+    every 0.1 s from 0; then nobody is in view."""
+    (x0, y0), (vx, vy) = start, velocity
+    for k in range(int(round(seconds / 0.1)) + 1):
         t = 0.1 * k
-        perception.believed = (track(1, x0 + 0.5 * t, y, t, vx=0.5),)
+        perception.believed = (track(1, x0 + vx * t, y0 + vy * t, t, vx=vx, vy=vy),)
         if k == 0:
             following.follow(0.0, target=1, give_up_after=give_up_after)
         following.sense(t)
     perception.believed = ()
+
+
+def _she_walks_east_and_vanishes(following, perception, x0, y, give_up_after):
+    """Follow her for 1 s walking east at 0.5 m/s from (x0, y); then nobody is in view."""
+    _she_walks_and_vanishes(following, perception, (x0, y), (0.5, 0.0), 1.0, give_up_after)
 
 
 def _lose_her_walking_east(following, perception, speech):
@@ -269,13 +276,8 @@ def test_a_place_on_her_way_looked_at_without_her_leads_on_up_the_aisle_she_walk
     following, perception = follower(Speech())
     following.navigation = Navigation()
     following.localization.state = Pose(14.0, 4.75, NORTH)     # in the front aisle
-    for k in range(21):                    # she walks up aisle A4, a little east of north
-        t = 0.1 * k
-        perception.believed = (track(1, 14.0 + 0.1 * t, 7.0 + 0.5 * t, t, vx=0.1, vy=0.5),)
-        if k == 0:
-            following.follow(0.0, target=1, give_up_after=60.0)
-        following.sense(t)
-    perception.believed = ()
+    # she walks up aisle A4, a little east of north
+    _she_walks_and_vanishes(following, perception, (14.0, 7.0), (0.1, 0.5), 2.0, 60.0)
     now = _search_for(following, 2.0, 4.5)
     assert following.state.phase == SEARCHING and following._plan_index == 0
     following._lost_since -= 12.0                              # as if held 12 s longer
@@ -374,13 +376,8 @@ def test_on_along_her_way_the_search_looks_into_each_aisle_she_may_have_turned_i
     following, perception = follower(Speech())
     following.navigation = Navigation()
     following.localization.state = Pose(26.0, 18.5, math.pi)
-    for k in range(41):                             # west along the back aisle, 0.5 m/s
-        t = 0.1 * k
-        perception.believed = (track(1, 25.0 - 0.5 * t, 18.5, t, vx=-0.5),)
-        if k == 0:
-            following.follow(0.0, target=1, give_up_after=120.0)
-        following.sense(t)
-    perception.believed = ()
+    # west along the back aisle, 0.5 m/s
+    _she_walks_and_vanishes(following, perception, (25.0, 18.5), (-0.5, 0.0), 4.0, 120.0)
     now = _search_for(following, 4.0, 4.5)
     assert following.state.phase == SEARCHING and following._plan_index == 0
     following._lost_since -= 20.0                   # as if held 20 s longer
