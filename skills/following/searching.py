@@ -374,22 +374,22 @@ class Searching:
         ux, uy = math.cos(th), math.sin(th)
         looked = [q.into for k, q in enumerate(self._plan) if q.into and self._looked_at(k)]
         turnings = []
-        for _, x, y, aisle in self._lookouts():
+        for name, x, y, aisle in self._lookouts():
             along = (x - start[0]) * ux + (y - start[1]) * uy
             abreast = (start[0] + along * ux, start[1] + along * uy)
-            into = (x + INTO * math.cos(aisle), y + INTO * math.sin(aisle))
-            if ARRIVE < along <= length and self._turns_off(abreast, th, (x, y), aisle, into,
-                                                            looked):
-                turnings.append((along, Lookout(x, y, (aisle,), FURTHER, into,
-                                                (abreast[0], abreast[1], th))))
+            mouth = _end(name, x, y, aisle)
+            if ARRIVE < along <= length and self._turns_off(abreast, th, mouth, looked):
+                turnings.append((along, replace(mouth, why=FURTHER,
+                                                way=(abreast[0], abreast[1], th))))
         return min(turnings, key=lambda t: t[0])[1] if turnings else None
 
-    def _turns_off(self, abreast, th: float, mouth, aisle: float, into, looked) -> bool:
-        """The aisle whose mouth is at `mouth` (looking into it along `aisle`, up to `into`)
+    def _turns_off(self, abreast, th: float, mouth: Lookout, looked) -> bool:
+        """The aisle whose end is `mouth` (`_end`: looking into it, up to its `into` point)
         turns off her way at `abreast` (along `th`): within TURNING_OFF aside, across her way
         (TURNING_ACROSS), opening away from it, not looked into yet (an `into` of `looked`
         within MERGE) and seen into from her way (a dead end closed towards her is not)."""
-        dx, dy = mouth[0] - abreast[0], mouth[1] - abreast[1]
+        dx, dy = mouth.x - abreast[0], mouth.y - abreast[1]
+        aisle, into = mouth.bearings[0], mouth.into
         return (math.hypot(dx, dy) <= TURNING_OFF
                 and abs(math.cos(aisle - th)) <= TURNING_ACROSS
                 and dx * math.cos(aisle) + dy * math.sin(aisle) >= 0.0
