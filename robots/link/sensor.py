@@ -37,7 +37,7 @@ from robots.link.port import open_serial
 log = logging.getLogger(__name__)
 
 READ_QUANTUM = 0.02        # s, longest a read blocks (so close() and liveness stay prompt)
-FLOOD_KEEP = 1 << 18       # bytes of one read decoded at most (a laser streams ~100 kB/s): the
+FLOOD_KEEP = 1 << 16       # bytes of one read decoded at most (~20 scans of a 1081-step laser): the
                            # newest of a flood, so a reading's age is the age of its arrival
 
 
