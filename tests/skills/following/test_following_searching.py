@@ -6,6 +6,8 @@ from __future__ import annotations
 import math
 from types import SimpleNamespace
 
+import pytest
+
 import follow_fakes
 from follow_fakes import Pose, Speech, follower, track
 from skills.following import GAVE_UP_REASON, SEARCHING
@@ -386,7 +388,8 @@ def test_on_along_her_way_the_search_looks_into_each_aisle_she_may_have_turned_i
     now = _search_for(following, now, 2.0)
     turning = following._plan[following._plan_index]
     assert (turning.why, turning.x, turning.y) == ("further along her way", 17.0, 16.5)
-    assert turning.bearings == (SOUTH,) and turning.into == (17.0, 14.5)   # down aisle A5
+    assert turning.bearings == (SOUTH,)
+    assert turning.into == pytest.approx((17.0, 14.5), abs=1e-9)        # down aisle A5
     assert abs(turning.way[0] - 17.0) < 0.3 and turning.way[1] > 17.5     # abreast of it
     assert following._search_goal == (17.0, 16.5)
     following.localization.state = Pose(17.0, 16.5, SOUTH)
