@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from robots.profile import Limits
-from skills.navigation.controller import LocalController
+from skills.navigation.controller import ControllerParams, LocalController
 from skills.navigation.costmap import cost_map
 from skills.navigation.gridmap import GridMap
 from tests.benchmarks import benchmark_script
@@ -42,7 +42,8 @@ def hallway_into_a_room(room: bool = True) -> LocalController:
 
 
 def cap_at(tool, controller, x: float) -> float:
-    path = np.column_stack([np.arange(x, 11.5, 0.05), np.full(len(np.arange(x, 11.5, 0.05)), 3.0)])
+    along = np.arange(x, 11.5, 0.05)
+    path = np.column_stack([along, np.full(len(along), 3.0)])
     return tool.blind_corner_cap(controller, path, None, None, 0.3)
 
 
@@ -50,7 +51,7 @@ def test_a_hallway_opening_into_a_room_is_approached_at_the_corner_speed(tool):
     hall = hallway_into_a_room()
     far, nearer, at_it = cap_at(tool, hall, 5.0), cap_at(tool, hall, 7.3), cap_at(tool, hall, 7.95)
     assert far == math.inf                           # 3 m on: beyond braking from 0.6 m/s
-    braking = 0.8 * LIMITS.max_accel                 # the controller's planned deceleration
+    braking = ControllerParams().brake * LIMITS.max_accel   # the controller's planned deceleration
     assert nearer == pytest.approx(math.sqrt(0.3 ** 2 + 2 * braking * 0.7), abs=0.03)
     # the corner is where the wall's last cell is behind the probes, 0.05-0.1 m past its end
     assert math.sqrt(0.3 ** 2 + 2 * braking * 0.05) <= at_it <= math.sqrt(
