@@ -267,7 +267,11 @@ def _robot_closed_in(contact, world, before: dict, dt: float = 0.1) -> bool:
     this is the centres' approach. A cart's speed is its circle's, so a cart the person swings
     round into the robot (the simulated cart turns with the walker at once) is theirs: the
     person's centre barely moves (crowd20 seed 1, issue 23: two such swings were counted as
-    driven into)."""
+    driven into). The thing is the part the simulator found touching (`contact.part`), not the
+    part nearest at the tick's end: the crowd pushes a person off the robot within the tick,
+    which can leave another part nearer (HOROS crowd20 seed 19, issue 23: a cart swung into
+    the robot's side from behind was judged by its far circle, which the creeping robot
+    neared)."""
     person = next((p for p in world.present_people() if p.plan.id == contact.who), None)
     if person is None or "robot" not in before or contact.who not in before:
         return True                          # cannot tell: count it against the robot
@@ -275,7 +279,7 @@ def _robot_closed_in(contact, world, before: dict, dt: float = 0.1) -> bool:
     pose, was_at = (body.x, body.y, body.th), before["robot"]
     circles = _circles(person)
     radii = [BODY_RADIUS] + [r for _, _, r in person.cart_circles()]
-    k = min(range(len(circles)), key=lambda i: _gap(body, pose, circles[i], radii[i]))
+    k = contact.part if contact.part < len(circles) else 0
     earlier = before[contact.who]
     then = earlier[k] if k < len(earlier) else earlier[0]
     # the gap's change over the tick, split into the thing's part (seen from where the robot

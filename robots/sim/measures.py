@@ -42,6 +42,7 @@ class Contact:
     kind: str             # "wall" or "person"
     who: str              # "wall" or the person's id
     robot_moving: bool    # the robot was driving into it (else it was hit standing)
+    part: int = 0         # what of the person touched: 0 their body, 1.. their cart's circles
 
 
 @dataclass(frozen=True)
@@ -120,16 +121,19 @@ class Measures:
         driving = abs(body.v) > MOVING
         heading = (math.cos(body.th) * math.copysign(1.0, body.v),
                    math.sin(body.th) * math.copysign(1.0, body.v))
-        gaps = {}
+        gaps, parts = {}, {}
         closest = math.inf
         for person in world.present_people():
             dx, dy = person.x - body.x, person.y - body.y
             centre = math.hypot(dx, dy)
-            gap = body.gap_to_circle(person.x, person.y, BODY_RADIUS)
+            gap, part = body.gap_to_circle(person.x, person.y, BODY_RADIUS), 0
             if person.plan.cart:                                 # the cart is part of them
-                for cx, cy, radius in person.cart_circles():
-                    gap = min(gap, body.gap_to_circle(cx, cy, radius))
+                for k, (cx, cy, radius) in enumerate(person.cart_circles(), 1):
+                    cart_gap = body.gap_to_circle(cx, cy, radius)
+                    if cart_gap < gap:
+                        gap, part = cart_gap, k
             gaps[person.id] = gap
+            parts[person.id] = part
             closest = min(closest, gap)
             if gap < self.min_person_clearance.get(person.id, math.inf):
                 self.min_person_clearance[person.id] = gap
@@ -146,7 +150,7 @@ class Measures:
         if closest < self.near_people:
             self.max_speed_near_people = max(self.max_speed_near_people, abs(body.v))
         if body.stalled or self._touching or gap_wall <= RELEASE or closest <= RELEASE:
-            self._contacts(world.t, body, gap_wall, gaps)
+            self._contacts(world.t, body, gap_wall, gaps, parts)
 
     def _outline_gap(self, body, segments: np.ndarray) -> float:
         """The box-shaped footprint's gap to the walls; or, unless the body is stalled, a lower
@@ -176,8 +180,12 @@ class Measures:
         else:
             self._intruding.discard(key)
 
-    def _contacts(self, t: float, body, gap_wall: float, gaps: dict[str, float]) -> None:
-        """Touching: a gap at zero, or the obstacle nearest to a body stopped by a bumper."""
+    def _contacts(self, t: float, body, gap_wall: float, gaps: dict[str, float],
+                  parts: dict[str, int]) -> None:
+        """Touching: a gap at zero, or the obstacle nearest to a body stopped by a bumper.
+        A new contact keeps which part of the person was nearest (`parts`): a judge of who
+        closed in looks at that one, though the push that parts them may bring another nearer
+        by the end of the tick."""
         touching = set()
         if gap_wall <= 0.0:
             touching.add(("wall", "wall"))
@@ -190,6 +198,6 @@ class Measures:
                 touching.add((kind, who))
         moving = body.stalled or abs(body.v) > MOVING
         for kind, who in sorted(touching - self._touching):
-            self.contacts.append(Contact(t, kind, who, moving))
+            self.contacts.append(Contact(t, kind, who, moving, parts.get(who, 0)))
         self._touching = touching
 

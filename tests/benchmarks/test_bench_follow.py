@@ -42,7 +42,12 @@ def perses(x, y, th):
     return UnicycleBody(x, y, th, PERSES.limits, PERSES.radius)
 
 
-CONTACT = SimpleNamespace(who="shopper0")
+CONTACT = SimpleNamespace(who="shopper0", part=0)          # their body touched
+
+
+def cart_contact(circle: int):
+    """A contact the simulator found on the shopper's cart (its `circle`-th circle, from 1)."""
+    return SimpleNamespace(who="shopper0", part=circle)
 
 
 def test_driving_along_a_cart_pressed_to_the_side_is_not_driving_into_it(bench):
@@ -53,7 +58,26 @@ def test_driving_along_a_cart_pressed_to_the_side_is_not_driving_into_it(bench):
     person = shopper(14.13 - 0.49 - 0.95, 16.22, cart)
     before = {"robot": (14.13, 16.11, math.pi / 2), "shopper0": bench._circles(person)}
     body = horos(14.13, 16.13, math.pi / 2)
-    assert not bench._robot_closed_in(CONTACT, world(body, person), before)
+    assert not bench._robot_closed_in(cart_contact(2), world(body, person), before)
+
+
+def test_a_cart_swung_into_the_robot_from_behind_is_not_driven_into(bench):
+    # HOROS crowd20 seed 19 at 41.5 -> 41.6 s: HOROS creeps east-south-east at 0.13 m/s; a
+    # crosser behind its left swings his cart round into its side (his cart's first circle
+    # touches); the crowd pushes him off, and by the tick's end the cart's second circle, ahead
+    # of the robot's centre, is the nearest part and the creeping robot nears it
+    th = math.radians(-7.2)
+    cart_then = [(11.13, 5.19), (11.58, 5.17)]
+    cart_now = [(11.27, 5.26), (11.72, 5.17)]
+    person = shopper(10.78, 5.35, cart_now)
+    before = {"robot": (11.348, 4.653, th), "shopper0": [(10.63, 5.20), *cart_then]}
+    body = horos(11.361, 4.651, th)
+    nearest_now = min((1, 2), key=lambda k: bench._gap(body, (body.x, body.y, th),
+                                                       cart_now[k - 1], CART_RADIUS))
+    assert nearest_now == 2
+    assert not bench._robot_closed_in(cart_contact(1), world(body, person), before)
+    # judged by the part nearest at the tick's end, it was the robot's doing
+    assert bench._robot_closed_in(cart_contact(2), world(body, person), before)
 
 
 def test_a_corner_swept_round_into_someone_standing_is_driven_into(bench):

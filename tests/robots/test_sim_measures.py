@@ -5,7 +5,7 @@ import pytest
 
 from robots.profile import load_profile
 from robots.sim.floor import load_floor
-from robots.sim.people import BODY_RADIUS
+from robots.sim.people import BODY_RADIUS, CART_OFFSETS
 from robots.sim.scenario import parse_scenario
 from robots.sim.world import World
 
@@ -90,3 +90,17 @@ def test_summary_has_every_figure():
                             "max_speed_near_people"}
     assert summary["min_clearance_to_people"] == pytest.approx(2.0 - FRONT - BODY_RADIUS)
     assert all(math.isfinite(v) for v in summary.values())
+
+
+def test_a_contact_names_the_part_of_the_person_that_touched():
+    """Pushing a cart into the standing robot, the cart's front circle touches first: the judge
+    of who closed in (the follow benchmark) looks at that part, not at the body behind it."""
+    world = world_with({"id": "p", "at": [-3.0, 0.0], "cart": True,
+                        "steps": [{"approach": 0.3}]})
+    world.step(8.0)
+    contact, = world.measures.contacts
+    front = max(range(len(CART_OFFSETS)), key=lambda k: CART_OFFSETS[k]) + 1
+    assert (contact.who, contact.part) == ("p", front)
+    walking = world_with({"id": "q", "at": [-2.0, 0.0], "steps": [{"approach": 0.3}]})
+    walking.step(5.0)
+    assert [c.part for c in walking.measures.contacts] == [0]
