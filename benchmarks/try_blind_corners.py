@@ -18,7 +18,12 @@ controller's planned deceleration. The controller is wrapped in this process onl
 
 SEEDS is a comma-separated list. Each run prints the benchmark's own figures for that seed (the
 share within ±0.3 m, contacts the robot drove into, all contacts, given up); the same seeds of
-`bench_follow.py` on the committed code are the comparison.
+`bench_follow.py` on the committed code are the comparison. The guide's tours with the cap:
+
+    python benchmarks/try_blind_corners.py guide [--speed 0.3] -- BENCH_GUIDE_ARGUMENTS
+
+runs `bench_guide.py` with those arguments (e.g. `--buildings 10 --tours 5 --robot horos
+--json FILE`) in this process, the controller wrapped.
 
 Benchmarks are not a layer: this script wraps a method of the local controller.
 """
@@ -92,7 +97,23 @@ def slow_at_blind_corners(speed: float) -> None:
     ctl.LocalController._speed_cap = capped
 
 
+def guide(arguments: list[str]) -> None:
+    """`bench_guide.py` with `arguments`, the controller wrapped (`guide [--speed S] -- ...`)."""
+    speed = 0.3
+    if arguments[:1] == ["--speed"]:
+        speed, arguments = float(arguments[1]), arguments[2:]
+    if arguments[:1] == ["--"]:
+        arguments = arguments[1:]
+    import bench_guide
+    slow_at_blind_corners(speed)
+    sys.argv = ["bench_guide.py", *arguments]
+    bench_guide.main()
+
+
 def main() -> None:
+    if sys.argv[1:2] == ["guide"]:
+        guide(sys.argv[2:])
+        return
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("family", choices=list(bf.FAMILIES))
     parser.add_argument("seeds", help="comma-separated, e.g. 12,13,14")

@@ -62,3 +62,25 @@ def test_a_hallway_opening_into_a_room_is_approached_at_the_corner_speed(tool):
 def test_a_straight_hallway_and_a_corner_passed_cost_nothing(tool):
     assert cap_at(tool, hallway_into_a_room(room=False), 7.3) == math.inf
     assert cap_at(tool, hallway_into_a_room(), 8.6) == math.inf      # in the room: seen round
+
+
+def test_the_guide_mode_runs_the_guide_benchmark_with_the_controller_wrapped(tool, monkeypatch):
+    import sys
+
+    import bench_guide
+    from skills.navigation import controller
+
+    monkeypatch.setattr(controller.LocalController, "_speed_cap",
+                        controller.LocalController._speed_cap)     # restored afterwards
+    monkeypatch.setattr(sys, "argv", sys.argv[:])
+    plain = controller.LocalController._speed_cap
+    seen = {}
+
+    def bench_main():
+        seen["argv"] = sys.argv[:]
+        seen["wrapped"] = controller.LocalController._speed_cap is not plain
+
+    monkeypatch.setattr(bench_guide, "main", bench_main)
+    tool.guide(["--speed", "0.25", "--", "--buildings", "1", "--tours", "2"])
+    assert seen == {"argv": ["bench_guide.py", "--buildings", "1", "--tours", "2"],
+                    "wrapped": True}
