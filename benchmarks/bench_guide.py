@@ -190,7 +190,7 @@ def time_cause(skills, driven: float) -> str:
         return f"leading off (first {LEAD_OFF} m)"
     cap = nav.reason.split(";")[0]
     for known in ("people near", "narrow passage", "goal ahead", "turning", "obstruction",
-                  "requested speed"):
+                  "requested speed", "blind corner"):     # the last: try_blind_corners.py
         if cap.startswith(known):
             return known
     return "no cap (accelerating, curves, full speed)"
