@@ -5,6 +5,7 @@ nothing."""
 from __future__ import annotations
 
 import math
+import sys
 
 import numpy as np
 import pytest
@@ -65,9 +66,7 @@ def test_a_straight_hallway_and_a_corner_passed_cost_nothing(tool):
 
 
 def test_the_guide_mode_runs_the_guide_benchmark_with_the_controller_wrapped(tool, monkeypatch):
-    import sys
-
-    import bench_guide
+    import bench_guide                  # beside the tool, on the path `benchmark_script` set
     from skills.navigation import controller
 
     monkeypatch.setattr(controller.LocalController, "_speed_cap",
