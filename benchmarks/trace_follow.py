@@ -21,9 +21,11 @@ the benchmark's. Causes, first that applies:
 Also the metres the robot fell behind her, per cause: her speed less its own, summed over
 the ticks she walks, it is more than 0.15 m beyond the setpoint, and slower than she.
 
-With `--who ID`, each printed tick also shows that simulated person: where they are, their
-step, how long they have been held up by others, their speed, their cart's heading and the
-gaps from the robot's outline to their body and cart circles (the benchmark's `_gap`).
+Each printed tick shows the followed track's id and where the tracker has it
+(`track=ID@(x,y)`). With `--who ID`, each printed tick also shows that simulated person:
+where they are, their step, how long they have been held up by others, their speed, their
+cart's heading and the gaps from the robot's outline to their body and cart circles (the
+benchmark's `_gap`).
 
     python benchmarks/trace_follow.py FAMILY SEED [--robot perses|horos] [--ticks FROM TO]
                                       [--who ID]
@@ -145,10 +147,18 @@ def _row(skills, world, customer, now: float, counted: bool, last) -> dict:
         her_held=type(step).__name__ == "Lead" and customer.blocked_for > 0.5,
         pose_err=math.inf if pose is None else math.hypot(pose.x - body.x, pose.y - body.y),
         on_her=_on_her(skills, state, people, customer),
+        track_at=_track_at(skills, state.target),
         near=min((math.hypot(p.x - body.x, p.y - body.y) for p in people
                   if p is not customer), default=math.inf),
         ctrl="" if command is None else command.reason,
         arbiter=skills.blackboard.value("motion/limit", "") or "")
+
+
+def _track_at(skills, track_id) -> tuple[float, float] | None:
+    """Where the tracker has the followed track (None without one): beside `--who`, it shows
+    whom the track is on (two tracks exchanged in a close pass, issue 23)."""
+    track = next((t for t in skills.perception.tracker.tracks() if t.id == track_id), None)
+    return None if track is None else (track.x, track.y)
 
 
 def _person(world, who: str) -> dict | None:
@@ -200,10 +210,15 @@ def print_causes(label: str, ticks: Counter, n: int) -> None:
 def print_tick(r: dict) -> None:
     print(f"{r['t']:6.1f} {r['phase']:9s} nav={r['nav']:8s} blocked={r['blocked_for']:4.1f} "
           f"d={r['d']:.2f} her_v={r['her_v']:.2f} v={r['rv']:.2f} near={r['near']:.2f} "
-          f"track={r['target']} on_her={int(r['on_her'])} pose_err={r['pose_err']:.2f} "
+          f"track={r['target']}{_at(r.get('track_at'))} on_her={int(r['on_her'])} "
+          f"pose_err={r['pose_err']:.2f} "
           f"robot=({r['robot'][0]:.1f},{r['robot'][1]:.1f}) "
           f"her=({r['her'][0]:.1f},{r['her'][1]:.1f}) [{classify(r)}] "
           f"ctrl='{r['ctrl']}' arbiter='{r['arbiter']}' {r['reason']}" + _who(r.get("who")))
+
+
+def _at(xy) -> str:
+    return "" if xy is None else f"@({xy[0]:.2f},{xy[1]:.2f})"
 
 
 def _who(person: dict | None) -> str:

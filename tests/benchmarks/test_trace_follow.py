@@ -67,3 +67,12 @@ def test_a_person_shown_beside_the_ticks_has_the_gaps_from_the_robot_to_body_and
     assert shown["step"] == "Pause" and " | p (16.00,4.75) Pause" in tool._who(shown)
     assert "cart=" in tool._who(shown)
     assert tool._person(world, "nobody") is None and tool._who(None) == ""
+
+
+def test_a_printed_tick_shows_where_the_tracker_has_the_followed_track(tool, capsys):
+    row = tick(target=2, track_at=(13.941, 5.5), nav="driving", blocked_for=0.0, near=1.3,
+               robot=(12.8, 4.9), her=(14.6, 5.8), reason="")
+    tool.print_tick(row)
+    assert "track=2@(13.94,5.50) on_her=1" in capsys.readouterr().out
+    tool.print_tick(dict(row, target=None, track_at=None))
+    assert "track=None on_her=1" in capsys.readouterr().out
