@@ -147,17 +147,22 @@ def _row(skills, world, customer, now: float, counted: bool, last) -> dict:
         her_held=type(step).__name__ == "Lead" and customer.blocked_for > 0.5,
         pose_err=math.inf if pose is None else math.hypot(pose.x - body.x, pose.y - body.y),
         on_her=_on_her(skills, state, people, customer),
-        track_at=_track_at(skills, state.target),
+        track_at=_track_at(skills, state),
         near=min((math.hypot(p.x - body.x, p.y - body.y) for p in people
                   if p is not customer), default=math.inf),
         ctrl="" if command is None else command.reason,
         arbiter=skills.blackboard.value("motion/limit", "") or "")
 
 
-def _track_at(skills, track_id) -> tuple[float, float] | None:
-    """Where the tracker has the followed track (None without one): beside `--who`, it shows
-    whom the track is on (two tracks exchanged in a close pass, issue 23)."""
-    track = next((t for t in skills.perception.tracker.tracks() if t.id == track_id), None)
+def _followed(skills, state):
+    """The followed track as perception believes it (None without one)."""
+    return next((t for t in skills.perception.believed if t.id == state.target), None)
+
+
+def _track_at(skills, state) -> tuple[float, float] | None:
+    """Where the followed track is, the one `_on_her` judges (None without one): beside
+    `--who`, it shows whom the track is on (two tracks exchanged in a close pass, issue 23)."""
+    track = _followed(skills, state)
     return None if track is None else (track.x, track.y)
 
 
@@ -178,7 +183,7 @@ def _on_her(skills, state, people, customer) -> bool:
     """The followed track is hers by the benchmark's rule (True while she is lost)."""
     if state.phase in (HIDDEN, SEARCHING):
         return True
-    track = next((t for t in skills.perception.believed if t.id == state.target), None)
+    track = _followed(skills, state)
     return track is None or bf.on_the_customer(track, people, customer)
 
 
