@@ -48,6 +48,18 @@ def gated_cost(d2: np.ndarray, log_det: np.ndarray, gate: float,
     return cost
 
 
+def unambiguous_pairs(track_xy: np.ndarray, det_xy: np.ndarray, limit: float
+                      ) -> list[tuple[int, int]]:
+    """Pairs (track, detection) at most `limit` metres apart where neither has anything else
+    within `limit`: the only track near the detection, the only detection near the track."""
+    if not len(track_xy) or not len(det_xy):
+        return []
+    gap = track_xy[:, None, :] - det_xy[None, :, :]
+    near = np.hypot(gap[..., 0], gap[..., 1]) <= limit
+    alone = near & (near.sum(axis=0) == 1)[None, :] & (near.sum(axis=1) == 1)[:, None]
+    return [(int(r), int(c)) for r, c in zip(*np.nonzero(alone))]
+
+
 def assign(cost: np.ndarray) -> tuple[list[tuple[int, int]], list[int], list[int]]:
     """Globally optimal pairs (track, detection) among feasible ones, plus the unassigned
     tracks and detections."""

@@ -16,7 +16,8 @@ import numpy as np
 from skills.people.kalman import LeanKalmanFilter, predict_all, update_all
 
 from skills.people import imm, motion_model
-from skills.people.association import assign, gated_cost, inverse_2x2, mahalanobis_sq
+from skills.people.association import (assign, gated_cost, inverse_2x2, mahalanobis_sq,
+                                       unambiguous_pairs)
 from skills.people.fusion import fuse_close_detections
 from skills.people.track import CONFIRMED, LOST, TENTATIVE, Track
 
@@ -50,6 +51,13 @@ class TrackerParams:
     # A track coasting for a second has a covariance whose 99.99 % gate spans ~3 m.
     reach_base: float = 0.8           # m
     reach_accel: float = 1.0          # m/s^2
+    # A detection no track's gate took, this near (m) a track that took none although it was
+    # seen the frame before, and near no other track, is that track's person, not a new one:
+    # a standing person's first detections can teach the filter a walking pace out of noise,
+    # and its prediction then leaves the gate, frame after frame, while a second track starts
+    # on the person. Nearer than people stand; a track unseen for longer (someone hidden) is
+    # left to its gate, and where two tracks are near the detection, nobody guesses.
+    leftover_reach: float = 0.5       # m
 
 
 class _TrackState:
@@ -162,8 +170,27 @@ class PeopleTracker:
         track_xy = np.array([s.kf.x[:2, 0] for s in self._tracks])
         track_cov = np.array([s.kf.P[:2, :2] for s in self._tracks])
         d2, log_det = mahalanobis_sq(track_xy, track_cov, xy, cov)
-        return assign(gated_cost(d2, log_det, self.params.gate,
-                                 self._out_of_reach(track_xy, xy, t)))
+        pairs, tracks_left, dets_left = assign(gated_cost(d2, log_det, self.params.gate,
+                                                          self._out_of_reach(track_xy, xy, t)))
+        paired = self._leftovers_paired(tracks_left, dets_left, track_xy, xy)
+        if not paired:
+            return pairs, tracks_left, dets_left
+        took_track, took_det = {i for i, _ in paired}, {j for _, j in paired}
+        return (pairs + paired, [i for i in tracks_left if i not in took_track],
+                [j for j in dets_left if j not in took_det])
+
+    def _leftovers_paired(self, tracks_left: list[int], dets_left: list[int],
+                          track_xy: np.ndarray, xy: np.ndarray) -> list[tuple[int, int]]:
+        """Leftover detections that are, unambiguously, a leftover track's seen the frame
+        before (`TrackerParams.leftover_reach`): the only track within reach of the detection,
+        and the only leftover detection within reach of it."""
+        if not tracks_left or not dets_left:
+            return []
+        just_seen = {i for i in tracks_left if self._tracks[i].last_seen == self._t}
+        if not just_seen:
+            return []
+        pairs = unambiguous_pairs(track_xy, xy[dets_left], self.params.leftover_reach)
+        return [(i, dets_left[j]) for i, j in pairs if i in just_seen]
 
     def _out_of_reach(self, track_xy: np.ndarray, xy: np.ndarray, t: float) -> np.ndarray:
         """(n, m) True where a detection is farther from a track's prediction than its person

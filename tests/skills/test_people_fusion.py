@@ -9,7 +9,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from skills.people import robot_to_world
-from skills.people.association import INFEASIBLE, assign, gated_cost, mahalanobis_sq
+from skills.people.association import (INFEASIBLE, assign, gated_cost, mahalanobis_sq,
+                                       unambiguous_pairs)
 from skills.people.fusion import fuse_close_detections
 
 
@@ -71,6 +72,17 @@ def test_assignment_is_global_and_respects_the_gate():
     assert sorted(pairs) == [(0, 1), (1, 0)] and lonely_tracks == [2] and lonely_dets == []
     gated = gated_cost(np.array([[1.0, 30.0]]), np.zeros((1, 2)), gate=18.4)
     assert gated[0, 1] == INFEASIBLE
+
+
+def test_only_unambiguous_pairs_within_the_limit_are_made():
+    tracks = np.array([[0.0, 0.0], [1.0, 0.0], [5.0, 0.0]])
+    dets = np.array([[0.6, 0.0], [1.3, 0.0], [5.3, 0.0]])
+    # detection 0 is within 0.65 m of tracks 0 and 1, and track 1 has detections 0 and 1:
+    # only track 2 and detection 2 have each other alone
+    assert unambiguous_pairs(tracks, dets, limit=0.65) == [(2, 2)]
+    # within 0.35 m, track 1 and detection 1 have each other alone as well
+    assert unambiguous_pairs(tracks, dets, limit=0.35) == [(1, 1), (2, 2)]
+    assert unambiguous_pairs(tracks[:0], dets, limit=1.0) == []
 
 
 @settings(max_examples=40, deadline=None)
