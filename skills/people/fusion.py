@@ -3,12 +3,6 @@
 Two independent measurements of the same position, fused by their information (inverse
 covariance), give exactly the Kalman update that two sequential updates would give, at half
 the cost, and they can no longer start a second, duplicate track.
-
-A detector reports a person once per frame, so a cluster never holds two detections of one
-named source: two camera detections 0.36 m apart are two people, even when a laser "person"
-between them (a leg of each, paired) lies within the merge distance of both. Chaining
-through it fused a customer and the look-alike walking past her into one detection, and the
-next frame their tracks were exchanged (bench_follow lookalike seed 33, HOROS, issue 23).
 """
 from __future__ import annotations
 
@@ -16,17 +10,14 @@ import numpy as np
 
 
 def fuse_close_detections(xy: np.ndarray, cov: np.ndarray, merge_distance: float,
-                          flags: np.ndarray | None = None,
-                          sources: list[str | None] | None = None
+                          flags: np.ndarray | None = None
                           ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Merge detections closer than `merge_distance` (m) to each other.
 
     People's centres are at least about 0.4 m apart, so closer detections are taken as one
     person. Clusters are formed by linking close pairs; each cluster is fused by the
     information-weighted mean. `flags` (bool per detection, e.g. "may confirm a track") are
-    or-ed within a cluster. With `sources` (per detection, None where unknown) the pairs are
-    linked nearest first and a link that would put two detections of one source into a
-    cluster is left out. Returns (xy, cov, flags), one row per cluster, in the order of
+    or-ed within a cluster. Returns (xy, cov, flags), one row per cluster, in the order of
     each cluster's first detection; the inputs themselves when nothing merges.
     """
     m = len(xy)
@@ -40,31 +31,18 @@ def fuse_close_detections(xy: np.ndarray, cov: np.ndarray, merge_distance: float
     upper = close_i < close_j
     if not upper.any():
         return xy, cov, flags
-    firsts, seconds = close_i[upper], close_j[upper]
-    if sources is not None:
-        nearest_first = np.argsort(dist_sq[firsts, seconds], kind="stable")
-        firsts, seconds = firsts[nearest_first], seconds[nearest_first]
-    cluster = _clusters(m, firsts.tolist(), seconds.tolist(), sources)
-    if cluster[-1] == m - 1 and len(set(cluster.tolist())) == m:
-        return xy, cov, flags                 # every link was left out: nothing merges
+    cluster = _clusters(m, close_i[upper].tolist(), close_j[upper].tolist())
     return _fuse_clusters(xy, cov, flags, cluster)
 
 
-def _clusters(m: int, firsts: list[int], seconds: list[int],
-              sources: list[str | None] | None = None) -> np.ndarray:
+def _clusters(m: int, firsts: list[int], seconds: list[int]) -> np.ndarray:
     """Cluster number (0, 1, ... in order of first member) of each detection, by union-find
-    over the linked pairs, in their order; with `sources`, a link joining two clusters that
-    both hold a detection of one named source is skipped."""
+    over the linked pairs."""
     parent = list(range(m))
-    held = None if sources is None else [{src} - {None} for src in sources]
     for i, j in zip(firsts, seconds):
         root_i, root_j = _root(parent, i), _root(parent, j)
-        if root_i == root_j or (held is not None and held[root_i] & held[root_j]):
-            continue
-        low, high = min(root_i, root_j), max(root_i, root_j)
-        parent[high] = low
-        if held is not None:
-            held[low] |= held[high]
+        if root_i != root_j:
+            parent[max(root_i, root_j)] = min(root_i, root_j)
     numbers: dict[int, int] = {}
     return np.array([numbers.setdefault(_root(parent, i), len(numbers)) for i in range(m)])
 

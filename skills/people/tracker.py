@@ -127,7 +127,7 @@ class PeopleTracker:
         self._predict(t)
         seen_xy = xy
         xy, cov, confirming = fuse_close_detections(xy, cov, self.params.merge_distance,
-                                                    confirming, _sources(detections))
+                                                    confirming)
         looks = _appearances(detections, seen_xy, xy, self.params.merge_distance)
         pairs, _, new_dets = self._associate(xy, cov, t)
         self._update_filters(pairs, xy, cov)
@@ -170,32 +170,14 @@ class PeopleTracker:
         track_xy = np.array([s.kf.x[:2, 0] for s in self._tracks])
         track_cov = np.array([s.kf.P[:2, :2] for s in self._tracks])
         d2, log_det = mahalanobis_sq(track_xy, track_cov, xy, cov)
-        cost = gated_cost(d2, log_det, self.params.gate, self._out_of_reach(track_xy, xy, t))
-        pairs, tracks_left, dets_left = self._believed_first(cost)
+        pairs, tracks_left, dets_left = assign(gated_cost(d2, log_det, self.params.gate,
+                                                          self._out_of_reach(track_xy, xy, t)))
         paired = self._leftovers_paired(tracks_left, dets_left, track_xy, xy)
         if not paired:
             return pairs, tracks_left, dets_left
         took_track, took_det = {i for i, _ in paired}, {j for _, j in paired}
         return (pairs + paired, [i for i in tracks_left if i not in took_track],
                 [j for j in dets_left if j not in took_det])
-
-    def _believed_first(self, cost: np.ndarray
-                        ) -> tuple[list[tuple[int, int]], list[int], list[int]]:
-        """The gated assignment in two rounds: confirmed and lost tracks first, tentative
-        ones on the detections they left. A track started on a stray leg a frame ago has a
-        wide gate and no velocity, and took the customer's detection from her own track
-        0.16 m off (bench_follow lookalike seed 33, HOROS, issue 23)."""
-        tentative = [i for i, s in enumerate(self._tracks) if s.status == TENTATIVE]
-        if not tentative or len(tentative) == len(self._tracks):
-            return assign(cost)
-        believed = [i for i, s in enumerate(self._tracks) if s.status != TENTATIVE]
-        first, _, dets_left = assign(cost[believed])
-        pairs = [(believed[i], j) for i, j in first]
-        second, _, _ = assign(cost[np.ix_(tentative, dets_left)]) if dets_left else ([], [], [])
-        pairs += [(tentative[i], dets_left[j]) for i, j in second]
-        took_track, took_det = {i for i, _ in pairs}, {j for _, j in pairs}
-        return (pairs, [i for i in range(len(self._tracks)) if i not in took_track],
-                [j for j in range(cost.shape[1]) if j not in took_det])
 
     def _leftovers_paired(self, tracks_left: list[int], dets_left: list[int],
                           track_xy: np.ndarray, xy: np.ndarray) -> list[tuple[int, int]]:
@@ -271,11 +253,6 @@ class PeopleTracker:
                 state.status = LOST
             kept.append(state)
         self._tracks = kept
-
-
-def _sources(detections: list[WorldDetection]) -> list[str | None]:
-    """Each detection's source ("camera", "laser"), None where it names none."""
-    return [d[3] if len(d) > 3 else None for d in detections]
 
 
 def _with_variance_floor(cov: np.ndarray, floor: float) -> np.ndarray:

@@ -37,28 +37,6 @@ def test_a_chain_of_close_detections_is_one_cluster_and_order_is_kept():
     assert flags.tolist() == [False, True, False]
 
 
-def test_two_camera_detections_are_never_one_person_even_through_a_laser_one_between():
-    # bench_follow lookalike seed 33, HOROS, 27.0 s (rounded): her camera detection, the
-    # look-alike's 0.36 m from it, a laser "person" made of a leg of each between them, his
-    # single leg and hers
-    xy = np.array([[13.71, 5.26], [13.68, 4.90], [13.65, 5.10], [13.72, 4.80], [13.71, 5.45]])
-    sigma = [0.05, 0.05, 0.08, 0.15, 0.15]
-    cov = np.array([np.eye(2) * s ** 2 for s in sigma])
-    sources = ["camera", "camera", "laser", "laser", "laser"]
-    chained, _, _ = fuse_close_detections(xy, cov, 0.3)                 # no sources: a chain
-    assert len(chained) == 1 and chained[0] == pytest.approx([13.69, 5.09], abs=0.01)
-    fused, _, _ = fuse_close_detections(xy, cov, 0.3, sources=sources)
-    # nearest links first: his camera with his leg (0.11 m), hers with the pair between
-    # (0.17 m); her leg (a second laser one for her) and the pair to him (a second camera
-    # one for him) are left out
-    assert len(fused) == 3
-    hers, his, her_leg = fused
-    assert hers[1] > 5.15 and his[1] < 4.95 and her_leg == pytest.approx([13.71, 5.45])
-    # detections naming no source merge as before
-    fused, _, _ = fuse_close_detections(xy, cov, 0.3, sources=[None] * 5)
-    assert fused == pytest.approx(chained)
-
-
 def test_detections_farther_apart_than_the_merge_distance_stay_apart():
     xy = np.array([[0.0, 0.0], [0.5, 0.0]])
     cov = np.array([np.eye(2) * 0.01] * 2)
