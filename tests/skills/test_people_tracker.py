@@ -371,8 +371,8 @@ def test_a_standing_person_whose_noise_looked_like_walking_keeps_one_track():
 
 
 def test_a_leftover_detection_goes_to_a_leftover_track_only_within_reach():
-    # A stands at the origin, seen for a second; then the filter is told she walks at 1 m/s
-    # (a prediction 0.1 m off each frame would stay in the gate: move the track instead)
+    # A stands at the origin, seen for a second; then her track's position is moved `offset`
+    # off, out of her gate, as a walking pace learnt from noise carries a prediction off
     def tracker_with_a_track_off_by(offset):
         tracker = PeopleTracker()
         for k in range(10):
@@ -412,8 +412,8 @@ def test_a_leftover_detection_near_two_tracks_starts_a_track_of_its_own():
 
 
 def test_a_leftover_pairing_never_takes_a_detection_another_track_took():
-    # A and B stand 0.6 m apart; B's detection is B's even though it is within 0.5 m of A's
-    # prediction when A's own detection is missing
+    # A and B stand 0.45 m apart; B's detection is B's even though it is within 0.5 m of
+    # A's prediction when A's own detection is missing
     tracker = PeopleTracker()
     for k in range(10):
         tracker.update(k * 0.1, [(0.0, 0.0, R), (0.45, 0.0, R)])
